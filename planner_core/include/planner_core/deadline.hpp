@@ -1,0 +1,28 @@
+// Deadline: a wall-clock limit plus an atomic interrupt flag that another thread may raise.
+#pragma once
+
+#include <atomic>
+#include <chrono>
+
+namespace planner_core {
+
+using Clock = std::chrono::steady_clock;
+
+struct Deadline {
+  Clock::time_point at = Clock::time_point::max();
+  const std::atomic<bool>* interrupt = nullptr;
+
+  static Deadline in_seconds(double seconds, const std::atomic<bool>* interrupt = nullptr) {
+    return {Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(seconds)),
+            interrupt};
+  }
+  bool expired() const {
+    return (interrupt && interrupt->load(std::memory_order_relaxed)) || Clock::now() >= at;
+  }
+};
+
+inline double elapsed_ms(Clock::time_point since) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - since).count();
+}
+
+}  // namespace planner_core

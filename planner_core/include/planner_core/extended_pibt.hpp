@@ -1,0 +1,86 @@
+// Extended-PIBT: PIBT (Okumura et al., "Priority inheritance with backtracking for iterative
+// multi-agent path finding", AIJ 2022) extended to task sequences as in CTS-PIBT (Jiang et al.)
+// and Algorithm 1 of the CTS-PLL paper: each agent heads for the next unvisited task of its order,
+// then its goal; priorities are task-aware.
+#pragma once
+
+#include <cstdint>
+#include <random>
+#include <vector>
+
+#include "planner_core/deadline.hpp"
+#include "planner_core/dist_table.hpp"
+#include "planner_core/joint_sequencer.hpp"
+#include "planner_core/solution.hpp"
+
+namespace planner_core {
+
+struct PibtConfig {
+  // The run fails after step_limit_factor * (longest single-agent tour of the sequence) + step_limit_slack steps.
+  double step_limit_factor = 3.0;
+  int step_limit_slack = 50;
+};
+
+class ExtendedPibt {
+ public:
+  enum class Outcome { kSolved, kStepLimit, kInterrupted };
+
+  ExtendedPibt(const Instance& instance, DistTable& dist, const PibtConfig& config, std::mt19937& rng);
+
+  // Starts a run for `sequence` from the instance's starts, or from the last configuration of
+  // `prefix` (whose visits count) when it is given.
+  void reset(const JointSequence& sequence, const Solution& prefix = {});
+  // Steps until every agent has visited its tasks and stands on its goal, the step limit, or the deadline.
+  Outcome run(const Deadline& deadline);
+  // One synchronous step of all agents (Algorithm 1); returns true when all agents are finished.
+  bool step();
+
+  const Solution& plan() const { return plan_; }
+  int step_limit() const { return step_limit_; }
+  bool finished(int agent) const;                 // all tasks visited and on its goal
+  bool tasks_done(int agent) const { return agents_[agent].next == agents_[agent].task_count; }
+  int last_target_time(int agent) const { return agents_[agent].last_target_time; }
+  Vertex target_of(int agent) const;              // next unvisited task in order, else the goal
+  const std::vector<int>& visited_count_history() const { return visited_history_; }
+
+ private:
+  struct AgentState {
+    std::vector<Vertex> targets;        // task cells in order, then the goal
+    std::vector<char> visited;          // per task position
+    std::vector<int64_t> suffix;        // suffix[k]: tour length from targets[k] to the goal
+    int task_count = 0;
+    int next = 0;                       // first unvisited task position (task_count when all done)
+    int steps_since_target = 0;         // task-aware priority: longer without progress goes first
+    int last_target_time = 0;           // timestep the agent last completed a target
+    float tie_break = 0;
+  };
+
+  void mark_visits(int agent, Vertex at, int time);
+  int64_t remaining_distance(int agent, Vertex at);
+  bool plan_move(int agent);  // funcExPIBT of Algorithm 1
+
+  const Instance& instance_;
+  DistTable& dist_;
+  PibtConfig config_;
+  std::mt19937& rng_;
+  std::vector<AgentState> agents_;
+  Solution plan_;
+  int step_limit_ = 0;
+  int finished_count_ = 0;
+  std::vector<int> visited_history_;  // total tasks visited after each timestep (for stall detection)
+
+  struct PriorityKey {
+    bool active;
+    int waiting;
+    int64_t remaining;
+    float tie;
+  };
+
+  // Scratch state of one step, indexed by vertex and reset only where touched.
+  Config from_, to_;
+  std::vector<int> occupied_now_, occupied_next_;
+  std::vector<int> order_;
+  std::vector<PriorityKey> priority_;
+};
+
+}  // namespace planner_core

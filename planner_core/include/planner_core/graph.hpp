@@ -1,0 +1,55 @@
+// Graph: a 4-connected grid map with dense vertex ids for the free cells (MovingAI .map).
+#pragma once
+
+#include <array>
+#include <string>
+#include <vector>
+
+namespace planner_core {
+
+using Vertex = int;  // dense id of a free cell, 0 .. vertex_count()-1
+constexpr Vertex kNoVertex = -1;
+constexpr int kMaxDegree = 4;  // 4-connected grid: up, down, left, right
+
+struct Cell {
+  int x = 0;  // column
+  int y = 0;  // row
+  bool operator==(const Cell&) const = default;
+};
+
+std::string to_string(Cell cell);
+
+class Graph {
+ public:
+  Graph() = default;
+  // rows[y][x]: '.' and 'G' are free, anything else is blocked.
+  Graph(int width, int height, const std::vector<std::string>& rows);
+
+  int width() const { return width_; }
+  int height() const { return height_; }
+  int vertex_count() const { return static_cast<int>(cells_.size()); }
+
+  bool inside(Cell cell) const;
+  bool is_free(Cell cell) const { return vertex_at(cell) != kNoVertex; }
+  Vertex vertex_at(Cell cell) const;  // kNoVertex when outside or blocked
+  Cell cell_of(Vertex v) const { return cells_[v]; }
+  const std::vector<Vertex>& neighbours(Vertex v) const { return neighbours_[v]; }
+  bool adjacent(Vertex a, Vertex b) const;
+
+  // Row strings as read ('.' free, '@' blocked), for drawing.
+  const std::vector<std::string>& rows() const { return rows_; }
+  std::string name;  // file stem, e.g. "maze-32-32-2"
+
+ private:
+  int width_ = 0;
+  int height_ = 0;
+  std::vector<std::string> rows_;
+  std::vector<Vertex> vertex_of_index_;  // y * width + x -> vertex or kNoVertex
+  std::vector<Cell> cells_;
+  std::vector<std::vector<Vertex>> neighbours_;
+};
+
+// Reads a MovingAI .map file; throws InputError naming the file and line.
+Graph load_movingai_map(const std::string& path);
+
+}  // namespace planner_core

@@ -1,0 +1,51 @@
+// Instance: a CTS-MAPF problem (grid, agents' starts and goals, tasks shared by agents) and its loaders.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "planner_core/graph.hpp"
+
+namespace planner_core {
+
+using Config = std::vector<Vertex>;  // one vertex per agent at one timestep
+
+struct Task {
+  Vertex at = kNoVertex;
+  std::vector<int> agents;  // every listed agent must stand on `at` at least once
+};
+
+struct Instance {
+  std::shared_ptr<const Graph> graph;
+  Config starts;
+  Config goals;
+  std::vector<Task> tasks;
+  std::vector<std::vector<int>> tasks_of_agent;  // agent -> task ids, ascending
+  std::string source;                            // file it came from, for messages
+
+  int agent_count() const { return static_cast<int>(starts.size()); }
+  int task_count() const { return static_cast<int>(tasks.size()); }
+  void index_tasks();  // fills tasks_of_agent from tasks
+};
+
+// CTS-MAPF YAML of FORMATS.md. The map path is relative to the YAML file.
+// Throws InputError naming the file and the field or line on any problem.
+Instance load_instance_yaml(const std::string& path);
+
+// MovingAI .scen: the first `agent_count` rows as an instance with no tasks.
+// The map is looked up beside the .scen file, then in `map_dir` when given.
+Instance load_scen(const std::string& path, int agent_count, const std::string& map_dir = "");
+
+// Loads by extension: .yaml/.yml or .scen.
+Instance load_instance(const std::string& path, int scen_agent_count = 0);
+
+// Checks that every agent's start, tasks and goal are in one connected piece of the
+// map (so a single-agent tour exists); throws InputError naming agent and task.
+void check_reachability(const Instance& instance);
+
+// Writes an instance as FORMATS.md YAML; `map_reference` is written verbatim as `map:`.
+std::string instance_to_yaml(const Instance& instance, const std::string& map_reference,
+                             const std::string& comment = "");
+
+}  // namespace planner_core

@@ -1,0 +1,63 @@
+// Solver: the interface every CTS-MAPF solver variant implements, with its settings, per-call
+// options (deadline, interrupt, improvement callback) and result (plan, metrics, improvement log).
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "planner_core/deadline.hpp"
+#include "planner_core/extended_pibt.hpp"
+#include "planner_core/task_order.hpp"
+
+namespace planner_core {
+
+struct SolverConfig {
+  std::string solver = "cts-pibt";  // see solver_names()
+  uint32_t seed = 0;
+  TaskOrderConfig task_order;
+  PibtConfig pibt;
+  int max_sequences = 0;  // anytime variants: stop after this many joint sequences (0 = until the deadline)
+};
+
+struct Improvement {
+  double time_ms = 0;
+  int64_t flowtime = 0;
+  int sequence_index = 0;  // which joint sequence produced it
+};
+
+struct SolveResult {
+  bool solved = false;
+  Solution solution;
+  std::vector<std::vector<int>> orders;  // agent -> task ids in the order the solution follows
+  int64_t flowtime = 0;
+  int makespan = 0;
+  int64_t sum_of_loss = 0;
+  int64_t lower_bound = 0;
+  double comp_time_ms = 0;
+  double first_solution_ms = -1;  // -1 when nothing was found
+  int sequences_tried = 0;
+  int pibt_failures = 0;          // runs that hit the step limit
+  std::vector<Improvement> improvements;
+  std::string failure_reason;
+};
+
+struct SolveOptions {
+  Deadline deadline;
+  // Called with the result so far when the first solution is found and at every improvement.
+  std::function<void(const SolveResult&)> on_solution;
+};
+
+class Solver {
+ public:
+  virtual ~Solver() = default;
+  virtual SolveResult solve(const Instance& instance, const SolveOptions& options) = 0;
+};
+
+std::vector<std::string> solver_names();
+// Throws std::invalid_argument for an unknown solver name.
+std::unique_ptr<Solver> make_solver(const SolverConfig& config);
+
+}  // namespace planner_core

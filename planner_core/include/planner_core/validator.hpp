@@ -1,0 +1,46 @@
+// Validator: checks a joint plan against an instance by every rule of FORMATS.md and reports
+// every violation with its timestep and agents. The one checker used by the CLI, the
+// benchmarks, the tests and (later) the coordinator before a plan goes to robots.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "planner_core/solution.hpp"
+
+namespace planner_core {
+
+struct Violation {
+  enum class Kind {
+    kEmpty,           // no timesteps at all
+    kAgentCount,      // a timestep lists the wrong number of agents
+    kWrongStart,      // t = 0 is not the agent's start
+    kBlockedCell,     // outside the map or on a blocked cell
+    kJump,            // a move to a cell that is not a neighbour
+    kVertexConflict,  // two agents on one cell
+    kSwapConflict,    // two agents swap cells in one step
+    kNotOnGoal,       // the agent does not end on its goal
+    kTaskMissed,      // a task not visited by one of its agents before it settles on its goal
+  };
+  Kind kind;
+  int time = -1;
+  int agent = -1;
+  int other = -1;  // second agent of a conflict, or the task id of kTaskMissed
+  std::string message;
+};
+
+std::string to_string(Violation::Kind kind);
+
+struct ValidationReport {
+  std::vector<Violation> violations;
+  int64_t flowtime = 0;
+  int makespan = 0;
+  bool ok() const { return violations.empty(); }
+  bool has(Violation::Kind kind) const;
+  std::string summary(size_t max_lines = 10) const;
+};
+
+ValidationReport validate(const Instance& instance, const Solution& solution);
+
+}  // namespace planner_core

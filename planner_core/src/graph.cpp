@@ -1,0 +1,110 @@
+#include "planner_core/graph.hpp"
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "planner_core/input_error.hpp"
+
+namespace planner_core {
+
+std::string to_string(Cell cell) {
+  return "(" + std::to_string(cell.x) + "," + std::to_string(cell.y) + ")";
+}
+
+static bool is_free_symbol(char c) { return c == '.' || c == 'G'; }
+
+Graph::Graph(int width, int height, const std::vector<std::string>& rows)
+    : width_(width), height_(height), rows_(rows) {
+  vertex_of_index_.assign(static_cast<size_t>(width) * height, kNoVertex);
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) {
+      if (is_free_symbol(rows[y][x])) {
+        vertex_of_index_[y * width + x] = static_cast<Vertex>(cells_.size());
+        cells_.push_back({x, y});
+      }
+    }
+  }
+  neighbours_.resize(cells_.size());
+  for (Vertex v = 0; v < vertex_count(); ++v) {
+    const Cell c = cells_[v];
+    for (Cell n : {Cell{c.x, c.y - 1}, Cell{c.x + 1, c.y}, Cell{c.x, c.y + 1}, Cell{c.x - 1, c.y}}) {
+      const Vertex u = vertex_at(n);
+      if (u != kNoVertex) neighbours_[v].push_back(u);
+    }
+    if (neighbours_[v].size() > kMaxDegree) throw std::logic_error("grid vertex with more than kMaxDegree neighbours");
+  }
+}
+
+bool Graph::inside(Cell cell) const {
+  return cell.x >= 0 && cell.y >= 0 && cell.x < width_ && cell.y < height_;
+}
+
+Vertex Graph::vertex_at(Cell cell) const {
+  if (!inside(cell)) return kNoVertex;
+  return vertex_of_index_[cell.y * width_ + cell.x];
+}
+
+bool Graph::adjacent(Vertex a, Vertex b) const {
+  const auto& n = neighbours_[a];
+  return std::find(n.begin(), n.end(), b) != n.end();
+}
+
+Graph load_movingai_map(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path + ": cannot open map file");
+  int width = -1, height = -1;
+  std::string line;
+  int line_no = 0;
+  bool saw_map = false;
+  while (std::getline(in, line)) {
+    ++line_no;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    std::istringstream words(line);
+    std::string key;
+    if (!(words >> key)) continue;
+    if (key == "map") {
+      saw_map = true;
+      break;
+    }
+    if (key == "type") continue;
+    if (key != "height" && key != "width") {
+      throw InputError(path + ":" + std::to_string(line_no) + ": unknown header line '" + line + "'");
+    }
+    int value = 0;
+    if (!(words >> value) || value <= 0) {
+      throw InputError(path + ":" + std::to_string(line_no) + ": " + key + " must be a positive integer");
+    }
+    (key == "height" ? height : width) = value;
+  }
+  if (!saw_map) throw InputError(path + ": missing 'map' line after the header");
+  if (width < 0 || height < 0) throw InputError(path + ": header must give both width and height");
+  std::vector<std::string> rows;
+  while (static_cast<int>(rows.size()) < height && std::getline(in, line)) {
+    ++line_no;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (static_cast<int>(line.size()) < width) {
+      throw InputError(path + ":" + std::to_string(line_no) + ": row has " + std::to_string(line.size()) +
+                       " cells, expected width " + std::to_string(width));
+    }
+    line.resize(width);
+    for (int x = 0; x < width; ++x) {
+      const char c = line[x];
+      if (!is_free_symbol(c) && c != '@' && c != 'O' && c != 'T' && c != 'S' && c != 'W') {
+        throw InputError(path + ":" + std::to_string(line_no) + ": unknown map symbol '" + std::string(1, c) +
+                         "' at column " + std::to_string(x));
+      }
+    }
+    rows.push_back(line);
+  }
+  if (static_cast<int>(rows.size()) < height) {
+    throw InputError(path + ": map has " + std::to_string(rows.size()) + " rows, header says height " +
+                     std::to_string(height));
+  }
+  Graph graph(width, height, rows);
+  graph.name = std::filesystem::path(path).stem().string();
+  return graph;
+}
+
+}  // namespace planner_core

@@ -1,0 +1,255 @@
+#include "planner_core/instance.hpp"
+
+#include <yaml-cpp/yaml.h>
+
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <queue>
+#include <set>
+#include <sstream>
+
+#include "planner_core/input_error.hpp"
+
+namespace planner_core {
+
+namespace fs = std::filesystem;
+
+void Instance::index_tasks() {
+  tasks_of_agent.assign(starts.size(), {});
+  for (int t = 0; t < task_count(); ++t) {
+    for (int a : tasks[t].agents) tasks_of_agent[a].push_back(t);
+  }
+}
+
+namespace {
+
+// "file:line: field: problem" for a YAML node.
+class YamlContext {
+ public:
+  explicit YamlContext(std::string file) : file_(std::move(file)) {}
+
+  [[noreturn]] void fail(const YAML::Node& node, const std::string& field, const std::string& problem) const {
+    std::string where = file_;
+    if (node.IsDefined() && node.Mark().line >= 0) where += ":" + std::to_string(node.Mark().line + 1);
+    throw InputError(where + ": " + field + ": " + problem);
+  }
+
+  Cell cell(const YAML::Node& node, const std::string& field) const {
+    if (!node.IsSequence() || node.size() != 2) fail(node, field, "expected [x, y]");
+    return {integer(node[0], field + "[0]"), integer(node[1], field + "[1]")};
+  }
+
+  int integer(const YAML::Node& node, const std::string& field) const {
+    if (!node.IsScalar()) fail(node, field, "expected an integer");
+    try {
+      const std::string text = node.Scalar();
+      size_t used = 0;
+      const long value = std::stol(text, &used);
+      if (used != text.size()) throw std::invalid_argument(text);
+      return static_cast<int>(value);
+    } catch (const std::exception&) {
+      fail(node, field, "expected an integer, got '" + node.Scalar() + "'");
+    }
+  }
+
+  void only_keys(const YAML::Node& map, const std::set<std::string>& allowed, const std::string& field) const {
+    if (!map.IsMap()) fail(map, field, "expected a mapping");
+    for (const auto& item : map) {
+      const std::string key = item.first.as<std::string>();
+      if (!allowed.count(key)) fail(item.first, field, "unknown key '" + key + "'");
+    }
+  }
+
+ private:
+  std::string file_;
+};
+
+Vertex free_vertex(const Graph& graph, Cell cell, const YamlContext& ctx, const YAML::Node& node,
+                   const std::string& field) {
+  if (!graph.inside(cell)) ctx.fail(node, field, to_string(cell) + " is outside the map");
+  const Vertex v = graph.vertex_at(cell);
+  if (v == kNoVertex) ctx.fail(node, field, to_string(cell) + " is on a blocked cell");
+  return v;
+}
+
+}  // namespace
+
+Instance load_instance_yaml(const std::string& path) {
+  if (!fs::exists(path)) throw InputError(path + ": no such file");
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(path);
+  } catch (const YAML::Exception& e) {
+    throw InputError(path + ":" + std::to_string(e.mark.line + 1) + ": malformed YAML: " + e.msg);
+  }
+  const YamlContext ctx(path);
+  ctx.only_keys(root, {"map", "agents", "tasks"}, "top level");
+  if (!root["map"] || !root["map"].IsScalar()) ctx.fail(root, "map", "missing or not a file name");
+  if (!root["agents"] || !root["agents"].IsSequence()) ctx.fail(root, "agents", "missing or not a list");
+
+  fs::path map_path = root["map"].Scalar();
+  if (map_path.is_relative()) map_path = fs::path(path).parent_path() / map_path;
+  Instance instance;
+  instance.source = path;
+  instance.graph = std::make_shared<const Graph>(load_movingai_map(map_path.lexically_normal().string()));
+  const Graph& graph = *instance.graph;
+
+  std::map<Vertex, int> start_owner, goal_owner;
+  const YAML::Node agents = root["agents"];
+  for (size_t i = 0; i < agents.size(); ++i) {
+    const std::string field = "agents[" + std::to_string(i) + "]";
+    const YAML::Node agent = agents[i];
+    ctx.only_keys(agent, {"start", "goal"}, field);
+    if (!agent["start"]) ctx.fail(agent, field, "missing 'start'");
+    if (!agent["goal"]) ctx.fail(agent, field, "missing 'goal'");
+    const Vertex s = free_vertex(graph, ctx.cell(agent["start"], field + ".start"), ctx, agent["start"], field + ".start");
+    const Vertex g = free_vertex(graph, ctx.cell(agent["goal"], field + ".goal"), ctx, agent["goal"], field + ".goal");
+    if (auto [it, fresh] = start_owner.emplace(s, static_cast<int>(i)); !fresh) {
+      ctx.fail(agent["start"], field + ".start", "same start as agent " + std::to_string(it->second));
+    }
+    if (auto [it, fresh] = goal_owner.emplace(g, static_cast<int>(i)); !fresh) {
+      ctx.fail(agent["goal"], field + ".goal", "same goal as agent " + std::to_string(it->second));
+    }
+    instance.starts.push_back(s);
+    instance.goals.push_back(g);
+  }
+
+  const YAML::Node tasks = root["tasks"];
+  if (tasks && !tasks.IsNull()) {
+    if (!tasks.IsSequence()) ctx.fail(tasks, "tasks", "expected a list");
+    for (size_t k = 0; k < tasks.size(); ++k) {
+      const std::string field = "tasks[" + std::to_string(k) + "]";
+      const YAML::Node node = tasks[k];
+      ctx.only_keys(node, {"at", "agents"}, field);
+      if (!node["at"]) ctx.fail(node, field, "missing 'at'");
+      if (!node["agents"] || !node["agents"].IsSequence()) ctx.fail(node, field + ".agents", "missing or not a list");
+      Task task;
+      task.at = free_vertex(graph, ctx.cell(node["at"], field + ".at"), ctx, node["at"], field + ".at");
+      std::set<int> seen;
+      for (size_t j = 0; j < node["agents"].size(); ++j) {
+        const std::string agent_field = field + ".agents[" + std::to_string(j) + "]";
+        const int a = ctx.integer(node["agents"][j], agent_field);
+        if (a < 0 || a >= instance.agent_count()) {
+          ctx.fail(node["agents"][j], agent_field, "agent " + std::to_string(a) + " does not exist (there are " +
+                                                       std::to_string(instance.agent_count()) + " agents)");
+        }
+        if (seen.insert(a).second) task.agents.push_back(a);
+      }
+      if (task.agents.empty()) ctx.fail(node["agents"], field + ".agents", "task has no agents");
+      instance.tasks.push_back(task);
+    }
+  }
+  instance.index_tasks();
+  check_reachability(instance);
+  return instance;
+}
+
+Instance load_scen(const std::string& path, int agent_count, const std::string& map_dir) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path + ": cannot open scenario file");
+  Instance instance;
+  instance.source = path;
+  std::string line;
+  int line_no = 0;
+  std::set<Vertex> starts, goals;
+  while (std::getline(in, line) && (agent_count <= 0 || instance.agent_count() < agent_count)) {
+    ++line_no;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (line.empty() || line.rfind("version", 0) == 0) continue;
+    std::istringstream fields(line);
+    int bucket, w, h, sx, sy, gx, gy;
+    std::string map_name;
+    const std::string where = path + ":" + std::to_string(line_no);
+    if (!(fields >> bucket >> map_name >> w >> h >> sx >> sy >> gx >> gy)) {
+      throw InputError(where + ": expected 'bucket map width height sx sy gx gy length'");
+    }
+    if (!instance.graph) {
+      fs::path map_path = fs::path(path).parent_path() / map_name;
+      if (!fs::exists(map_path) && !map_dir.empty()) map_path = fs::path(map_dir) / map_name;
+      instance.graph = std::make_shared<const Graph>(load_movingai_map(map_path.string()));
+    }
+    const Vertex s = instance.graph->vertex_at({sx, sy});
+    const Vertex g = instance.graph->vertex_at({gx, gy});
+    if (s == kNoVertex) throw InputError(where + ": start " + to_string({sx, sy}) + " is outside the map or blocked");
+    if (g == kNoVertex) throw InputError(where + ": goal " + to_string({gx, gy}) + " is outside the map or blocked");
+    if (!starts.insert(s).second) throw InputError(where + ": duplicate start " + to_string({sx, sy}));
+    if (!goals.insert(g).second) throw InputError(where + ": duplicate goal " + to_string({gx, gy}));
+    instance.starts.push_back(s);
+    instance.goals.push_back(g);
+  }
+  if (agent_count > 0 && instance.agent_count() < agent_count) {
+    throw InputError(path + ": asked for " + std::to_string(agent_count) + " agents, file has " +
+                     std::to_string(instance.agent_count()));
+  }
+  if (instance.agent_count() == 0) throw InputError(path + ": no agents");
+  instance.index_tasks();
+  check_reachability(instance);
+  return instance;
+}
+
+Instance load_instance(const std::string& path, int scen_agent_count) {
+  const std::string ext = fs::path(path).extension().string();
+  if (ext == ".scen") return load_scen(path, scen_agent_count);
+  if (ext == ".yaml" || ext == ".yml") return load_instance_yaml(path);
+  throw InputError(path + ": unknown instance type (expected .yaml, .yml or .scen)");
+}
+
+void check_reachability(const Instance& instance) {
+  const Graph& graph = *instance.graph;
+  std::vector<int> component(graph.vertex_count(), -1);
+  int next_id = 0;
+  for (Vertex root = 0; root < graph.vertex_count(); ++root) {
+    if (component[root] != -1) continue;
+    std::queue<Vertex> open;
+    open.push(root);
+    component[root] = next_id;
+    while (!open.empty()) {
+      const Vertex v = open.front();
+      open.pop();
+      for (Vertex u : graph.neighbours(v)) {
+        if (component[u] == -1) {
+          component[u] = next_id;
+          open.push(u);
+        }
+      }
+    }
+    ++next_id;
+  }
+  for (int a = 0; a < instance.agent_count(); ++a) {
+    const int home = component[instance.starts[a]];
+    if (component[instance.goals[a]] != home) {
+      throw InputError(instance.source + ": agents[" + std::to_string(a) + "]: goal " +
+                       to_string(graph.cell_of(instance.goals[a])) + " is unreachable from its start " +
+                       to_string(graph.cell_of(instance.starts[a])));
+    }
+    for (int t : instance.tasks_of_agent[a]) {
+      if (component[instance.tasks[t].at] != home) {
+        throw InputError(instance.source + ": tasks[" + std::to_string(t) + "]: cell " +
+                         to_string(graph.cell_of(instance.tasks[t].at)) + " is unreachable for agent " +
+                         std::to_string(a) + " from its start " + to_string(graph.cell_of(instance.starts[a])));
+      }
+    }
+  }
+}
+
+std::string instance_to_yaml(const Instance& instance, const std::string& map_reference, const std::string& comment) {
+  std::ostringstream out;
+  if (!comment.empty()) out << "# " << comment << "\n";
+  out << "map: " << map_reference << "\nagents:\n";
+  const Graph& graph = *instance.graph;
+  for (int a = 0; a < instance.agent_count(); ++a) {
+    const Cell s = graph.cell_of(instance.starts[a]), g = graph.cell_of(instance.goals[a]);
+    out << "  - {start: [" << s.x << ", " << s.y << "], goal: [" << g.x << ", " << g.y << "]}\n";
+  }
+  out << (instance.tasks.empty() ? "tasks: []\n" : "tasks:\n");
+  for (const Task& task : instance.tasks) {
+    const Cell c = graph.cell_of(task.at);
+    out << "  - {at: [" << c.x << ", " << c.y << "], agents: [";
+    for (size_t i = 0; i < task.agents.size(); ++i) out << (i ? ", " : "") << task.agents[i];
+    out << "]}\n";
+  }
+  return out.str();
+}
+
+}  // namespace planner_core

@@ -1,0 +1,126 @@
+#include "planner_core/solution.hpp"
+
+#include <algorithm>
+#include <fstream>
+#include <numeric>
+#include <regex>
+#include <sstream>
+
+#include "planner_core/input_error.hpp"
+
+namespace planner_core {
+
+std::vector<int> arrival_times(const Solution& solution, const Config& goals) {
+  std::vector<int> arrival(goals.size(), 0);
+  if (solution.empty()) return arrival;
+  const int last = static_cast<int>(solution.size()) - 1;
+  for (size_t a = 0; a < goals.size(); ++a) {
+    int t = last;
+    if (solution[last][a] == goals[a]) {
+      while (t > 0 && solution[t - 1][a] == goals[a]) --t;
+    }
+    arrival[a] = t;
+  }
+  return arrival;
+}
+
+int64_t flowtime(const Solution& solution, const Config& goals) {
+  const std::vector<int> arrival = arrival_times(solution, goals);
+  return std::accumulate(arrival.begin(), arrival.end(), int64_t{0});
+}
+
+int makespan(const Solution& solution, const Config& goals) {
+  const std::vector<int> arrival = arrival_times(solution, goals);
+  return arrival.empty() ? 0 : *std::max_element(arrival.begin(), arrival.end());
+}
+
+int64_t sum_of_loss(const Solution& solution, const Config& goals) {
+  int64_t loss = 0;
+  for (size_t t = 1; t < solution.size(); ++t) {
+    for (size_t a = 0; a < goals.size(); ++a) {
+      loss += (solution[t - 1][a] == goals[a] && solution[t][a] == goals[a]) ? 0 : 1;
+    }
+  }
+  return loss;
+}
+
+void trim_idle_tail(Solution& solution) {
+  while (solution.size() > 1 && solution[solution.size() - 1] == solution[solution.size() - 2]) solution.pop_back();
+}
+
+std::string SolutionFile::value(const std::string& key) const {
+  for (const auto& [k, v] : header) {
+    if (k == key) return v;
+  }
+  return "";
+}
+
+std::string format_solution(const Graph& graph, const SolutionFile& file) {
+  std::ostringstream out;
+  for (const auto& [key, value] : file.header) out << key << "=" << value << "\n";
+  out << "solution=\n";
+  for (size_t t = 0; t < file.solution.size(); ++t) {
+    out << t << ":";
+    for (Vertex v : file.solution[t]) {
+      const Cell c = graph.cell_of(v);
+      out << "(" << c.x << "," << c.y << "),";
+    }
+    out << "\n";
+  }
+  return out.str();
+}
+
+void write_solution(const std::string& path, const Graph& graph, const SolutionFile& file) {
+  std::ofstream out(path);
+  if (!out) throw InputError(path + ": cannot write solution file");
+  out << format_solution(graph, file);
+  if (!out) throw InputError(path + ": write failed");
+}
+
+SolutionFile read_solution(const std::string& path, const Graph& graph) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path + ": cannot open solution file");
+  SolutionFile file;
+  std::string line;
+  int line_no = 0;
+  bool in_body = false;
+  const std::regex cell_pattern(R"(\((-?\d+),(-?\d+)\))");
+  while (std::getline(in, line)) {
+    ++line_no;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (line.empty()) continue;
+    const std::string where = path + ":" + std::to_string(line_no);
+    if (!in_body) {
+      if (line.rfind("solution=", 0) == 0) {
+        in_body = true;
+        continue;
+      }
+      const size_t eq = line.find('=');
+      if (eq == std::string::npos) throw InputError(where + ": expected key=value before 'solution='");
+      file.header.emplace_back(line.substr(0, eq), line.substr(eq + 1));
+      continue;
+    }
+    const size_t colon = line.find(':');
+    if (colon == std::string::npos) throw InputError(where + ": expected 't:(x,y),...'");
+    int t = -1;
+    try {
+      t = std::stoi(line.substr(0, colon));
+    } catch (const std::exception&) {
+      throw InputError(where + ": timestep is not a number");
+    }
+    if (t != static_cast<int>(file.solution.size())) {
+      throw InputError(where + ": expected timestep " + std::to_string(file.solution.size()) + ", got " +
+                       std::to_string(t));
+    }
+    Config config;
+    const std::string rest = line.substr(colon + 1);
+    for (auto it = std::sregex_iterator(rest.begin(), rest.end(), cell_pattern); it != std::sregex_iterator(); ++it) {
+      config.push_back(graph.vertex_at({std::stoi((*it)[1]), std::stoi((*it)[2])}));
+    }
+    file.solution.push_back(std::move(config));
+  }
+  if (!in_body) throw InputError(path + ": no 'solution=' line");
+  return file;
+}
+
+}  // namespace planner_core

@@ -1,0 +1,130 @@
+#include "planner_core/validator.hpp"
+
+#include <algorithm>
+#include <sstream>
+#include <unordered_map>
+
+namespace planner_core {
+
+std::string to_string(Violation::Kind kind) {
+  switch (kind) {
+    case Violation::Kind::kEmpty: return "empty";
+    case Violation::Kind::kAgentCount: return "agent-count";
+    case Violation::Kind::kWrongStart: return "wrong-start";
+    case Violation::Kind::kBlockedCell: return "blocked-cell";
+    case Violation::Kind::kJump: return "jump";
+    case Violation::Kind::kVertexConflict: return "vertex-conflict";
+    case Violation::Kind::kSwapConflict: return "swap-conflict";
+    case Violation::Kind::kNotOnGoal: return "not-on-goal";
+    case Violation::Kind::kTaskMissed: return "task-missed";
+  }
+  return "unknown";
+}
+
+bool ValidationReport::has(Violation::Kind kind) const {
+  return std::any_of(violations.begin(), violations.end(), [&](const Violation& v) { return v.kind == kind; });
+}
+
+std::string ValidationReport::summary(size_t max_lines) const {
+  std::ostringstream out;
+  for (size_t i = 0; i < violations.size() && i < max_lines; ++i) {
+    out << to_string(violations[i].kind) << ": " << violations[i].message << "\n";
+  }
+  if (violations.size() > max_lines) out << "... and " << violations.size() - max_lines << " more\n";
+  return out.str();
+}
+
+ValidationReport validate(const Instance& instance, const Solution& solution) {
+  using Kind = Violation::Kind;
+  ValidationReport report;
+  auto& out = report.violations;
+  const Graph& graph = *instance.graph;
+  const int n = instance.agent_count();
+  const auto cell = [&](Vertex v) { return v == kNoVertex ? std::string("(off map)") : to_string(graph.cell_of(v)); };
+  const auto agent_name = [](int a) { return "agent " + std::to_string(a); };
+
+  if (solution.empty()) {
+    out.push_back({Kind::kEmpty, -1, -1, -1, "the solution has no timesteps"});
+    return report;
+  }
+  for (size_t t = 0; t < solution.size(); ++t) {
+    if (static_cast<int>(solution[t].size()) != n) {
+      out.push_back({Kind::kAgentCount, static_cast<int>(t), -1, -1,
+                     "t=" + std::to_string(t) + ": " + std::to_string(solution[t].size()) + " positions for " +
+                         std::to_string(n) + " agents"});
+      return report;  // nothing else can be checked agent by agent
+    }
+  }
+  for (int a = 0; a < n; ++a) {
+    if (solution[0][a] != instance.starts[a]) {
+      out.push_back({Kind::kWrongStart, 0, a, -1,
+                     agent_name(a) + " starts at " + cell(solution[0][a]) + ", not " + cell(instance.starts[a])});
+    }
+  }
+  std::unordered_map<Vertex, int> agent_at;  // reused per timestep
+  std::unordered_map<Vertex, int> agent_before;
+  for (size_t step = 0; step < solution.size(); ++step) {
+    const int t = static_cast<int>(step);
+    const Config& now = solution[step];
+    agent_at.clear();
+    for (int a = 0; a < n; ++a) {
+      if (now[a] == kNoVertex) {
+        out.push_back({Kind::kBlockedCell, t, a, -1, "t=" + std::to_string(t) + ": " + agent_name(a) +
+                                                         " is outside the map or on a blocked cell"});
+        continue;
+      }
+      auto [it, fresh] = agent_at.emplace(now[a], a);
+      if (!fresh) {
+        out.push_back({Kind::kVertexConflict, t, it->second, a,
+                       "t=" + std::to_string(t) + ": agents " + std::to_string(it->second) + " and " +
+                           std::to_string(a) + " both at " + cell(now[a])});
+      }
+    }
+    if (step == 0) {
+      agent_before = agent_at;
+      continue;
+    }
+    const Config& before = solution[step - 1];
+    for (int a = 0; a < n; ++a) {
+      if (before[a] == kNoVertex || now[a] == kNoVertex) continue;
+      if (before[a] != now[a] && !graph.adjacent(before[a], now[a])) {
+        out.push_back({Kind::kJump, t, a, -1,
+                       "t=" + std::to_string(t) + ": " + agent_name(a) + " jumps " + cell(before[a]) + " -> " +
+                           cell(now[a])});
+      }
+      const auto other = agent_before.find(now[a]);
+      if (other != agent_before.end() && other->second != a && a < other->second &&
+          now[other->second] == before[a]) {
+        out.push_back({Kind::kSwapConflict, t, a, other->second,
+                       "t=" + std::to_string(t) + ": agents " + std::to_string(a) + " and " +
+                           std::to_string(other->second) + " swap " + cell(before[a]) + " <-> " + cell(now[a])});
+      }
+    }
+    std::swap(agent_before, agent_at);
+  }
+  const Config& last = solution.back();
+  for (int a = 0; a < n; ++a) {
+    if (last[a] != instance.goals[a]) {
+      out.push_back({Kind::kNotOnGoal, static_cast<int>(solution.size()) - 1, a, -1,
+                     agent_name(a) + " ends at " + cell(last[a]) + ", goal " + cell(instance.goals[a])});
+    }
+  }
+  const std::vector<int> arrival = arrival_times(solution, instance.goals);
+  for (int k = 0; k < instance.task_count(); ++k) {
+    const Task& task = instance.tasks[k];
+    for (int a : task.agents) {
+      bool visited = false;
+      for (int t = 0; t <= arrival[a] && !visited; ++t) visited = solution[t][a] == task.at;
+      if (!visited) {
+        out.push_back({Kind::kTaskMissed, arrival[a], a, k,
+                       "task " + std::to_string(k) + " at " + cell(task.at) + " not visited by " + agent_name(a) +
+                           " before it settles on its goal at t=" + std::to_string(arrival[a])});
+      }
+    }
+  }
+  report.flowtime = flowtime(solution, instance.goals);
+  report.makespan = makespan(solution, instance.goals);
+  return report;
+}
+
+}  // namespace planner_core
