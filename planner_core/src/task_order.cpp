@@ -190,6 +190,15 @@ int OrderSolver::lower_bound() const {
   return std::max(tree, through_one);
 }
 
+int64_t tour_lower_bound(const Instance& instance, DistTable& dist, const TaskOrderConfig& config) {
+  int64_t bound = 0;
+  for (int a = 0; a < instance.agent_count(); ++a) {
+    const TourMatrix matrix(instance, a, dist);
+    bound += OrderSolver(matrix, config).lower_bound();
+  }
+  return bound;
+}
+
 void improve_path(const TourMatrix& matrix, int from_point, std::vector<int>& locals, int fixed_prefix) {
   // points[0] = from_point, points[1..r] = tasks, points[r+1] = goal.
   std::vector<int> points;

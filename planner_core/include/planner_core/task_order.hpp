@@ -61,6 +61,10 @@ class OrderSolver {
   std::vector<int> backward_;
 };
 
+// Sum over agents of the shortest single-agent tour start -> its tasks -> goal, ignoring other
+// agents: exact within config.exact_task_limit tasks, an MST bound beyond. No plan has a lower flowtime.
+int64_t tour_lower_bound(const Instance& instance, DistTable& dist, const TaskOrderConfig& config);
+
 // Improves `locals` (a path from_point -> locals -> goal) in place with 2-opt and Or-opt moves;
 // the first `fixed_prefix` entries stay where they are.
 void improve_path(const TourMatrix& matrix, int from_point, std::vector<int>& locals, int fixed_prefix);

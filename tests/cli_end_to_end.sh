@@ -1,0 +1,33 @@
+#!/usr/bin/env bash
+# End-to-end: ctsfleet-gen makes an instance, ctsfleet-solve solves it (the independent checker
+# accepts the plan), ctsfleet-bench runs a folder, and bad input gives a clear error and exit 2.
+set -euo pipefail
+bin="$1"; data="$2"; python="${3:-python3}"
+work="$(mktemp -d)"; trap 'rm -rf "$work"' EXIT
+ctsval="$data/../../../shared/tools/ctsval.py"; [ -f "$ctsval" ] || ctsval="$data/ctsval.py"
+
+"$bin/ctsfleet-gen" --map "$data/maps/random-32-32-20.map" -N 8 -M 16 --seed 5 -o "$work/gen.yaml"
+"$bin/ctsfleet-solve" -i "$work/gen.yaml" -t 5 -o "$work/sol.txt" --svg "$work/sol.svg" | tee "$work/summary"
+grep -q "solved=1" "$work/summary"
+grep -q "^order_0=" "$work/sol.txt"
+grep -q "^comp_time_first_ms=" "$work/sol.txt"
+grep -q "<polyline" "$work/sol.svg"
+"$python" "$ctsval" "$work/gen.yaml" "$work/sol.txt"
+
+mkdir "$work/suite"
+for seed in 1 2 3; do
+  "$bin/ctsfleet-gen" --map "$data/maps/maze-32-32-2.map" -N 5 -M 10 --seed $seed -o "$work/suite/maze-32-32-2-N5-M10-0$seed.yaml" >/dev/null
+done
+"$bin/ctsfleet-bench" "$work/suite" -t 2 --sample 2 --csv "$work/bench.csv" -j 2 | tee "$work/bench.out"
+[ "$(wc -l < "$work/bench.csv")" -eq 3 ]   # header + 2 sampled instances
+grep -q "| maze-32-32-2 | 5 | 10 | 2 |" "$work/bench.out"
+
+printf 'map: nowhere.map\nagents: []\n' > "$work/bad.yaml"
+set +e
+"$bin/ctsfleet-solve" -i "$work/bad.yaml" -o "$work/never.txt" 2> "$work/err"
+code=$?
+set -e
+[ "$code" -eq 2 ] || { echo "expected exit 2, got $code"; exit 1; }
+grep -q "nowhere.map" "$work/err"
+[ ! -e "$work/never.txt" ]
+echo "cli end-to-end: all checks passed"

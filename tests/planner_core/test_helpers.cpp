@@ -1,0 +1,39 @@
+#include "test_helpers.hpp"
+
+#include <filesystem>
+#include <fstream>
+
+#include <unistd.h>
+
+namespace planner_core::testing {
+
+std::string data_path(const std::string& relative) { return std::string(CTSFLEET_TEST_DATA) + "/" + relative; }
+
+std::shared_ptr<const Graph> grid_from_rows(const std::vector<std::string>& rows) {
+  return std::make_shared<const Graph>(static_cast<int>(rows[0].size()), static_cast<int>(rows.size()), rows);
+}
+
+Instance make_instance(const std::vector<std::string>& rows, const std::vector<AgentSpec>& agents,
+                       const std::vector<TaskSpec>& tasks) {
+  Instance instance;
+  instance.graph = grid_from_rows(rows);
+  instance.source = "test";
+  for (const AgentSpec& agent : agents) {
+    instance.starts.push_back(instance.graph->vertex_at(agent.start));
+    instance.goals.push_back(instance.graph->vertex_at(agent.goal));
+  }
+  for (const TaskSpec& task : tasks) instance.tasks.push_back({instance.graph->vertex_at(task.at), task.agents});
+  instance.index_tasks();
+  return instance;
+}
+
+std::string write_temp_file(const std::string& name, const std::string& text) {
+  const auto dir = std::filesystem::temp_directory_path() / ("ctsfleet-test-" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const auto path = dir / name;
+  std::filesystem::create_directories(path.parent_path());
+  std::ofstream(path) << text;
+  return path.string();
+}
+
+}  // namespace planner_core::testing
