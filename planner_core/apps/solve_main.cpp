@@ -93,17 +93,20 @@ int main(int argc, char** argv) {
     put("comp_time_ms", static_cast<int64_t>(result.comp_time_ms));
     put("comp_time_first_ms", static_cast<int64_t>(result.first_solution_ms));
     put("sequences", result.sequences_tried);
+    put("lock_releases", result.lock_releases);
+    put("lns_iterations", result.lns_iterations);
     if (!result.solved) put("failure", result.failure_reason);
     for (size_t a = 0; a < result.orders.size(); ++a) put("order_" + std::to_string(a), join(result.orders[a]));
     write_solution(out_path, *instance.graph, file);
     if (!svg_path.empty()) write_svg(svg_path, instance, result.solution);
 
     std::printf("solver=%s solved=%d agents=%d tasks=%d flowtime=%lld makespan=%d lower_bound=%lld ratio=%.3f "
-                "comp_time_ms=%.0f first_ms=%.1f sequences=%d output=%s\n",
+                "comp_time_ms=%.0f first_ms=%.1f sequences=%d releases=%d lns_iterations=%d output=%s\n",
                 config.solver.c_str(), result.solved ? 1 : 0, instance.agent_count(), instance.task_count(),
                 static_cast<long long>(result.flowtime), result.makespan, static_cast<long long>(result.lower_bound),
                 result.lower_bound > 0 && result.solved ? static_cast<double>(result.flowtime) / result.lower_bound : 0.0,
-                result.comp_time_ms, result.first_solution_ms, result.sequences_tried, out_path.c_str());
+                result.comp_time_ms, result.first_solution_ms, result.sequences_tried, result.lock_releases,
+                result.lns_iterations, out_path.c_str());
     if (!result.solved) std::fprintf(stderr, "not solved: %s\n", result.failure_reason.c_str());
     return result.solved ? 0 : 1;
   } catch (const InputError& e) {

@@ -38,7 +38,6 @@ void ExtendedPibt::reset(const JointSequence& sequence, const Solution& prefix) 
   step_limit_ = static_cast<int>(config_.step_limit_factor * static_cast<double>(longest_tour)) + config_.step_limit_slack;
 
   plan_ = prefix.empty() ? Solution{instance_.starts} : prefix;
-  visited_history_.clear();
   for (int t = 0; t < static_cast<int>(plan_.size()); ++t) {
     for (int a = 0; a < n; ++a) mark_visits(a, plan_[t][a], t);
   }
@@ -112,7 +111,7 @@ bool ExtendedPibt::step() {
   plan_.push_back(to_);
   const int time = static_cast<int>(plan_.size()) - 1;
   finished_count_ = 0;
-  int visited_total = 0;
+  int progress = 0;
   for (int a = 0; a < n; ++a) {
     const int before = agents_[a].last_target_time;
     mark_visits(a, to_[a], time);
@@ -122,9 +121,12 @@ bool ExtendedPibt::step() {
       ++agents_[a].steps_since_target;
     }
     finished_count_ += finished(a) ? 1 : 0;
-    visited_total += agents_[a].next;
+    progress += agents_[a].next + (finished(a) ? 1 : 0);
   }
-  visited_history_.push_back(visited_total);
+  if (progress > best_progress_) {
+    best_progress_ = progress;
+    best_progress_step_ = time;
+  }
   return finished_count_ == n;
 }
 
@@ -160,8 +162,12 @@ bool ExtendedPibt::plan_move(int agent) {
 ExtendedPibt::Outcome ExtendedPibt::run(const Deadline& deadline) {
   const int start_length = static_cast<int>(plan_.size());
   if (finished_count_ == instance_.agent_count()) return Outcome::kSolved;
+  best_progress_ = -1;
+  best_progress_step_ = start_length - 1;
   while (static_cast<int>(plan_.size()) - start_length < step_limit_) {
     if (step()) return Outcome::kSolved;
+    const int time = static_cast<int>(plan_.size()) - 1;
+    if (config_.stall_window > 0 && time - best_progress_step_ >= config_.stall_window) return Outcome::kStalled;
     if ((plan_.size() & 15) == 0 && deadline.expired()) return Outcome::kInterrupted;
   }
   return Outcome::kStepLimit;

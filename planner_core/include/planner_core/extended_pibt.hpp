@@ -19,18 +19,22 @@ struct PibtConfig {
   // The run fails after step_limit_factor * (longest single-agent tour of the sequence) + step_limit_slack steps.
   double step_limit_factor = 3.0;
   int step_limit_slack = 50;
+  // Stop early when the number of targets reached (tasks visited + agents finished) has not
+  // exceeded its best for this many steps (0 = never; CTS-PIBT runs to the step limit).
+  int stall_window = 0;
 };
 
 class ExtendedPibt {
  public:
-  enum class Outcome { kSolved, kStepLimit, kInterrupted };
+  enum class Outcome { kSolved, kStepLimit, kStalled, kInterrupted };
 
   ExtendedPibt(const Instance& instance, DistTable& dist, const PibtConfig& config, std::mt19937& rng);
 
   // Starts a run for `sequence` from the instance's starts, or from the last configuration of
   // `prefix` (whose visits count) when it is given.
   void reset(const JointSequence& sequence, const Solution& prefix = {});
-  // Steps until every agent has visited its tasks and stands on its goal, the step limit, or the deadline.
+  // Steps until every agent has visited its tasks and stands on its goal, the step limit, a stall
+  // (see PibtConfig::stall_window), or the deadline.
   Outcome run(const Deadline& deadline);
   // One synchronous step of all agents (Algorithm 1); returns true when all agents are finished.
   bool step();
@@ -41,7 +45,7 @@ class ExtendedPibt {
   bool tasks_done(int agent) const { return agents_[agent].next == agents_[agent].task_count; }
   int last_target_time(int agent) const { return agents_[agent].last_target_time; }
   Vertex target_of(int agent) const;              // next unvisited task in order, else the goal
-  const std::vector<int>& visited_count_history() const { return visited_history_; }
+  const Instance& instance() const { return instance_; }
 
  private:
   struct AgentState {
@@ -67,7 +71,8 @@ class ExtendedPibt {
   Solution plan_;
   int step_limit_ = 0;
   int finished_count_ = 0;
-  std::vector<int> visited_history_;  // total tasks visited after each timestep (for stall detection)
+  int best_progress_ = 0;       // most targets ever reached at once in this run
+  int best_progress_step_ = 0;  // plan length when it was reached
 
   struct PriorityKey {
     bool active;

@@ -10,6 +10,9 @@
 
 #include "planner_core/deadline.hpp"
 #include "planner_core/extended_pibt.hpp"
+#include "planner_core/lacam.hpp"
+#include "planner_core/lns.hpp"
+#include "planner_core/lock_release.hpp"
 #include "planner_core/task_order.hpp"
 
 namespace planner_core {
@@ -19,6 +22,9 @@ struct SolverConfig {
   uint32_t seed = 0;
   TaskOrderConfig task_order;
   PibtConfig pibt;
+  int pll_stall_window = 150;  // CTS-PLL: Extended-PIBT without progress this long triggers lock release
+  LockReleaseConfig lock_release;
+  LnsConfig lns;
   int max_sequences = 0;  // anytime variants: stop after this many joint sequences (0 = until the deadline)
 };
 
@@ -39,7 +45,10 @@ struct SolveResult {
   double comp_time_ms = 0;
   double first_solution_ms = -1;  // -1 when nothing was found
   int sequences_tried = 0;
-  int pibt_failures = 0;          // runs that hit the step limit
+  int pibt_failures = 0;          // runs that hit the step limit (or stalled, for CTS-PLL)
+  int lock_releases = 0;          // CTS-PLL: successful lock releases
+  int prioritized_completions = 0;  // CTS-PLL: plans completed by prioritized planning after releases
+  int lns_iterations = 0;
   std::vector<Improvement> improvements;
   std::string failure_reason;
 };

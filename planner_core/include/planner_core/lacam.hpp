@@ -1,0 +1,49 @@
+// LaCAM: lazy constraints addition search for MAPF (K. Okumura, "LaCAM: Search-Based Algorithm for
+// Quick Multi-Agent Pathfinding", AAAI 2023), with the LaCAM* refinement ("Improving LaCAM for
+// Scalable Eventually Optimal Multi-Agent Pathfinding", IJCAI 2023) as an option. A depth-first
+// search over configurations; each configuration carries a lazily grown tree of constraints and
+// PIBT generates the successor that obeys a constraint. Complete: it finds a solution when one
+// exists, given time.
+#pragma once
+
+#include <cstdint>
+#include <random>
+#include <vector>
+
+#include "planner_core/deadline.hpp"
+#include "planner_core/dist_table.hpp"
+#include "planner_core/solution.hpp"
+
+namespace planner_core {
+
+struct LacamConfig {
+  bool refine = false;  // LaCAM*: after the first solution keep searching for a cheaper one until the deadline
+};
+
+struct LacamResult {
+  bool solved = false;
+  Solution solution;       // solution[0] = starts, back() = goals
+  int64_t explored = 0;    // configurations generated
+  int64_t cost = 0;        // sum of loss of the solution
+  bool exhausted = false;  // the whole reachable space was searched (no solution exists when !solved)
+};
+
+class Lacam {
+ public:
+  // `dist` is used for goal distances when nothing is blocked; with blocked cells the search
+  // computes its own distances around them.
+  Lacam(const Graph& graph, DistTable& dist, const LacamConfig& config, std::mt19937& rng);
+
+  // Plans `starts` -> `goals` (same length, distinct) where cells with blocked[v] != 0 may not be
+  // entered (an empty `blocked` means none).
+  LacamResult solve(const Config& starts, const Config& goals, const std::vector<char>& blocked,
+                    const Deadline& deadline);
+
+ private:
+  const Graph& graph_;
+  DistTable& dist_;
+  LacamConfig config_;
+  std::mt19937& rng_;
+};
+
+}  // namespace planner_core

@@ -1,0 +1,66 @@
+// LNS refinement (CTS-PLL paper, section III-C; destroy/repair structure after MAPF-LNS2, Li et
+// al. AAAI 2022): repeatedly remove the paths of a neighbourhood of agents, replan them one by one
+// with prioritized planning in random order through their fixed task orders, and keep the result
+// when the neighbourhood's cost (sum of arrival times) does not increase. Three destroy operators
+// with adaptive weights w <- (1 - gamma) w + gamma max(delta, 0), picked by roulette.
+#pragma once
+
+#include <array>
+#include <functional>
+#include <random>
+#include <vector>
+
+#include "planner_core/deadline.hpp"
+#include "planner_core/path_table.hpp"
+#include "planner_core/solution.hpp"
+#include "planner_core/space_time_astar.hpp"
+
+namespace planner_core {
+
+struct LnsConfig {
+  int neighbourhood_size = 4;  // measured on dense maze instances: 4 beat 2 and 8 (docs/RESULTS.md)
+  double gamma = 0.1;
+  // CTS-PLL-v3: refinement budget for each joint sequence; 0 = a quarter of the solve's time limit.
+  double time_per_sequence_s = 0;
+  SpaceTimeLimits search;
+};
+
+enum class DestroyOperator { kRandom, kIntersection, kRandomWalk };
+constexpr int kDestroyOperatorCount = 3;
+
+struct LnsStats {
+  int iterations = 0;
+  int accepted = 0;
+  int repair_failures = 0;
+  std::array<double, kDestroyOperatorCount> weights{};
+};
+
+class LnsRefiner {
+ public:
+  LnsRefiner(const Instance& instance, DistTable& dist, const LnsConfig& config, std::mt19937& rng);
+
+  // Improves `plan` (feasible, following `orders`) in place until the deadline; `on_improvement`
+  // gets the new flowtime whenever it drops.
+  LnsStats refine(Solution& plan, const std::vector<std::vector<int>>& orders, const Deadline& deadline,
+                  const std::function<void(int64_t flowtime)>& on_improvement = {});
+
+ private:
+  std::vector<int> pick_neighbourhood(DestroyOperator op);
+  std::vector<int> random_agents(std::vector<int> chosen);
+  std::vector<int> intersection_agents();
+  std::vector<int> random_walk_agents();
+  DestroyOperator roulette();
+
+  const Instance& instance_;
+  DistTable& dist_;
+  LnsConfig config_;
+  std::mt19937& rng_;
+  std::array<double, kDestroyOperatorCount> weights_;
+  // State of the current refine() call.
+  std::vector<Path> paths_;
+  std::vector<std::vector<Vertex>> targets_;  // per agent: task cells in order, then the goal
+  std::vector<int> tour_length_;              // per agent: its order's length, a bound on its arrival
+  PathTable table_;
+};
+
+}  // namespace planner_core

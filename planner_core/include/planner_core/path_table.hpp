@@ -1,0 +1,41 @@
+// PathTable: a space-time reservation table of agents' paths for prioritized replanning. An agent
+// whose path ends rests on its last cell forever after; nobody may be there from then on.
+#pragma once
+
+#include <vector>
+
+#include "planner_core/graph.hpp"
+
+namespace planner_core {
+
+using Path = std::vector<Vertex>;  // path[t], t = 0 .. arrival time; the agent stays at path.back() afterwards
+
+class PathTable {
+ public:
+  static constexpr int kFree = -1;
+
+  explicit PathTable(int vertex_count);
+  // `rests`: the agent stays on path.back() forever after (false for a path prefix).
+  void add(int agent, const Path& path, bool rests = true);
+  void remove(int agent, const Path& path);
+  // The agent at v at time t, counting agents resting on their final cell, or kFree.
+  int occupant(Vertex v, int t) const;
+  // The last time any stored path passes v (-1 if none); a resting agent's arrival counts.
+  int last_visit(Vertex v) const { return static_cast<int>(by_vertex_[v].size()) - 1; }
+  // The maximal time intervals [first, last] in which v is free (last = kForever for the final one).
+  struct Interval {
+    int first;
+    int last;
+  };
+  static constexpr int kForever = 1 << 30;
+  void safe_intervals(Vertex v, std::vector<Interval>& out) const;
+  // Agents whose stored paths visit v at some time.
+  void agents_at(Vertex v, std::vector<int>& out) const;
+
+ private:
+  std::vector<std::vector<int>> by_vertex_;  // by_vertex_[v][t] = agent or kFree
+  std::vector<int> resting_agent_;           // per vertex: who rests there forever, or kFree
+  std::vector<int> resting_from_;
+};
+
+}  // namespace planner_core

@@ -1,0 +1,25 @@
+// Safe-interval path planning (SIPP; Phillips and Likhachev, ICRA 2011) for one agent through an
+// ordered list of targets (its tasks, then its goal), avoiding the paths in a PathTable: no vertex
+// or swap conflicts, never on a cell where another agent rests, and arriving at the goal only in
+// its last safe interval, so it can rest there for good.
+#pragma once
+
+#include <vector>
+
+#include "planner_core/dist_table.hpp"
+#include "planner_core/path_table.hpp"
+
+namespace planner_core {
+
+struct SpaceTimeLimits {
+  int horizon = 4000;           // no arrival later than this
+  int max_expansions = 200000;  // give up beyond this many expanded states
+};
+
+// The earliest-arrival such path, or an empty path when there is none within the limits.
+// targets.back() is the goal. The agent is at `start` at `start_time`; the path returned holds
+// its cells from `start_time` on (path[0] = start).
+Path plan_through_targets(const Graph& graph, DistTable& dist, const PathTable& table, Vertex start,
+                          const std::vector<Vertex>& targets, const SpaceTimeLimits& limits, int start_time = 0);
+
+}  // namespace planner_core

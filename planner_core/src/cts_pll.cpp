@@ -1,0 +1,118 @@
+#include "planner_core/cts_pll.hpp"
+
+#include <random>
+#include <stdexcept>
+
+#include "planner_core/validator.hpp"
+
+namespace planner_core {
+
+SolveResult CtsPll::solve(const Instance& instance, const SolveOptions& options) {
+  const Clock::time_point started = Clock::now();
+  std::mt19937 rng(config_.seed);
+  DistTable dist(*instance.graph);
+  JointSequencer sequencer(instance, dist, config_.task_order);
+  PibtConfig pibt_config = config_.pibt;
+  pibt_config.stall_window = config_.pll_stall_window;
+  ExtendedPibt pibt(instance, dist, pibt_config, rng);
+  Lacam lacam(*instance.graph, dist, LacamConfig{}, rng);
+  LnsRefiner lns(instance, dist, config_.lns, rng);
+  const Deadline& deadline = options.deadline;
+
+  const double total_s = std::chrono::duration<double>(deadline.at - started).count();
+  const double lns_per_sequence_s =
+      config_.lns.time_per_sequence_s > 0 ? config_.lns.time_per_sequence_s : std::max(0.5, total_s / 4);
+
+  SolveResult result;
+  result.lower_bound = sequencer.lower_bound();
+  const auto keep_if_better = [&](const Solution& plan, const std::vector<std::vector<int>>& orders, int index) {
+    const int64_t cost = flowtime(plan, instance.goals);
+    if (result.solved && cost >= result.flowtime) return;
+    const ValidationReport report = validate(instance, plan);
+    if (!report.ok()) throw std::logic_error("CTS-PLL produced an invalid plan:\n" + report.summary());
+    result.solved = true;
+    result.solution = plan;
+    result.orders = orders;
+    result.flowtime = cost;
+    result.makespan = report.makespan;
+    result.sum_of_loss = sum_of_loss(plan, instance.goals);
+    const double now = elapsed_ms(started);
+    if (result.first_solution_ms < 0) result.first_solution_ms = now;
+    if (result.improvements.empty() || result.improvements.back().flowtime > cost) {
+      result.improvements.push_back({now, cost, index});
+    }
+    if (options.on_solution) options.on_solution(result);
+  };
+
+  while (!deadline.expired()) {
+    if (config_.max_sequences > 0 && result.sequences_tried >= config_.max_sequences) break;
+    const std::optional<JointSequence> sequence = sequencer.next();
+    if (!sequence) break;
+    ++result.sequences_tried;
+
+    // Extended-PIBT, releasing locks until the plan is feasible (Algorithm 2, lines 4-7).
+    pibt.reset(*sequence);
+    bool feasible = false;
+    std::optional<Solution> completed_plan;
+    for (int releases = 0; !deadline.expired() && releases < config_.lock_release.max_releases;) {
+      const ExtendedPibt::Outcome outcome = pibt.run(deadline);
+      if (outcome == ExtendedPibt::Outcome::kSolved) {
+        feasible = true;
+        break;
+      }
+      if (outcome == ExtendedPibt::Outcome::kInterrupted) break;
+      ++result.pibt_failures;
+      // LockDetect&Release; when LaCAM finds no release, widen the lock set and try again.
+      LockSet lock = detect_lock(pibt, dist);
+      std::optional<Solution> prefix;
+      for (int escalation = 0; !prefix && escalation <= config_.lock_release.max_escalations && !deadline.expired();
+           ++escalation) {
+        const LockSet attempt = escalation == 0 ? lock : widen_lock(pibt, lock, 1 << escalation);
+        // Random-permutation targets first (the paper's choice); when a lock comes back after a
+        // release, alternate with next-target goals, which resolve corridor swaps outright.
+        const bool next_targets_first = releases % 2 == 1;
+        prefix = release_lock(pibt, attempt, lacam, config_.lock_release, next_targets_first, rng, deadline);
+        if (!prefix) prefix = release_lock(pibt, attempt, lacam, config_.lock_release, !next_targets_first, rng, deadline);
+      }
+      if (!prefix || releases + 1 >= config_.lock_release.completion_after_releases) {
+        // Releases failed or the lock keeps coming back: complete by prioritized planning.
+        if (auto completed = complete_by_prioritized_planning(pibt, *sequence, lock, dist, rng, 8, deadline)) {
+          ++result.prioritized_completions;
+          completed_plan = std::move(completed);
+          feasible = true;
+          break;
+        }
+      }
+      if (!prefix) break;  // give this sequence up
+      ++releases;
+      ++result.lock_releases;
+      pibt.reset(*sequence, *prefix);
+    }
+    if (feasible) {
+      Solution plan = completed_plan ? std::move(*completed_plan) : pibt.plan();
+      keep_if_better(plan, sequence->orders, sequence->index);
+      if (variant_ == Variant::kV3) {
+        Deadline budget = Deadline::in_seconds(lns_per_sequence_s, deadline.interrupt);
+        budget.at = std::min(budget.at, deadline.at);
+        const LnsStats stats = lns.refine(plan, sequence->orders, budget, [&](int64_t flow) {
+          if (result.solved && flow < result.flowtime &&
+              (result.improvements.empty() || flow < result.improvements.back().flowtime)) {
+            result.improvements.push_back({elapsed_ms(started), flow, sequence->index});
+          }
+        });
+        result.lns_iterations += stats.iterations;
+        keep_if_better(plan, sequence->orders, sequence->index);
+      }
+    }
+    if (variant_ == Variant::kV1) break;
+    if (variant_ == Variant::kV2 && result.solved) break;
+  }
+  if (!result.solved) {
+    result.failure_reason = deadline.expired() ? "deadline reached before a feasible plan was found"
+                                               : "no feasible plan from the sequences tried";
+  }
+  result.comp_time_ms = elapsed_ms(started);
+  return result;
+}
+
+}  // namespace planner_core

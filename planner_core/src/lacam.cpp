@@ -1,0 +1,304 @@
+#include "planner_core/lacam.hpp"
+
+#include <algorithm>
+#include <array>
+#include <deque>
+#include <memory>
+#include <unordered_map>
+
+namespace planner_core {
+
+namespace {
+
+constexpr int kNobody = -1;
+
+struct ConfigHash {
+  size_t operator()(const Config& config) const {
+    size_t hash = config.size();
+    for (Vertex v : config) hash ^= static_cast<size_t>(v) + 0x9e3779b97f4a7c15ULL + (hash << 6) + (hash >> 2);
+    return hash;
+  }
+};
+
+// A low-level node: the first `who.size()` agents of the high-level order are fixed to `where`.
+struct Constraint {
+  std::vector<int> who;
+  std::vector<Vertex> where;
+};
+
+struct HighLevelNode {
+  Config config;
+  HighLevelNode* parent = nullptr;
+  int64_t g = 0;  // sum of loss from the start
+  int64_t h = 0;  // sum of distances to the goals
+  std::vector<float> priority;
+  std::vector<int> order;  // agents by decreasing priority
+  std::deque<Constraint> constraints;
+  std::vector<HighLevelNode*> neighbours;  // LaCAM*: known successors, for rewiring
+};
+
+class Search {
+ public:
+  Search(const Graph& graph, DistTable& dist, const LacamConfig& config, std::mt19937& rng, const Config& starts,
+         const Config& goals, const std::vector<char>& blocked)
+      : graph_(graph),
+        config_(config),
+        rng_(rng),
+        goals_(goals),
+        blocked_(blocked),
+        n_(static_cast<int>(starts.size())),
+        occupied_now_(graph.vertex_count(), kNobody),
+        occupied_next_(graph.vertex_count(), kNobody),
+        constrained_(starts.size(), 0) {
+    goal_distance_.resize(n_);
+    if (blocked.empty()) {
+      for (int i = 0; i < n_; ++i) goal_distance_[i] = &dist.of(goals[i]);
+    } else {
+      own_distances_.resize(n_);
+      for (int i = 0; i < n_; ++i) {
+        own_distances_[i] = bfs_around_blocked(goals[i]);
+        goal_distance_[i] = &own_distances_[i];
+      }
+    }
+    HighLevelNode* start = make_node(starts, nullptr);
+    open_.push_back(start);
+  }
+
+  LacamResult run(const Deadline& deadline) {
+    LacamResult result;
+    HighLevelNode* goal_node = nullptr;
+    Config next(n_);
+    int64_t iterations = 0;
+    while (!open_.empty()) {
+      if ((++iterations & 63) == 0 && deadline.expired()) break;
+      HighLevelNode* node = open_.back();
+      if (node->config == goals_ && (!goal_node || node->g < goal_node->g)) {
+        goal_node = node;
+        if (!config_.refine) break;
+      }
+      if (goal_node && node->g + node->h >= goal_node->g) {  // LaCAM*: cannot beat the best found
+        open_.pop_back();
+        continue;
+      }
+      if (node->constraints.empty()) {
+        open_.pop_back();
+        continue;
+      }
+      Constraint constraint = std::move(node->constraints.front());
+      node->constraints.pop_front();
+      grow_constraints(*node, constraint);
+      if (!generate(*node, constraint, next)) continue;
+      const auto found = explored_.find(next);
+      if (found != explored_.end()) {
+        HighLevelNode* known = found->second;
+        if (config_.refine) rewire(node, known);
+        open_.push_back(known);
+      } else {
+        open_.push_back(make_node(next, node));
+      }
+    }
+    result.explored = static_cast<int64_t>(nodes_.size());
+    result.exhausted = open_.empty() && !goal_node;
+    if (goal_node) {
+      result.solved = true;
+      result.cost = goal_node->g;
+      for (HighLevelNode* h = goal_node; h; h = h->parent) result.solution.push_back(h->config);
+      std::reverse(result.solution.begin(), result.solution.end());
+    }
+    return result;
+  }
+
+ private:
+  std::vector<int> bfs_around_blocked(Vertex target) const {
+    std::vector<int> dist(graph_.vertex_count(), kUnreachable);
+    std::vector<Vertex> queue{target};
+    dist[target] = 0;
+    for (size_t head = 0; head < queue.size(); ++head) {
+      for (Vertex u : graph_.neighbours(queue[head])) {
+        if (dist[u] == kUnreachable && !blocked_[u]) {
+          dist[u] = dist[queue[head]] + 1;
+          queue.push_back(u);
+        }
+      }
+    }
+    return dist;
+  }
+
+  bool is_blocked(Vertex v) const { return !blocked_.empty() && blocked_[v]; }
+
+  int64_t transition_cost(const Config& from, const Config& to) const {
+    int64_t cost = 0;
+    for (int i = 0; i < n_; ++i) cost += (from[i] == goals_[i] && to[i] == goals_[i]) ? 0 : 1;
+    return cost;
+  }
+
+  HighLevelNode* make_node(const Config& config, HighLevelNode* parent) {
+    auto node = std::make_unique<HighLevelNode>();
+    node->config = config;
+    node->parent = parent;
+    node->priority.resize(n_);
+    for (int i = 0; i < n_; ++i) {
+      node->h += std::min<int64_t>((*goal_distance_[i])[config[i]], kUnreachable);
+      if (!parent) {
+        node->priority[i] = static_cast<float>((*goal_distance_[i])[config[i]]) / static_cast<float>(n_ * 4 + 1);
+      } else if (config[i] != goals_[i]) {
+        node->priority[i] = parent->priority[i] + 1;  // dynamic priorities: grow until the goal is reached
+      } else {
+        node->priority[i] = parent->priority[i] - static_cast<float>(static_cast<int64_t>(parent->priority[i]));
+      }
+    }
+    if (parent) {
+      node->g = parent->g + transition_cost(parent->config, config);
+      if (config_.refine) parent->neighbours.push_back(node.get());
+    }
+    node->order.resize(n_);
+    for (int i = 0; i < n_; ++i) node->order[i] = i;
+    std::stable_sort(node->order.begin(), node->order.end(),
+                     [&](int a, int b) { return node->priority[a] > node->priority[b]; });
+    node->constraints.push_back({});
+    HighLevelNode* raw = node.get();
+    explored_.emplace(config, raw);
+    nodes_.push_back(std::move(node));
+    return raw;
+  }
+
+  // Lazily adds the children of `constraint`: the next agent in order fixed to each of its moves.
+  void grow_constraints(HighLevelNode& node, const Constraint& constraint) {
+    const int depth = static_cast<int>(constraint.who.size());
+    if (depth >= n_) return;
+    const int agent = node.order[depth];
+    const Vertex here = node.config[agent];
+    std::array<Vertex, kMaxDegree + 1> moves;
+    int count = 0;
+    for (Vertex u : graph_.neighbours(here)) {
+      if (!is_blocked(u)) moves[count++] = u;
+    }
+    moves[count++] = here;
+    std::shuffle(moves.begin(), moves.begin() + count, rng_);
+    for (int k = 0; k < count; ++k) {
+      Constraint child = constraint;
+      child.who.push_back(agent);
+      child.where.push_back(moves[k]);
+      node.constraints.push_back(std::move(child));
+    }
+  }
+
+  // PIBT configuration generator obeying `constraint`; false when no valid configuration results.
+  bool generate(const HighLevelNode& node, const Constraint& constraint, Config& next) {
+    from_ = &node.config;
+    std::fill(next.begin(), next.end(), kNoVertex);
+    to_ = &next;
+    for (int i = 0; i < n_; ++i) occupied_now_[node.config[i]] = i;
+    bool valid = true;
+    for (size_t k = 0; k < constraint.who.size() && valid; ++k) {
+      const int i = constraint.who[k];
+      const Vertex v = constraint.where[k];
+      const int occupant = occupied_now_[v];
+      if (occupied_next_[v] != kNobody || (occupant != kNobody && next[occupant] == node.config[i])) {
+        valid = false;
+        break;
+      }
+      next[i] = v;
+      claim(v, i);
+      constrained_[i] = 1;
+    }
+    for (int k = 0; k < n_ && valid; ++k) {
+      const int i = node.order[k];
+      if (next[i] == kNoVertex && !plan_move(i)) valid = false;
+    }
+    for (int i = 0; i < n_; ++i) occupied_now_[node.config[i]] = kNobody;
+    for (Vertex v : claimed_) occupied_next_[v] = kNobody;
+    claimed_.clear();
+    for (int i : constraint.who) constrained_[i] = 0;
+    return valid;
+  }
+
+  bool plan_move(int agent) {
+    const Config& from = *from_;
+    Config& to = *to_;
+    const Vertex here = from[agent];
+    std::array<Vertex, kMaxDegree + 1> candidates;
+    int count = 0;
+    for (Vertex u : graph_.neighbours(here)) {
+      if (!is_blocked(u)) candidates[count++] = u;
+    }
+    candidates[count++] = here;
+    std::shuffle(candidates.begin(), candidates.begin() + count, rng_);
+    const std::vector<int>& to_goal = *goal_distance_[agent];
+    std::stable_sort(candidates.begin(), candidates.begin() + count,
+                     [&](Vertex a, Vertex b) { return to_goal[a] < to_goal[b]; });
+    for (int k = 0; k < count; ++k) {
+      const Vertex v = candidates[k];
+      if (occupied_next_[v] != kNobody) continue;
+      const int occupant = occupied_now_[v];
+      if (occupant != kNobody && occupant != agent && to[occupant] == here) continue;
+      to[agent] = v;
+      claim(v, agent);
+      if (occupant != kNobody && occupant != agent && to[occupant] == kNoVertex && !plan_move(occupant)) continue;
+      return true;
+    }
+    // Staying put is impossible when a constrained agent must move here; the claim of the agent
+    // that pushed us is simply overridden (it goes on to its next candidate, as in PIBT).
+    const int claimant = occupied_next_[here];
+    if (claimant != kNobody && claimant != agent && constrained_[claimant]) {
+      to[agent] = kNoVertex;
+      return false;
+    }
+    to[agent] = here;
+    claim(here, agent);
+    return false;
+  }
+
+  void claim(Vertex v, int agent) {
+    occupied_next_[v] = agent;
+    claimed_.push_back(v);
+  }
+
+  // LaCAM*: a cheaper way into `to` was found through `from`; propagate cheaper costs (Dijkstra).
+  void rewire(HighLevelNode* from, HighLevelNode* to) {
+    from->neighbours.push_back(to);
+    std::deque<HighLevelNode*> queue{from};
+    while (!queue.empty()) {
+      HighLevelNode* node = queue.front();
+      queue.pop_front();
+      for (HighLevelNode* next : node->neighbours) {
+        const int64_t g = node->g + transition_cost(node->config, next->config);
+        if (g < next->g) {
+          next->g = g;
+          next->parent = node;
+          queue.push_back(next);
+        }
+      }
+    }
+  }
+
+  const Graph& graph_;
+  LacamConfig config_;
+  std::mt19937& rng_;
+  const Config& goals_;
+  const std::vector<char>& blocked_;
+  const int n_;
+  std::vector<const std::vector<int>*> goal_distance_;
+  std::vector<std::vector<int>> own_distances_;
+  std::vector<std::unique_ptr<HighLevelNode>> nodes_;
+  std::unordered_map<Config, HighLevelNode*, ConfigHash> explored_;
+  std::vector<HighLevelNode*> open_;
+  std::vector<int> occupied_now_, occupied_next_;
+  std::vector<Vertex> claimed_;  // every vertex written in occupied_next_ this generation
+  std::vector<char> constrained_;  // agents fixed by the current constraint
+  const Config* from_ = nullptr;
+  Config* to_ = nullptr;
+};
+
+}  // namespace
+
+Lacam::Lacam(const Graph& graph, DistTable& dist, const LacamConfig& config, std::mt19937& rng)
+    : graph_(graph), dist_(dist), config_(config), rng_(rng) {}
+
+LacamResult Lacam::solve(const Config& starts, const Config& goals, const std::vector<char>& blocked,
+                         const Deadline& deadline) {
+  Search search(graph_, dist_, config_, rng_, starts, goals, blocked);
+  return search.run(deadline);
+}
+
+}  // namespace planner_core

@@ -1,0 +1,119 @@
+#include "planner_core/space_time_astar.hpp"
+
+#include <algorithm>
+#include <cstdint>
+#include <queue>
+#include <unordered_map>
+
+namespace planner_core {
+
+namespace {
+
+struct State {
+  Vertex v;
+  int interval;  // index into the safe intervals of v
+  int done;      // targets reached, in order
+  int t;         // arrival time
+  int f;
+  int h;         // remaining distance through the targets, for tie-breaking towards the goal
+  int parent;    // index in the node store, -1 for the start
+};
+
+}  // namespace
+
+Path plan_through_targets(const Graph& graph, DistTable& dist, const PathTable& table, Vertex start,
+                          const std::vector<Vertex>& targets, const SpaceTimeLimits& limits, int start_time) {
+  const int target_count = static_cast<int>(targets.size());
+  const Vertex goal = targets.back();
+  std::vector<int> suffix(target_count, 0);  // suffix[k]: from targets[k] through the rest to the goal
+  for (int k = target_count - 2; k >= 0; --k) suffix[k] = suffix[k + 1] + dist.get(targets[k + 1], targets[k]);
+  const auto advance = [&](Vertex v, int done) {  // several targets in a row may share a cell
+    while (done < target_count - 1 && targets[done] == v) ++done;
+    return done;
+  };
+
+  std::unordered_map<Vertex, std::vector<PathTable::Interval>> intervals_cache;
+  const auto intervals = [&](Vertex v) -> const std::vector<PathTable::Interval>& {
+    auto [it, fresh] = intervals_cache.try_emplace(v);
+    if (fresh) table.safe_intervals(v, it->second);
+    return it->second;
+  };
+  const auto& goal_intervals = intervals(goal);
+  if (goal_intervals.empty() || goal_intervals.back().last != PathTable::kForever) return {};
+  const int earliest_rest = goal_intervals.back().first;
+  // Admissible: no plan arrives before the goal's last safe interval opens.
+  const auto remaining = [&](Vertex v, int done) { return dist.get(targets[done], v) + suffix[done]; };
+  const auto estimate = [&](Vertex v, int t, int done) { return std::max(t + remaining(v, done), earliest_rest); };
+
+  std::vector<State> store;
+  const auto worse = [&](int a, int b) {
+    if (store[a].f != store[b].f) return store[a].f > store[b].f;
+    if (store[a].h != store[b].h) return store[a].h > store[b].h;
+    return store[a].t < store[b].t;
+  };
+  std::priority_queue<int, std::vector<int>, decltype(worse)> open(worse);
+  std::unordered_map<uint64_t, int> best_arrival;  // (v, interval, done) -> earliest arrival expanded
+  const auto key = [&](Vertex v, int interval, int done) {
+    return (static_cast<uint64_t>(v) * 4096 + static_cast<uint64_t>(interval)) * (target_count + 1) + done;
+  };
+
+  const auto& start_intervals = intervals(start);
+  int start_interval = -1;
+  for (int k = 0; k < static_cast<int>(start_intervals.size()); ++k) {
+    if (start_intervals[k].first <= start_time && start_time <= start_intervals[k].last) start_interval = k;
+  }
+  if (start_interval < 0) return {};
+  const int start_done = advance(start, 0);
+  store.push_back({start, start_interval, start_done, start_time, estimate(start, start_time, start_done),
+                   remaining(start, start_done), -1});
+  open.push(0);
+  int expansions = 0;
+  while (!open.empty()) {
+    const int index = open.top();
+    open.pop();
+    const State state = store[index];
+    const uint64_t state_key = key(state.v, state.interval, state.done);
+    if (auto it = best_arrival.find(state_key); it != best_arrival.end() && it->second <= state.t) continue;
+    best_arrival[state_key] = state.t;
+    const PathTable::Interval here = intervals(state.v)[state.interval];
+    if (state.done == target_count - 1 && state.v == goal && here.last == PathTable::kForever) {
+      // Rebuild the path, filling the waits between arrivals.
+      std::vector<int> chain;
+      for (int i = index; i >= 0; i = store[i].parent) chain.push_back(i);
+      std::reverse(chain.begin(), chain.end());
+      Path path;
+      for (size_t k = 0; k < chain.size(); ++k) {
+        const State& s = store[chain[k]];
+        if (k > 0) {
+          while (static_cast<int>(path.size()) < s.t - start_time) path.push_back(path.back());
+        }
+        path.push_back(s.v);
+      }
+      return path;
+    }
+    if (++expansions > limits.max_expansions) break;
+    for (Vertex u : graph.neighbours(state.v)) {
+      const auto& slots = intervals(u);
+      for (int k = 0; k < static_cast<int>(slots.size()); ++k) {
+        const int latest = std::min(slots[k].last, here.last == PathTable::kForever ? PathTable::kForever : here.last + 1);
+        int t = std::max(state.t + 1, slots[k].first);
+        if (t > latest) continue;
+        if (slots[k].first > (here.last == PathTable::kForever ? PathTable::kForever : here.last + 1)) break;
+        // Swap conflict: someone at u at t-1 moving onto our cell at t.
+        while (t <= latest) {
+          const int other = table.occupant(u, t - 1);
+          if (other == PathTable::kFree || table.occupant(state.v, t) != other) break;
+          ++t;
+        }
+        if (t > latest || t > limits.horizon) continue;
+        const int done = advance(u, state.done);
+        if (auto it = best_arrival.find(key(u, k, done)); it != best_arrival.end() && it->second <= t) continue;
+        store.push_back({u, k, done, t, estimate(u, t, done), remaining(u, done), index});
+        open.push(static_cast<int>(store.size()) - 1);
+      }
+    }
+  }
+  return {};
+}
+
+}  // namespace planner_core
