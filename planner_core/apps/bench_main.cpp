@@ -8,6 +8,7 @@
 #include <iostream>
 #include <thread>
 
+#include "paper_experiments.hpp"
 #include "planner_core/benchmark_runner.hpp"
 
 namespace fs = std::filesystem;
@@ -53,7 +54,18 @@ int main(int argc, char** argv) {
   int sample = 0;
   int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   SolverConfig config;
-  app.add_option("inputs", inputs, "instance files, folders (searched for .yaml) or .txt lists")->required();
+  std::string experiment;
+  bool full = false;
+  ctsfleet_bench::ExperimentSettings experiment_settings;
+  app.add_option("inputs", inputs, "instance files, folders (searched for .yaml) or .txt lists");
+  app.add_option("--experiment", experiment,
+                 "reproduce the CTS-PLL paper's experiments side by side: dense, sparse, scale or all")
+      ->check(CLI::IsMember({"dense", "sparse", "scale", "all"}));
+  app.add_option("--benchmarks", experiment_settings.benchmarks, "experiment: benchmark suites folder")
+      ->capture_default_str();
+  app.add_option("--out-dir", experiment_settings.out_dir, "experiment: where tables, CSV and plots go")
+      ->capture_default_str();
+  app.add_flag("--full", full, "experiment: every instance of the suites and 60 s per run");
   app.add_option("--solver", solvers, "solver variants to compare (repeatable)")
       ->check(CLI::IsMember(solver_names()))
       ->capture_default_str();
@@ -63,6 +75,24 @@ int main(int argc, char** argv) {
   app.add_option("--csv", csv_path, "CSV file to write, one row per (instance, solver)")->capture_default_str();
   app.add_option("--seed", config.seed, "random seed")->capture_default_str();
   CLI11_PARSE(app, argc, argv);
+
+  if (!experiment.empty()) {
+    experiment_settings.seconds = app.count("--time") ? seconds : (full ? 60 : 10);
+    experiment_settings.threads = threads;
+    experiment_settings.seed = config.seed;
+    if (full) {
+      experiment_settings.dense_per_setting = experiment_settings.sparse_per_setting = 0;
+      experiment_settings.scale_per_setting = 0;
+    } else if (sample > 0) {
+      experiment_settings.dense_per_setting = experiment_settings.sparse_per_setting = sample;
+      experiment_settings.scale_per_setting = sample;
+    }
+    return ctsfleet_bench::run_experiments(experiment, experiment_settings);
+  }
+  if (inputs.empty()) {
+    std::cerr << "error: give instance files or folders, or --experiment\n";
+    return 2;
+  }
 
   const std::vector<std::string> files = sample_per_setting(collect_instances(inputs), sample);
   if (files.empty()) {

@@ -21,7 +21,7 @@ SolveResult CtsPll::solve(const Instance& instance, const SolveOptions& options)
 
   const double total_s = std::chrono::duration<double>(deadline.at - started).count();
   const double lns_per_sequence_s =
-      config_.lns.time_per_sequence_s > 0 ? config_.lns.time_per_sequence_s : std::max(0.5, total_s / 4);
+      config_.lns.time_per_sequence_s > 0 ? config_.lns.time_per_sequence_s : std::max(0.5, total_s / 2);
 
   SolveResult result;
   result.lower_bound = sequencer.lower_bound();

@@ -143,7 +143,9 @@ LnsStats LnsRefiner::refine(Solution& plan, const std::vector<std::vector<int>>&
 
   LnsStats stats;
   std::vector<Path> old_paths, new_paths;
+  int last_improvement = 0;
   while (!deadline.expired()) {
+    if (config_.stall_iterations > 0 && stats.iterations - last_improvement >= config_.stall_iterations) break;
     ++stats.iterations;
     const DestroyOperator op = roulette();
     std::vector<int> group = pick_neighbourhood(op);
@@ -174,6 +176,7 @@ LnsStats LnsRefiner::refine(Solution& plan, const std::vector<std::vector<int>>&
       delta = static_cast<double>(old_cost - new_cost);
       for (size_t k = 0; k < group.size(); ++k) paths_[group[k]] = std::move(new_paths[k]);
       if (new_cost < old_cost) {
+        last_improvement = stats.iterations;
         flow -= old_cost - new_cost;
         if (on_improvement) on_improvement(flow);
       }

@@ -20,8 +20,10 @@ namespace planner_core {
 struct LnsConfig {
   int neighbourhood_size = 4;  // measured on dense maze instances: 4 beat 2 and 8 (docs/RESULTS.md)
   double gamma = 0.1;
-  // CTS-PLL-v3: refinement budget for each joint sequence; 0 = a quarter of the solve's time limit.
+  // CTS-PLL-v3: refinement budget for each joint sequence; 0 = half of the solve's time limit.
   double time_per_sequence_s = 0;
+  // The refinement of one plan also ends after this many iterations without improvement (0 = never).
+  int stall_iterations = 300;
   SpaceTimeLimits search;
 };
 
