@@ -1,0 +1,35 @@
+// FleetConfig: the coordinator's settings from YAML (mission, robots, planner, DDS, timing).
+// Errors name the file and the field.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace coordinator {
+
+struct FleetConfig {
+  std::string source;            // the YAML file
+  std::string mission;           // CTS-MAPF instance: its agents are the mission's roles
+  bool any_robots = true;        // robots: expected: any
+  std::vector<std::string> expected_robots;
+  int quorum = 1;                // start once this many robots are bound (any mode)
+  double wait_timeout_s = 30;    // start with whoever is there after this long (at least one robot)
+  std::string solver = "cts-pll-v3";
+  double plan_time_s = 1.0;
+  std::string dds_vendor = "cyclone";
+  int domain_id = 0;
+  double lease_s = 1.0;
+  std::string dds_config_dir;    // folder with the loopback XML files ("" = environment as is)
+  double step_s = 0.2;           // nominal seconds per move, for command deadlines
+  double silence_timeout_s = 2;  // a robot whose state stops this long is taken out
+  double mission_timeout_s = 300;
+  double replan_settle_s = 3;    // after a loss or join: wait this long at most for moves in flight
+  // When only tasks of roles without a robot are left, wait this long for a robot to join, then
+  // end the mission with those tasks reported as pending.
+  double replacement_timeout_s = 10;
+};
+
+// Throws planner_core::InputError naming the file and field.
+FleetConfig load_fleet_config(const std::string& path);
+
+}  // namespace coordinator

@@ -1,0 +1,122 @@
+// FleetCoordinator: binds robots to the mission's roles, plans with planner_core from where the
+// robots really are, validates the plan, and executes it through an Action Dependency Graph;
+// replans when robots join or leave. All state lives on the thread that calls step(); the
+// transport's handlers only queue events.
+#pragma once
+
+#include <chrono>
+#include <deque>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "coordinator/action_dependency_graph.hpp"
+#include "coordinator/fleet_config.hpp"
+#include "fleet_transport/transport.hpp"
+#include "planner_core/instance.hpp"
+
+namespace coordinator {
+
+struct MissionSummary {
+  bool completed = false;         // every task done and every robot on its goal
+  int tasks_done = 0;
+  int tasks_total = 0;
+  std::vector<std::string> pending;  // tasks left undone, with the reason
+  int replans = 0;
+  int robots_lost = 0;
+  int robots_joined = 0;
+  double seconds = 0;             // from the first command to the end
+  int first_plan_makespan = 0;    // steps
+  int64_t first_plan_flowtime = 0;
+  double sum_of_finish_s = 0;     // sum over robots of the time each finished its last plan
+  int64_t commands_sent = 0;
+  int64_t states_received = 0;
+  std::vector<double> replan_latencies_s;  // from a loss/join to the first command of the new plan
+};
+
+class FleetCoordinator {
+ public:
+  using Clock = std::chrono::steady_clock;
+
+  FleetCoordinator(const FleetConfig& config, planner_core::Instance mission);
+
+  // Event inputs, callable from any thread.
+  void on_announcement(const fleet_transport::Announcement& announcement);
+  void on_state(const fleet_transport::RobotState& state);
+  void on_robot_gone(const std::string& robot_id, fleet_transport::GoneReason reason);
+
+  // One iteration; false once the mission has ended (completed, or timed out).
+  bool step(fleet_transport::Transport& transport);
+  const MissionSummary& summary() const { return summary_; }
+  std::string progress_line() const;
+
+ private:
+  enum class Phase { kWaiting, kExecuting, kSettling, kDone };
+  struct Robot {
+    std::string id;
+    bool announced = false;
+    bool active = false;   // announced, has a free cell, not lost
+    bool refused = false;
+    bool has_state = false;
+    fleet_transport::RobotState last;
+    Clock::time_point last_heard;
+    int role = -1;         // mission role, -1 for an extra robot
+    int plan_agent = -1;   // index in the current plan, -1 when not in it
+    bool finished_plan = false;
+  };
+  struct Event {
+    enum class Kind { kAnnouncement, kState, kGone } kind;
+    fleet_transport::Announcement announcement;
+    fleet_transport::RobotState state;
+    std::string robot_id;
+    fleet_transport::GoneReason reason{};
+  };
+
+  void handle(const Event& event);
+  void lose(Robot& robot, const std::string& why);
+  void bind_roles(const std::vector<Robot*>& robots);
+  bool replan(fleet_transport::Transport& transport);
+  void update_progress();
+  void dispatch(fleet_transport::Transport& transport);
+  void mark_visit(Robot& robot, planner_core::Cell cell);
+  bool mission_complete() const;
+  bool plan_finished() const;
+  void publish_status(fleet_transport::Transport& transport);
+  void request_replan(const std::string& why);
+  planner_core::Vertex mission_vertex(int x, int y) const;
+
+  FleetConfig config_;
+  planner_core::Instance mission_;
+  std::mutex events_mutex_;
+  std::deque<Event> events_;
+
+  std::map<std::string, Robot> robots_;
+  std::vector<std::string> robot_of_role_;          // "" when the role has no robot
+  std::vector<std::vector<char>> task_done_;        // [task][index in task.agents] visited by that role's robot
+  std::set<planner_core::Vertex> blocked_;          // last cells of lost robots (mission graph ids)
+  std::set<std::string> warned_unknown_;
+
+  Phase phase_ = Phase::kWaiting;
+  Clock::time_point started_, first_command_, settle_deadline_, next_status_, replan_requested_at_;
+  bool replan_requested_ = false;
+  bool first_command_sent_ = false;
+  bool awaiting_replan_latency_ = false;
+  Clock::time_point retry_plan_at_;
+  std::optional<Clock::time_point> waiting_for_robot_since_;
+  void list_pending();
+
+  // The plan being executed.
+  int epoch_ = 0;
+  std::shared_ptr<const planner_core::Graph> plan_graph_;
+  std::vector<std::string> plan_robots_;  // plan agent -> robot id
+  std::unique_ptr<ActionDependencyGraph> adg_;
+  std::vector<int> finished_, sent_;
+  std::vector<Clock::time_point> sent_at_;
+  MissionSummary summary_;
+};
+
+}  // namespace coordinator

@@ -1,0 +1,119 @@
+#include "coordinator/fleet_config.hpp"
+
+#include <yaml-cpp/yaml.h>
+
+#include <filesystem>
+#include <set>
+
+#include "planner_core/input_error.hpp"
+
+namespace coordinator {
+
+namespace fs = std::filesystem;
+using planner_core::InputError;
+
+namespace {
+
+class Reader {
+ public:
+  explicit Reader(std::string file) : file_(std::move(file)) {}
+
+  [[noreturn]] void fail(const YAML::Node& node, const std::string& field, const std::string& problem) const {
+    std::string where = file_;
+    if (node.IsDefined() && node.Mark().line >= 0) where += ":" + std::to_string(node.Mark().line + 1);
+    throw InputError(where + ": " + field + ": " + problem);
+  }
+
+  void only_keys(const YAML::Node& map, const std::set<std::string>& allowed, const std::string& field) const {
+    if (!map.IsMap()) fail(map, field, "expected a mapping");
+    for (const auto& item : map) {
+      if (!allowed.count(item.first.as<std::string>())) {
+        fail(item.first, field, "unknown key '" + item.first.as<std::string>() + "'");
+      }
+    }
+  }
+
+  template <typename T>
+  void read(const YAML::Node& map, const std::string& key, const std::string& field, T& out) const {
+    const YAML::Node node = map[key];
+    if (!node) return;
+    try {
+      out = node.as<T>();
+    } catch (const YAML::Exception&) {
+      fail(node, field + "." + key, "wrong type");
+    }
+  }
+
+ private:
+  std::string file_;
+};
+
+}  // namespace
+
+FleetConfig load_fleet_config(const std::string& path) {
+  if (!fs::exists(path)) throw InputError(path + ": no such file");
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(path);
+  } catch (const YAML::Exception& e) {
+    throw InputError(path + ":" + std::to_string(e.mark.line + 1) + ": malformed YAML: " + e.msg);
+  }
+  const Reader r(path);
+  FleetConfig config;
+  config.source = path;
+  r.only_keys(root, {"mission", "robots", "planner", "dds", "timing"}, "top level");
+  if (!root["mission"] || !root["mission"].IsScalar()) r.fail(root, "mission", "missing or not a file name");
+  fs::path mission = root["mission"].Scalar();
+  if (mission.is_relative()) mission = fs::path(path).parent_path() / mission;
+  config.mission = mission.lexically_normal().string();
+
+  if (const YAML::Node robots = root["robots"]) {
+    r.only_keys(robots, {"expected", "quorum", "wait_timeout_s"}, "robots");
+    if (const YAML::Node expected = robots["expected"]) {
+      if (expected.IsScalar() && expected.Scalar() == "any") {
+        config.any_robots = true;
+      } else if (expected.IsSequence()) {
+        config.any_robots = false;
+        for (const auto& id : expected) {
+          if (!id.IsScalar() || id.Scalar().empty() || id.Scalar().size() > 32) {
+            r.fail(id, "robots.expected", "robot ids are strings of 1 to 32 characters");
+          }
+          config.expected_robots.push_back(id.Scalar());
+        }
+      } else {
+        r.fail(expected, "robots.expected", "expected 'any' or a list of robot ids");
+      }
+    }
+    r.read(robots, "quorum", "robots", config.quorum);
+    r.read(robots, "wait_timeout_s", "robots", config.wait_timeout_s);
+    if (config.quorum < 1) r.fail(robots["quorum"], "robots.quorum", "must be at least 1");
+  }
+  if (const YAML::Node planner = root["planner"]) {
+    r.only_keys(planner, {"solver", "time_limit_s"}, "planner");
+    r.read(planner, "solver", "planner", config.solver);
+    r.read(planner, "time_limit_s", "planner", config.plan_time_s);
+  }
+  if (const YAML::Node dds = root["dds"]) {
+    r.only_keys(dds, {"vendor", "domain_id", "lease_s", "config_dir"}, "dds");
+    r.read(dds, "vendor", "dds", config.dds_vendor);
+    r.read(dds, "domain_id", "dds", config.domain_id);
+    r.read(dds, "lease_s", "dds", config.lease_s);
+    std::string dir;
+    r.read(dds, "config_dir", "dds", dir);
+    if (!dir.empty()) config.dds_config_dir = fs::path(dir).is_relative() ? (fs::path(path).parent_path() / dir).lexically_normal().string() : dir;
+    if (config.dds_vendor != "cyclone" && config.dds_vendor != "fastdds") {
+      r.fail(dds["vendor"], "dds.vendor", "expected cyclone or fastdds");
+    }
+  }
+  if (const YAML::Node timing = root["timing"]) {
+    r.only_keys(timing, {"step_s", "silence_timeout_s", "mission_timeout_s", "replan_settle_s", "replacement_timeout_s"}, "timing");
+    r.read(timing, "step_s", "timing", config.step_s);
+    r.read(timing, "silence_timeout_s", "timing", config.silence_timeout_s);
+    r.read(timing, "mission_timeout_s", "timing", config.mission_timeout_s);
+    r.read(timing, "replan_settle_s", "timing", config.replan_settle_s);
+    r.read(timing, "replacement_timeout_s", "timing", config.replacement_timeout_s);
+  }
+  return config;
+}
+
+}  // namespace coordinator

@@ -1,0 +1,58 @@
+// Transport: publish and subscribe the fleet's messages by robot, with liveliness events, over
+// Cyclone DDS or Fast DDS chosen at run time. Topics are keyed by robot id (one DDS instance per
+// robot). QoS: commands reliable; state best-effort keep-last 1; announcements and fleet status
+// reliable transient-local keep-last 1; liveliness automatic with the configured lease.
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <string>
+
+#include "fleet_transport/messages.hpp"
+
+namespace fleet_transport {
+
+enum class Vendor { kCyclone, kFastDds };
+Vendor parse_vendor(const std::string& name);  // "cyclone" or "fastdds"; throws std::invalid_argument
+const char* to_string(Vendor vendor);
+
+struct TransportConfig {
+  Vendor vendor = Vendor::kCyclone;
+  int domain_id = 0;
+  double lease_s = 1.0;
+  // Loopback configuration files, exported as CYCLONEDDS_URI / FASTRTPS_DEFAULT_PROFILES_FILE when
+  // those variables are not already set ("" = leave the environment alone).
+  std::string cyclone_xml;
+  std::string fastdds_xml;
+  // An agent passes its own id: commands for other robots are dropped in the transport.
+  std::string commands_for;
+};
+
+enum class GoneReason { kGoodbye, kLivelinessLost };
+
+// Handlers run on the middleware's threads: keep them short and thread-safe. Unset ones are not
+// subscribed.
+struct Handlers {
+  std::function<void(const Announcement&)> on_announcement;
+  std::function<void(const RobotState&)> on_state;
+  std::function<void(const StepCommand&)> on_command;
+  std::function<void(const FleetStatus&)> on_fleet_status;
+  // A robot's announcement instance lost its writer (process died: lease expired) or was disposed.
+  std::function<void(const std::string& robot_id, GoneReason reason)> on_robot_gone;
+};
+
+class Transport {
+ public:
+  virtual ~Transport() = default;
+  virtual void announce(const Announcement& announcement) = 0;
+  virtual void say_goodbye(const std::string& robot_id) = 0;  // disposes the robot's announcement
+  virtual void publish_state(const RobotState& state) = 0;
+  virtual void send_command(const StepCommand& command) = 0;
+  virtual void publish_fleet_status(const FleetStatus& status) = 0;
+  virtual const char* vendor_name() const = 0;
+};
+
+// Throws std::runtime_error when the middleware cannot be set up.
+std::unique_ptr<Transport> make_transport(const TransportConfig& config, Handlers handlers);
+
+}  // namespace fleet_transport

@@ -1,0 +1,266 @@
+// Transport over Cyclone DDS (C API) with the idlc-generated types.
+#include <dds/dds.h>
+
+#include <cstring>
+#include <stdexcept>
+#include <vector>
+
+#include "fleet.h"
+#include "transport_factories.hpp"
+
+namespace fleet_transport {
+
+namespace {
+
+template <size_t N>
+void copy_string(char (&out)[N], const std::string& in) {
+  std::strncpy(out, in.c_str(), N - 1);
+  out[N - 1] = '\0';
+}
+
+fleet_RobotStatus to_wire(RobotStatus s) {
+  switch (s) {
+    case RobotStatus::kIdle: return fleet_ROBOT_IDLE;
+    case RobotStatus::kMoving: return fleet_ROBOT_MOVING;
+    case RobotStatus::kArrived: return fleet_ROBOT_ARRIVED;
+    case RobotStatus::kFault: return fleet_ROBOT_FAULT;
+  }
+  return fleet_ROBOT_FAULT;
+}
+
+RobotStatus from_wire(fleet_RobotStatus s) {
+  switch (s) {
+    case fleet_ROBOT_IDLE: return RobotStatus::kIdle;
+    case fleet_ROBOT_MOVING: return RobotStatus::kMoving;
+    case fleet_ROBOT_ARRIVED: return RobotStatus::kArrived;
+    default: return RobotStatus::kFault;
+  }
+}
+
+void check(dds_return_t rc, const char* what) {
+  if (rc < 0) throw std::runtime_error(std::string("Cyclone DDS: ") + what + ": " + dds_strretcode(rc));
+}
+
+class CycloneTransport : public Transport {
+ public:
+  CycloneTransport(const TransportConfig& config, Handlers handlers)
+      : handlers_(std::move(handlers)), commands_for_(config.commands_for) {
+    participant_ = dds_create_participant(static_cast<dds_domainid_t>(config.domain_id), nullptr, nullptr);
+    check(participant_, "create participant");
+    const dds_duration_t lease = DDS_SECS(1) * config.lease_s;
+
+    dds_qos_t* registry = dds_create_qos();
+    dds_qset_reliability(registry, DDS_RELIABILITY_RELIABLE, DDS_SECS(1));
+    dds_qset_durability(registry, DDS_DURABILITY_TRANSIENT_LOCAL);
+    dds_qset_history(registry, DDS_HISTORY_KEEP_LAST, 1);
+    dds_qset_durability_service(registry, 0, DDS_HISTORY_KEEP_LAST, 1, DDS_LENGTH_UNLIMITED, DDS_LENGTH_UNLIMITED,
+                                DDS_LENGTH_UNLIMITED);
+    dds_qset_liveliness(registry, DDS_LIVELINESS_AUTOMATIC, lease);
+    dds_qos_t* state = dds_create_qos();
+    dds_qset_reliability(state, DDS_RELIABILITY_BEST_EFFORT, 0);
+    dds_qset_history(state, DDS_HISTORY_KEEP_LAST, 1);
+    dds_qset_liveliness(state, DDS_LIVELINESS_AUTOMATIC, lease);
+    dds_qos_t* command = dds_create_qos();
+    dds_qset_reliability(command, DDS_RELIABILITY_RELIABLE, DDS_SECS(1));
+    dds_qset_history(command, DDS_HISTORY_KEEP_LAST, 8);
+
+    announcement_topic_ = make_topic(&fleet_Announcement_desc, "rt/fleet/announcement");
+    state_topic_ = make_topic(&fleet_RobotState_desc, "rt/fleet/robot_state");
+    command_topic_ = make_topic(&fleet_StepCommand_desc, "rt/fleet/step_command");
+    status_topic_ = make_topic(&fleet_FleetStatus_desc, "rt/fleet/fleet_status");
+
+    announcement_writer_ = make_writer(announcement_topic_, registry);
+    state_writer_ = make_writer(state_topic_, state);
+    command_writer_ = make_writer(command_topic_, command);
+    status_writer_ = make_writer(status_topic_, registry);
+    if (handlers_.on_announcement || handlers_.on_robot_gone) {
+      make_reader(announcement_topic_, registry, &CycloneTransport::announcements_available);
+    }
+    if (handlers_.on_state) make_reader(state_topic_, state, &CycloneTransport::states_available);
+    if (handlers_.on_command) make_reader(command_topic_, command, &CycloneTransport::commands_available);
+    if (handlers_.on_fleet_status) make_reader(status_topic_, registry, &CycloneTransport::statuses_available);
+    dds_delete_qos(registry);
+    dds_delete_qos(state);
+    dds_delete_qos(command);
+  }
+
+  ~CycloneTransport() override { dds_delete(participant_); }
+
+  void announce(const Announcement& a) override {
+    fleet_Announcement wire{};
+    copy_string(wire.robot_id, a.robot_id);
+    copy_string(wire.backend, a.backend);
+    copy_string(wire.capabilities, a.capabilities);
+    copy_string(wire.version, a.version);
+    wire.leaving = a.leaving;
+    check(dds_write(announcement_writer_, &wire), "write announcement");
+  }
+
+  void say_goodbye(const std::string& robot_id) override {
+    fleet_Announcement wire{};
+    copy_string(wire.robot_id, robot_id);
+    wire.leaving = true;
+    check(dds_write(announcement_writer_, &wire), "write goodbye");
+    check(dds_dispose(announcement_writer_, &wire), "dispose announcement");
+  }
+
+  void publish_state(const RobotState& s) override {
+    fleet_RobotState wire{};
+    copy_string(wire.robot_id, s.robot_id);
+    wire.cell_x = s.cell_x;
+    wire.cell_y = s.cell_y;
+    wire.pose_x = s.pose_x;
+    wire.pose_y = s.pose_y;
+    wire.pose_theta = s.pose_theta;
+    wire.plan_epoch = s.plan_epoch;
+    wire.action_index = s.action_index;
+    wire.status = to_wire(s.status);
+    wire.battery_percent = s.battery_percent;
+    wire.seq_number = s.seq_number;
+    wire.stamp_ms = s.stamp_ms;
+    check(dds_write(state_writer_, &wire), "write state");
+  }
+
+  void send_command(const StepCommand& c) override {
+    fleet_StepCommand wire{};
+    copy_string(wire.robot_id, c.robot_id);
+    wire.plan_epoch = c.plan_epoch;
+    wire.action_index = c.action_index;
+    wire.target_x = c.target_x;
+    wire.target_y = c.target_y;
+    wire.target_pose_x = c.target_pose_x;
+    wire.target_pose_y = c.target_pose_y;
+    wire.deadline_ms = c.deadline_ms;
+    check(dds_write(command_writer_, &wire), "write command");
+  }
+
+  void publish_fleet_status(const FleetStatus& s) override {
+    std::vector<fleet_Assignment> rows(s.assignments.size());
+    for (size_t i = 0; i < rows.size(); ++i) {
+      copy_string(rows[i].robot_id, s.assignments[i].robot_id);
+      rows[i].role = s.assignments[i].role;
+      rows[i].tasks_done = s.assignments[i].tasks_done;
+      rows[i].tasks_total = s.assignments[i].tasks_total;
+    }
+    fleet_FleetStatus wire{};
+    wire.plan_epoch = s.plan_epoch;
+    wire.tasks_done = s.tasks_done;
+    wire.tasks_total = s.tasks_total;
+    wire.robots = s.robots;
+    wire.assignments._length = wire.assignments._maximum = static_cast<uint32_t>(rows.size());
+    wire.assignments._buffer = rows.data();
+    wire.assignments._release = false;
+    check(dds_write(status_writer_, &wire), "write fleet status");
+  }
+
+  const char* vendor_name() const override { return "cyclone"; }
+
+ private:
+  dds_entity_t make_topic(const dds_topic_descriptor_t* descriptor, const char* name) {
+    const dds_entity_t topic = dds_create_topic(participant_, descriptor, name, nullptr, nullptr);
+    check(topic, name);
+    return topic;
+  }
+  dds_entity_t make_writer(dds_entity_t topic, const dds_qos_t* qos) {
+    const dds_entity_t writer = dds_create_writer(participant_, topic, qos, nullptr);
+    check(writer, "create writer");
+    return writer;
+  }
+  void make_reader(dds_entity_t topic, const dds_qos_t* qos, void (*on_data)(dds_entity_t, void*)) {
+    dds_listener_t* listener = dds_create_listener(this);
+    dds_lset_data_available(listener, on_data);
+    const dds_entity_t reader = dds_create_reader(participant_, topic, qos, listener);
+    dds_delete_listener(listener);
+    check(reader, "create reader");
+  }
+
+  // Takes every available sample and hands each to `visit(sample, info)`.
+  template <typename Wire, typename Visit>
+  static void take_all(dds_entity_t reader, Visit visit) {
+    constexpr int kBatch = 32;
+    for (;;) {
+      void* samples[kBatch] = {nullptr};
+      dds_sample_info_t infos[kBatch];
+      const int n = dds_take(reader, samples, infos, kBatch, kBatch);
+      if (n <= 0) return;
+      for (int i = 0; i < n; ++i) visit(*static_cast<const Wire*>(samples[i]), infos[i]);
+      dds_return_loan(reader, samples, n);
+    }
+  }
+
+  static void announcements_available(dds_entity_t reader, void* arg) {
+    auto* self = static_cast<CycloneTransport*>(arg);
+    take_all<fleet_Announcement>(reader, [self](const fleet_Announcement& w, const dds_sample_info_t& info) {
+      if (info.valid_data) {
+        if (self->handlers_.on_announcement) {
+          self->handlers_.on_announcement({w.robot_id, w.backend, w.capabilities, w.version, w.leaving});
+        }
+      } else if (self->handlers_.on_robot_gone) {
+        // Invalid samples carry the key: the instance lost its writer or was disposed.
+        if (info.instance_state == DDS_NOT_ALIVE_DISPOSED_INSTANCE_STATE) {
+          self->handlers_.on_robot_gone(w.robot_id, GoneReason::kGoodbye);
+        } else if (info.instance_state == DDS_NOT_ALIVE_NO_WRITERS_INSTANCE_STATE) {
+          self->handlers_.on_robot_gone(w.robot_id, GoneReason::kLivelinessLost);
+        }
+      }
+    });
+  }
+
+  static void states_available(dds_entity_t reader, void* arg) {
+    auto* self = static_cast<CycloneTransport*>(arg);
+    take_all<fleet_RobotState>(reader, [self](const fleet_RobotState& w, const dds_sample_info_t& info) {
+      if (!info.valid_data) return;
+      RobotState s;
+      s.robot_id = w.robot_id;
+      s.cell_x = w.cell_x;
+      s.cell_y = w.cell_y;
+      s.pose_x = w.pose_x;
+      s.pose_y = w.pose_y;
+      s.pose_theta = w.pose_theta;
+      s.plan_epoch = w.plan_epoch;
+      s.action_index = w.action_index;
+      s.status = from_wire(w.status);
+      s.battery_percent = w.battery_percent;
+      s.seq_number = w.seq_number;
+      s.stamp_ms = w.stamp_ms;
+      self->handlers_.on_state(s);
+    });
+  }
+
+  static void commands_available(dds_entity_t reader, void* arg) {
+    auto* self = static_cast<CycloneTransport*>(arg);
+    take_all<fleet_StepCommand>(reader, [self](const fleet_StepCommand& w, const dds_sample_info_t& info) {
+      if (!info.valid_data) return;
+      if (!self->commands_for_.empty() && self->commands_for_ != w.robot_id) return;
+      self->handlers_.on_command({w.robot_id, w.plan_epoch, w.action_index, w.target_x, w.target_y, w.target_pose_x,
+                                  w.target_pose_y, w.deadline_ms});
+    });
+  }
+
+  static void statuses_available(dds_entity_t reader, void* arg) {
+    auto* self = static_cast<CycloneTransport*>(arg);
+    take_all<fleet_FleetStatus>(reader, [self](const fleet_FleetStatus& w, const dds_sample_info_t& info) {
+      if (!info.valid_data) return;
+      FleetStatus s{w.plan_epoch, w.tasks_done, w.tasks_total, w.robots, {}};
+      for (uint32_t i = 0; i < w.assignments._length; ++i) {
+        const fleet_Assignment& row = w.assignments._buffer[i];
+        s.assignments.push_back({row.robot_id, row.role, row.tasks_done, row.tasks_total});
+      }
+      self->handlers_.on_fleet_status(s);
+    });
+  }
+
+  Handlers handlers_;
+  std::string commands_for_;
+  dds_entity_t participant_ = 0;
+  dds_entity_t announcement_topic_ = 0, state_topic_ = 0, command_topic_ = 0, status_topic_ = 0;
+  dds_entity_t announcement_writer_ = 0, state_writer_ = 0, command_writer_ = 0, status_writer_ = 0;
+};
+
+}  // namespace
+
+std::unique_ptr<Transport> make_cyclone_transport(const TransportConfig& config, Handlers handlers) {
+  return std::make_unique<CycloneTransport>(config, std::move(handlers));
+}
+
+}  // namespace fleet_transport

@@ -1,0 +1,323 @@
+// Transport over Fast DDS 2.9 (C++ API) with the fastddsgen-generated types.
+#include <fastdds/dds/domain/DomainParticipant.hpp>
+#include <fastdds/dds/domain/DomainParticipantFactory.hpp>
+#include <fastdds/dds/publisher/DataWriter.hpp>
+#include <fastdds/dds/publisher/Publisher.hpp>
+#include <fastdds/dds/subscriber/DataReader.hpp>
+#include <fastdds/dds/subscriber/DataReaderListener.hpp>
+#include <fastdds/dds/subscriber/SampleInfo.hpp>
+#include <fastdds/dds/subscriber/Subscriber.hpp>
+#include <fastdds/dds/topic/TypeSupport.hpp>
+
+#include <map>
+#include <mutex>
+#include <stdexcept>
+
+#include "fleet.h"
+#include "fleetPubSubTypes.h"
+#include "transport_factories.hpp"
+
+namespace fleet_transport {
+
+namespace {
+
+using namespace eprosima::fastdds::dds;
+
+fleet::RobotStatus to_wire(RobotStatus s) {
+  switch (s) {
+    case RobotStatus::kIdle: return fleet::ROBOT_IDLE;
+    case RobotStatus::kMoving: return fleet::ROBOT_MOVING;
+    case RobotStatus::kArrived: return fleet::ROBOT_ARRIVED;
+    case RobotStatus::kFault: return fleet::ROBOT_FAULT;
+  }
+  return fleet::ROBOT_FAULT;
+}
+
+RobotStatus from_wire(fleet::RobotStatus s) {
+  switch (s) {
+    case fleet::ROBOT_IDLE: return RobotStatus::kIdle;
+    case fleet::ROBOT_MOVING: return RobotStatus::kMoving;
+    case fleet::ROBOT_ARRIVED: return RobotStatus::kArrived;
+    default: return RobotStatus::kFault;
+  }
+}
+
+// A listener that takes every sample of one topic and passes it to `deliver`.
+template <typename Wire>
+class TakeAll : public DataReaderListener {
+ public:
+  using Deliver = std::function<void(const Wire&, const SampleInfo&)>;
+  explicit TakeAll(Deliver deliver) : deliver_(std::move(deliver)) {}
+  void on_data_available(DataReader* reader) override {
+    Wire sample;
+    SampleInfo info;
+    while (reader->take_next_sample(&sample, &info) == ReturnCode_t::RETCODE_OK) deliver_(sample, info);
+  }
+
+ private:
+  Deliver deliver_;
+};
+
+class FastDdsTransport : public Transport {
+ public:
+  FastDdsTransport(const TransportConfig& config, Handlers handlers)
+      : handlers_(std::move(handlers)), commands_for_(config.commands_for) {
+    auto* factory = DomainParticipantFactory::get_instance();
+    participant_ = factory->create_participant(config.domain_id, PARTICIPANT_QOS_DEFAULT);
+    if (!participant_) throw std::runtime_error("Fast DDS: cannot create a participant");
+    publisher_ = participant_->create_publisher(PUBLISHER_QOS_DEFAULT);
+    subscriber_ = participant_->create_subscriber(SUBSCRIBER_QOS_DEFAULT);
+    if (!publisher_ || !subscriber_) throw std::runtime_error("Fast DDS: cannot create publisher/subscriber");
+
+    const eprosima::fastrtps::Duration_t lease(config.lease_s);
+    const eprosima::fastrtps::Duration_t announce_every(config.lease_s / 3);
+    const eprosima::fastrtps::Duration_t heartbeat(0, 100000000);  // 100 ms: prompt late joiners (Cyclone)
+
+    DataWriterQos registry_w = DATAWRITER_QOS_DEFAULT;
+    registry_w.reliability().kind = RELIABLE_RELIABILITY_QOS;
+    registry_w.durability().kind = TRANSIENT_LOCAL_DURABILITY_QOS;
+    registry_w.history().kind = KEEP_LAST_HISTORY_QOS;
+    registry_w.history().depth = 1;
+    registry_w.liveliness().kind = AUTOMATIC_LIVELINESS_QOS;
+    registry_w.liveliness().lease_duration = lease;
+    registry_w.liveliness().announcement_period = announce_every;
+    registry_w.reliable_writer_qos().times.heartbeatPeriod = heartbeat;
+    DataReaderQos registry_r = DATAREADER_QOS_DEFAULT;
+    registry_r.reliability().kind = RELIABLE_RELIABILITY_QOS;
+    registry_r.durability().kind = TRANSIENT_LOCAL_DURABILITY_QOS;
+    registry_r.history().kind = KEEP_LAST_HISTORY_QOS;
+    registry_r.history().depth = 1;
+    registry_r.liveliness().kind = AUTOMATIC_LIVELINESS_QOS;
+    registry_r.liveliness().lease_duration = lease;
+
+    DataWriterQos state_w = DATAWRITER_QOS_DEFAULT;
+    state_w.reliability().kind = BEST_EFFORT_RELIABILITY_QOS;
+    state_w.durability().kind = VOLATILE_DURABILITY_QOS;
+    state_w.history().kind = KEEP_LAST_HISTORY_QOS;
+    state_w.history().depth = 1;
+    state_w.liveliness().kind = AUTOMATIC_LIVELINESS_QOS;
+    state_w.liveliness().lease_duration = lease;
+    state_w.liveliness().announcement_period = announce_every;
+    DataReaderQos state_r = DATAREADER_QOS_DEFAULT;
+    state_r.reliability().kind = BEST_EFFORT_RELIABILITY_QOS;
+    state_r.durability().kind = VOLATILE_DURABILITY_QOS;
+    state_r.history().kind = KEEP_LAST_HISTORY_QOS;
+    state_r.history().depth = 1;
+    state_r.liveliness().kind = AUTOMATIC_LIVELINESS_QOS;
+    state_r.liveliness().lease_duration = lease;
+
+    DataWriterQos command_w = DATAWRITER_QOS_DEFAULT;
+    command_w.reliability().kind = RELIABLE_RELIABILITY_QOS;
+    command_w.durability().kind = VOLATILE_DURABILITY_QOS;
+    command_w.history().kind = KEEP_LAST_HISTORY_QOS;
+    command_w.history().depth = 8;
+    command_w.reliable_writer_qos().times.heartbeatPeriod = heartbeat;
+    DataReaderQos command_r = DATAREADER_QOS_DEFAULT;
+    command_r.reliability().kind = RELIABLE_RELIABILITY_QOS;
+    command_r.durability().kind = VOLATILE_DURABILITY_QOS;
+    command_r.history().kind = KEEP_LAST_HISTORY_QOS;
+    command_r.history().depth = 8;
+
+    Topic* announcement = make_topic<fleet::AnnouncementPubSubType>("rt/fleet/announcement");
+    Topic* state = make_topic<fleet::RobotStatePubSubType>("rt/fleet/robot_state");
+    Topic* command = make_topic<fleet::StepCommandPubSubType>("rt/fleet/step_command");
+    Topic* status = make_topic<fleet::FleetStatusPubSubType>("rt/fleet/fleet_status");
+    announcement_writer_ = make_writer(announcement, registry_w);
+    state_writer_ = make_writer(state, state_w);
+    command_writer_ = make_writer(command, command_w);
+    status_writer_ = make_writer(status, registry_w);
+
+    if (handlers_.on_announcement || handlers_.on_robot_gone) {
+      listen<fleet::Announcement>(announcement, registry_r, [this](const fleet::Announcement& w, const SampleInfo& info) {
+        on_announcement(w, info);
+      });
+    }
+    if (handlers_.on_state) {
+      listen<fleet::RobotState>(state, state_r, [this](const fleet::RobotState& w, const SampleInfo& info) {
+        if (!info.valid_data) return;
+        RobotState s;
+        s.robot_id = w.robot_id().to_string();
+        s.cell_x = w.cell_x();
+        s.cell_y = w.cell_y();
+        s.pose_x = w.pose_x();
+        s.pose_y = w.pose_y();
+        s.pose_theta = w.pose_theta();
+        s.plan_epoch = w.plan_epoch();
+        s.action_index = w.action_index();
+        s.status = from_wire(w.status());
+        s.battery_percent = w.battery_percent();
+        s.seq_number = w.seq_number();
+        s.stamp_ms = w.stamp_ms();
+        handlers_.on_state(s);
+      });
+    }
+    if (handlers_.on_command) {
+      listen<fleet::StepCommand>(command, command_r, [this](const fleet::StepCommand& w, const SampleInfo& info) {
+        if (!info.valid_data) return;
+        const std::string id = w.robot_id().to_string();
+        if (!commands_for_.empty() && commands_for_ != id) return;
+        handlers_.on_command({id, w.plan_epoch(), w.action_index(), w.target_x(), w.target_y(), w.target_pose_x(),
+                              w.target_pose_y(), w.deadline_ms()});
+      });
+    }
+    if (handlers_.on_fleet_status) {
+      listen<fleet::FleetStatus>(status, registry_r, [this](const fleet::FleetStatus& w, const SampleInfo& info) {
+        if (!info.valid_data) return;
+        FleetStatus s{w.plan_epoch(), w.tasks_done(), w.tasks_total(), w.robots(), {}};
+        for (const fleet::Assignment& row : w.assignments()) {
+          s.assignments.push_back({row.robot_id().to_string(), row.role(), row.tasks_done(), row.tasks_total()});
+        }
+        handlers_.on_fleet_status(s);
+      });
+    }
+  }
+
+  ~FastDdsTransport() override {
+    // Readers first, so no listener runs while the rest goes away.
+    for (DataReader* reader : readers_) subscriber_->delete_datareader(reader);
+    participant_->delete_contained_entities();
+    DomainParticipantFactory::get_instance()->delete_participant(participant_);
+  }
+
+  void announce(const Announcement& a) override {
+    fleet::Announcement wire;
+    wire.robot_id(a.robot_id);
+    wire.backend(a.backend);
+    wire.capabilities(a.capabilities);
+    wire.version(a.version);
+    wire.leaving(a.leaving);
+    announcement_writer_->write(&wire);
+  }
+
+  void say_goodbye(const std::string& robot_id) override {
+    fleet::Announcement wire;
+    wire.robot_id(robot_id);
+    wire.leaving(true);
+    announcement_writer_->write(&wire);
+    announcement_writer_->dispose(&wire, announcement_writer_->lookup_instance(&wire));
+  }
+
+  void publish_state(const RobotState& s) override {
+    fleet::RobotState wire;
+    wire.robot_id(s.robot_id);
+    wire.cell_x(s.cell_x);
+    wire.cell_y(s.cell_y);
+    wire.pose_x(s.pose_x);
+    wire.pose_y(s.pose_y);
+    wire.pose_theta(s.pose_theta);
+    wire.plan_epoch(s.plan_epoch);
+    wire.action_index(s.action_index);
+    wire.status(to_wire(s.status));
+    wire.battery_percent(s.battery_percent);
+    wire.seq_number(s.seq_number);
+    wire.stamp_ms(s.stamp_ms);
+    state_writer_->write(&wire);
+  }
+
+  void send_command(const StepCommand& c) override {
+    fleet::StepCommand wire;
+    wire.robot_id(c.robot_id);
+    wire.plan_epoch(c.plan_epoch);
+    wire.action_index(c.action_index);
+    wire.target_x(c.target_x);
+    wire.target_y(c.target_y);
+    wire.target_pose_x(c.target_pose_x);
+    wire.target_pose_y(c.target_pose_y);
+    wire.deadline_ms(c.deadline_ms);
+    command_writer_->write(&wire);
+  }
+
+  void publish_fleet_status(const FleetStatus& s) override {
+    fleet::FleetStatus wire;
+    wire.plan_epoch(s.plan_epoch);
+    wire.tasks_done(s.tasks_done);
+    wire.tasks_total(s.tasks_total);
+    wire.robots(s.robots);
+    std::vector<fleet::Assignment> rows;
+    for (const Assignment& a : s.assignments) {
+      fleet::Assignment row;
+      row.robot_id(a.robot_id);
+      row.role(a.role);
+      row.tasks_done(a.tasks_done);
+      row.tasks_total(a.tasks_total);
+      rows.push_back(row);
+    }
+    wire.assignments(rows);
+    status_writer_->write(&wire);
+  }
+
+  const char* vendor_name() const override { return "fastdds"; }
+
+ private:
+  template <typename PubSubType>
+  Topic* make_topic(const std::string& name) {
+    TypeSupport type(new PubSubType());
+    type.register_type(participant_);
+    Topic* topic = participant_->create_topic(name, type.get_type_name(), TOPIC_QOS_DEFAULT);
+    if (!topic) throw std::runtime_error("Fast DDS: cannot create topic " + name);
+    return topic;
+  }
+
+  DataWriter* make_writer(Topic* topic, const DataWriterQos& qos) {
+    DataWriter* writer = publisher_->create_datawriter(topic, qos);
+    if (!writer) throw std::runtime_error("Fast DDS: cannot create a writer on " + topic->get_name());
+    return writer;
+  }
+
+  template <typename Wire>
+  void listen(Topic* topic, const DataReaderQos& qos, typename TakeAll<Wire>::Deliver deliver) {
+    auto listener = std::make_unique<TakeAll<Wire>>(std::move(deliver));
+    DataReader* reader = subscriber_->create_datareader(topic, qos, listener.get());
+    if (!reader) throw std::runtime_error("Fast DDS: cannot create a reader on " + topic->get_name());
+    listeners_.push_back(std::move(listener));
+    readers_.push_back(reader);
+  }
+
+  void on_announcement(const fleet::Announcement& w, const SampleInfo& info) {
+    if (info.valid_data) {
+      const std::string id = w.robot_id().to_string();
+      {
+        const std::lock_guard<std::mutex> lock(instances_mutex_);
+        robot_of_instance_[info.instance_handle] = id;
+      }
+      if (handlers_.on_announcement) handlers_.on_announcement({id, w.backend().to_string(),
+                                                                w.capabilities().to_string(),
+                                                                w.version().to_string(), w.leaving()});
+      return;
+    }
+    // Invalid samples carry no data here: find the robot by the instance it announced on.
+    std::string id;
+    {
+      const std::lock_guard<std::mutex> lock(instances_mutex_);
+      const auto found = robot_of_instance_.find(info.instance_handle);
+      if (found == robot_of_instance_.end()) return;
+      id = found->second;
+    }
+    if (!handlers_.on_robot_gone) return;
+    if (info.instance_state == NOT_ALIVE_DISPOSED_INSTANCE_STATE) {
+      handlers_.on_robot_gone(id, GoneReason::kGoodbye);
+    } else if (info.instance_state == NOT_ALIVE_NO_WRITERS_INSTANCE_STATE) {
+      handlers_.on_robot_gone(id, GoneReason::kLivelinessLost);
+    }
+  }
+
+  Handlers handlers_;
+  std::string commands_for_;
+  DomainParticipant* participant_ = nullptr;
+  Publisher* publisher_ = nullptr;
+  Subscriber* subscriber_ = nullptr;
+  DataWriter *announcement_writer_ = nullptr, *state_writer_ = nullptr, *command_writer_ = nullptr,
+             *status_writer_ = nullptr;
+  std::vector<std::unique_ptr<DataReaderListener>> listeners_;
+  std::vector<DataReader*> readers_;
+  std::mutex instances_mutex_;
+  std::map<InstanceHandle_t, std::string> robot_of_instance_;
+};
+
+}  // namespace
+
+std::unique_ptr<Transport> make_fastdds_transport(const TransportConfig& config, Handlers handlers) {
+  return std::make_unique<FastDdsTransport>(config, std::move(handlers));
+}
+
+}  // namespace fleet_transport

@@ -1,0 +1,33 @@
+#include "fleet_transport/messages.hpp"
+
+#include <chrono>
+#include <stdexcept>
+
+#include "fleet_transport/transport.hpp"
+
+namespace fleet_transport {
+
+const char* to_string(RobotStatus status) {
+  switch (status) {
+    case RobotStatus::kIdle: return "idle";
+    case RobotStatus::kMoving: return "moving";
+    case RobotStatus::kArrived: return "arrived";
+    case RobotStatus::kFault: return "fault";
+  }
+  return "unknown";
+}
+
+int64_t wall_clock_ms() {
+  return std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::system_clock::now().time_since_epoch())
+      .count();
+}
+
+Vendor parse_vendor(const std::string& name) {
+  if (name == "cyclone") return Vendor::kCyclone;
+  if (name == "fastdds") return Vendor::kFastDds;
+  throw std::invalid_argument("unknown DDS vendor '" + name + "' (known: cyclone, fastdds)");
+}
+
+const char* to_string(Vendor vendor) { return vendor == Vendor::kCyclone ? "cyclone" : "fastdds"; }
+
+}  // namespace fleet_transport

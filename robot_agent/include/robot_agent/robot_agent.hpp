@@ -1,0 +1,53 @@
+// RobotAgent: one robot's bridge between the fleet's DDS messages and its backend. Announces the
+// robot, executes step commands addressed to it (checking each one), publishes its state.
+#pragma once
+
+#include <atomic>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+
+#include "fleet_transport/transport.hpp"
+#include "robot_agent/robot_backend.hpp"
+
+namespace robot_agent {
+
+struct AgentSettings {
+  std::string robot_id;
+  double state_rate_hz = 10;  // periodic state, besides one at every arrival
+  std::string version = "0.1.0";
+};
+
+class RobotAgent {
+ public:
+  RobotAgent(const AgentSettings& settings, RobotBackend& backend);
+
+  // Call from the transport's command handler (any thread).
+  void on_command(const fleet_transport::StepCommand& command);
+  // One iteration of the agent's loop: advance the backend, start commands, publish state when due.
+  // Returns false when the agent must stop (crash fault).
+  void step(fleet_transport::Transport& transport, bool reporting);
+  fleet_transport::Announcement announcement() const;
+
+  int rejected_commands() const { return rejected_.load(); }
+
+ private:
+  void reject(const fleet_transport::StepCommand& command, const std::string& why);
+
+  AgentSettings settings_;
+  RobotBackend& backend_;
+  std::mutex mutex_;
+  std::optional<fleet_transport::StepCommand> pending_;  // the newest accepted command not yet started
+  int epoch_ = -1;
+  int accepted_index_ = -1;  // highest action index accepted in epoch_
+  // The command executing or executed last.
+  int executing_epoch_ = -1;
+  int executing_index_ = -1;
+  bool was_moving_ = false;
+  uint64_t seq_ = 0;
+  std::chrono::steady_clock::time_point next_publish_{};
+  std::atomic<int> rejected_{0};
+};
+
+}  // namespace robot_agent

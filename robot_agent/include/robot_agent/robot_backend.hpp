@@ -1,0 +1,37 @@
+// RobotBackend: what the agent drives, a simulated robot or a real one (toio over BLE). The agent
+// asks it to move one cell; the backend reports where the robot stands.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+namespace robot_agent {
+
+struct GridCell {
+  int x = 0;
+  int y = 0;
+  bool operator==(const GridCell&) const = default;
+};
+
+struct BackendReport {
+  GridCell cell;          // the last cell the robot arrived at
+  double pose_x = 0;      // continuous position in cell units
+  double pose_y = 0;
+  double pose_theta = 0;
+  bool moving = false;
+  bool fault = false;
+  int battery_percent = -1;
+  int64_t arrived_ms = 0;  // wall clock of the arrival at `cell`
+};
+
+class RobotBackend {
+ public:
+  virtual ~RobotBackend() = default;
+  virtual std::string kind() const = 0;
+  // Starts a move to a neighbouring cell (or a wait on the current one); false if busy.
+  virtual bool start_move(GridCell target) = 0;
+  // Advances the backend to the present and reports.
+  virtual BackendReport poll() = 0;
+};
+
+}  // namespace robot_agent

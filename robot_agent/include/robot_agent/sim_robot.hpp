@@ -1,0 +1,48 @@
+// SimRobot: a simulated robot that moves cell to cell at a configured speed with random jitter,
+// plus fault injection (stall for a while, stop reporting, crash).
+#pragma once
+
+#include <chrono>
+#include <optional>
+#include <random>
+
+#include "robot_agent/robot_backend.hpp"
+
+namespace robot_agent {
+
+struct SimSettings {
+  double step_s = 0.2;          // nominal time of one move
+  double jitter = 0.2;          // each move takes step_s * (1 + U[0, jitter])
+  double delay_probability = 0;  // chance that a move is delayed by delay_s more
+  double delay_s = 0;
+  uint32_t seed = 0;
+  // Faults, in seconds since the robot started (negative = never).
+  double stall_at_s = -1;       // stop moving for stall_for_s
+  double stall_for_s = 0;
+  double silent_at_s = -1;      // stop reporting (the agent checks reporting_enabled)
+  double crash_at_s = -1;       // the process aborts
+};
+
+class SimRobot : public RobotBackend {
+ public:
+  SimRobot(GridCell start, const SimSettings& settings);
+  std::string kind() const override { return "sim"; }
+  bool start_move(GridCell target) override;
+  BackendReport poll() override;
+  bool reporting_enabled() const;
+  bool should_crash() const;
+
+ private:
+  using Clock = std::chrono::steady_clock;
+  double since_start_s() const;
+
+  SimSettings settings_;
+  std::mt19937 rng_;
+  Clock::time_point started_;
+  GridCell cell_;
+  int64_t arrived_ms_;
+  std::optional<GridCell> target_;
+  Clock::time_point move_started_, move_ends_;
+};
+
+}  // namespace robot_agent

@@ -1,0 +1,86 @@
+#include "robot_agent/robot_agent.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <cstdlib>
+
+namespace robot_agent {
+
+using fleet_transport::RobotStatus;
+using fleet_transport::StepCommand;
+
+RobotAgent::RobotAgent(const AgentSettings& settings, RobotBackend& backend) : settings_(settings), backend_(backend) {}
+
+fleet_transport::Announcement RobotAgent::announcement() const {
+  return {settings_.robot_id, backend_.kind(), "grid-4,wait", settings_.version, false};
+}
+
+void RobotAgent::reject(const StepCommand& command, const std::string& why) {
+  ++rejected_;
+  spdlog::warn("{}: rejected command epoch {} action {} to ({},{}): {}", settings_.robot_id, command.plan_epoch,
+               command.action_index, command.target_x, command.target_y, why);
+}
+
+void RobotAgent::on_command(const StepCommand& command) {
+  if (command.robot_id != settings_.robot_id) {
+    reject(command, "addressed to robot '" + command.robot_id + "'");
+    return;
+  }
+  const std::lock_guard<std::mutex> lock(mutex_);
+  if (command.plan_epoch < epoch_) {
+    reject(command, "stale plan epoch (current epoch " + std::to_string(epoch_) + ")");
+    return;
+  }
+  if (command.plan_epoch == epoch_ && command.action_index <= accepted_index_) return;  // a repeat
+  epoch_ = command.plan_epoch;
+  accepted_index_ = command.action_index;
+  pending_ = command;  // a newer command (or epoch) supersedes one not yet started
+}
+
+void RobotAgent::step(fleet_transport::Transport& transport, bool reporting) {
+  BackendReport report = backend_.poll();
+  bool publish_now = was_moving_ && !report.moving;  // arrival: report at once
+  if (!report.moving) {
+    std::optional<StepCommand> command;
+    {
+      const std::lock_guard<std::mutex> lock(mutex_);
+      command.swap(pending_);
+    }
+    if (command) {
+      const int dx = std::abs(command->target_x - report.cell.x), dy = std::abs(command->target_y - report.cell.y);
+      if (dx + dy > 1) {
+        reject(*command, "not a neighbouring cell of (" + std::to_string(report.cell.x) + "," +
+                             std::to_string(report.cell.y) + ")");
+      } else if (backend_.start_move({command->target_x, command->target_y})) {
+        executing_epoch_ = command->plan_epoch;
+        executing_index_ = command->action_index;
+        report = backend_.poll();
+        publish_now = true;
+      }
+    }
+  }
+  was_moving_ = report.moving;
+  const auto now = std::chrono::steady_clock::now();
+  if (!reporting || (!publish_now && now < next_publish_)) return;
+  next_publish_ = now + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                            std::chrono::duration<double>(1.0 / settings_.state_rate_hz));
+  fleet_transport::RobotState state;
+  state.robot_id = settings_.robot_id;
+  state.cell_x = report.cell.x;
+  state.cell_y = report.cell.y;
+  state.pose_x = report.pose_x;
+  state.pose_y = report.pose_y;
+  state.pose_theta = report.pose_theta;
+  state.plan_epoch = executing_epoch_;
+  state.action_index = executing_index_;
+  state.status = report.fault ? RobotStatus::kFault
+                 : report.moving ? RobotStatus::kMoving
+                 : executing_index_ >= 0 ? RobotStatus::kArrived
+                                          : RobotStatus::kIdle;
+  state.battery_percent = report.battery_percent;
+  state.seq_number = ++seq_;
+  state.stamp_ms = report.arrived_ms;
+  transport.publish_state(state);
+}
+
+}  // namespace robot_agent
