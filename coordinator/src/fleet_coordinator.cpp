@@ -92,9 +92,12 @@ void FleetCoordinator::handle(const Event& event) {
         return;
       }
       if (robot.announced && robot.active) {
-        spdlog::warn("robot id {} announced again while active (duplicate id or restart); keeping the first",
-                     robot.id);
-        return;
+        if (robot.backend != event.announcement.backend) {
+          spdlog::warn("robot id {} announced by a second {} robot while a {} robot is active: duplicate id, the "
+                       "second is ignored",
+                       robot.id, event.announcement.backend, robot.backend);
+        }
+        return;  // robots repeat their announcement every second
       }
       if (!config_.any_robots && std::find(config_.expected_robots.begin(), config_.expected_robots.end(),
                                            robot.id) == config_.expected_robots.end()) {
@@ -104,6 +107,7 @@ void FleetCoordinator::handle(const Event& event) {
       }
       robot.announced = true;
       robot.refused = false;
+      robot.backend = event.announcement.backend;
       spdlog::info("robot {} announced ({} backend, version {})", robot.id, event.announcement.backend,
                    event.announcement.version);
       return;
@@ -115,10 +119,13 @@ void FleetCoordinator::handle(const Event& event) {
   ++summary_.states_received;
   if (!robot.announced) {
     if (warned_unknown_.insert(robot.id).second) {
-      spdlog::warn("state from unknown robot {} ignored until it announces itself", robot.id);
+      spdlog::warn("state from unknown robot {} ignored until it announces itself; its cell is kept clear", robot.id);
     }
+    const Vertex cell = mission_vertex(event.state.cell_x, event.state.cell_y);
+    if (cell != planner_core::kNoVertex) unknown_cells_[robot.id] = cell;
     return;
   }
+  unknown_cells_.erase(robot.id);
   if (robot.refused) return;
   const fleet_transport::RobotState& state = event.state;
   const Vertex cell = mission_vertex(state.cell_x, state.cell_y);
@@ -205,7 +212,9 @@ void FleetCoordinator::bind_roles(const std::vector<Robot*>& robots) {
 bool FleetCoordinator::replan(fleet_transport::Transport& transport) {
   // The planning map: the mission map with the cells of lost robots blocked.
   std::vector<std::string> rows = mission_.graph->rows();
-  for (Vertex v : blocked_) {
+  std::set<Vertex> obstacles = blocked_;
+  for (const auto& [id, cell] : unknown_cells_) obstacles.insert(cell);  // robots we cannot command
+  for (Vertex v : obstacles) {
     const Cell c = mission_.graph->cell_of(v);
     rows[c.y][c.x] = '@';
   }

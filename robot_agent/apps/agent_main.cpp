@@ -72,7 +72,14 @@ int main(int argc, char** argv) {
     transport->announce(agent.announcement());
     spdlog::info("{}: {} robot at ({},{}) on {} domain {}", settings.robot_id, robot.kind(), start.x, start.y, vendor,
                  domain);
+    // Announce again every second: a coordinator that starts later or restarts learns of us even
+    // when the middleware's late-joiner delivery is slow (seen with Fast DDS).
+    auto next_announcement = std::chrono::steady_clock::now() + std::chrono::seconds(1);
     while (!g_stop.load()) {
+      if (std::chrono::steady_clock::now() >= next_announcement && robot.reporting_enabled()) {
+        transport->announce(agent.announcement());
+        next_announcement += std::chrono::seconds(1);
+      }
       if (robot.should_crash()) {
         spdlog::error("{}: injected crash", settings.robot_id);
         std::abort();

@@ -67,6 +67,7 @@ class FleetCoordinator {
     int role = -1;         // mission role, -1 for an extra robot
     int plan_agent = -1;   // index in the current plan, -1 when not in it
     bool finished_plan = false;
+    std::string backend;
   };
   struct Event {
     enum class Kind { kAnnouncement, kState, kGone } kind;
@@ -99,6 +100,7 @@ class FleetCoordinator {
   std::vector<std::vector<char>> task_done_;        // [task][index in task.agents] visited by that role's robot
   std::set<planner_core::Vertex> blocked_;          // last cells of lost robots (mission graph ids)
   std::set<std::string> warned_unknown_;
+  std::map<std::string, planner_core::Vertex> unknown_cells_;  // robots heard but not announced
 
   Phase phase_ = Phase::kWaiting;
   Clock::time_point started_, first_command_, settle_deadline_, next_status_, replan_requested_at_;
