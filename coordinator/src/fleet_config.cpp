@@ -6,6 +6,9 @@
 #include <set>
 
 #include "planner_core/input_error.hpp"
+#include "planner_core/solver.hpp"
+
+#include <algorithm>
 
 namespace coordinator {
 
@@ -89,9 +92,17 @@ FleetConfig load_fleet_config(const std::string& path) {
     if (config.quorum < 1) r.fail(robots["quorum"], "robots.quorum", "must be at least 1");
   }
   if (const YAML::Node planner = root["planner"]) {
-    r.only_keys(planner, {"solver", "time_limit_s"}, "planner");
+    r.only_keys(planner, {"solver", "time_limit_s", "replan_solver", "replan_time_limit_s"}, "planner");
     r.read(planner, "solver", "planner", config.solver);
     r.read(planner, "time_limit_s", "planner", config.plan_time_s);
+    r.read(planner, "replan_solver", "planner", config.replan_solver);
+    r.read(planner, "replan_time_limit_s", "planner", config.replan_time_s);
+    const auto known = planner_core::solver_names();
+    for (const std::string* name : {&config.solver, &config.replan_solver}) {
+      if (std::find(known.begin(), known.end(), *name) == known.end()) {
+        r.fail(planner, "planner", "unknown solver '" + *name + "'");
+      }
+    }
   }
   if (const YAML::Node dds = root["dds"]) {
     r.only_keys(dds, {"vendor", "domain_id", "lease_s", "config_dir"}, "dds");

@@ -284,10 +284,11 @@ bool FleetCoordinator::replan(fleet_transport::Transport& transport) {
   for (Robot* robot : members) robot->finished_plan = false;
 
   planner_core::SolverConfig solver_config;
-  solver_config.solver = config_.solver;
+  const bool first_plan = epoch_ == 0;
+  solver_config.solver = first_plan ? config_.solver : config_.replan_solver;
   const auto solver = planner_core::make_solver(solver_config);
-  const planner_core::SolveResult result =
-      solver->solve(instance, {planner_core::Deadline::in_seconds(config_.plan_time_s), {}});
+  const planner_core::SolveResult result = solver->solve(
+      instance, {planner_core::Deadline::in_seconds(first_plan ? config_.plan_time_s : config_.replan_time_s), {}});
   if (!result.solved) {
     spdlog::error("planning failed ({}); retrying", result.failure_reason);
     return false;
@@ -508,7 +509,13 @@ bool FleetCoordinator::step(fleet_transport::Transport& transport) {
       for (size_t a = 0; a < sent_.size(); ++a) {
         if (sent_[a] == finished_[a] && robots_[plan_robots_[a]].active) moves_in_flight = true;
       }
-      if ((!moves_in_flight || now >= settle_deadline_) && now >= retry_plan_at_) {
+      // Plan only from where robots really stand: every move in flight must have ended (a robot
+      // that never finishes is taken out by the silence timeout or its lease).
+      if (moves_in_flight && now >= settle_deadline_) {
+        spdlog::warn("replanning waits for moves still in flight");
+        settle_deadline_ = now + seconds(config_.replan_settle_s);
+      }
+      if (!moves_in_flight && now >= retry_plan_at_) {
         if (!replan(transport)) retry_plan_at_ = now + seconds(1.0);
       }
       break;

@@ -56,6 +56,8 @@ class CycloneTransport : public Transport {
     dds_qset_durability_service(registry, 0, DDS_HISTORY_KEEP_LAST, 1, DDS_LENGTH_UNLIMITED, DDS_LENGTH_UNLIMITED,
                                 DDS_LENGTH_UNLIMITED);
     dds_qset_liveliness(registry, DDS_LIVELINESS_AUTOMATIC, lease);
+    // A writer that dies leaves its instances "no writers", not "disposed": only a goodbye disposes.
+    dds_qset_writer_data_lifecycle(registry, false);
     dds_qos_t* state = dds_create_qos();
     dds_qset_reliability(state, DDS_RELIABILITY_BEST_EFFORT, 0);
     dds_qset_history(state, DDS_HISTORY_KEEP_LAST, 1);

@@ -82,6 +82,7 @@ class FastDdsTransport : public Transport {
     registry_w.liveliness().lease_duration = lease;
     registry_w.liveliness().announcement_period = announce_every;
     registry_w.reliable_writer_qos().times.heartbeatPeriod = heartbeat;
+    registry_w.writer_data_lifecycle().autodispose_unregistered_instances = false;
     DataReaderQos registry_r = DATAREADER_QOS_DEFAULT;
     registry_r.reliability().kind = RELIABLE_RELIABILITY_QOS;
     registry_r.durability().kind = TRANSIENT_LOCAL_DURABILITY_QOS;

@@ -9,7 +9,8 @@ namespace robot_agent {
 using fleet_transport::RobotStatus;
 using fleet_transport::StepCommand;
 
-RobotAgent::RobotAgent(const AgentSettings& settings, RobotBackend& backend) : settings_(settings), backend_(backend) {}
+RobotAgent::RobotAgent(const AgentSettings& settings, RobotBackend& backend)
+    : settings_(settings), backend_(backend), next_start_(backend.poll().cell) {}
 
 fleet_transport::Announcement RobotAgent::announcement() const {
   return {settings_.robot_id, backend_.kind(), "grid-4,wait", settings_.version, false};
@@ -29,6 +30,12 @@ void RobotAgent::on_command(const StepCommand& command) {
   const std::lock_guard<std::mutex> lock(mutex_);
   if (command.plan_epoch < epoch_) {
     reject(command, "stale plan epoch (current epoch " + std::to_string(epoch_) + ")");
+    return;
+  }
+  // Checked before the command can change the epoch, so a bad command cannot lock out good ones.
+  if (std::abs(command.target_x - next_start_.x) + std::abs(command.target_y - next_start_.y) > 1) {
+    reject(command, "not a move to a neighbouring cell of (" + std::to_string(next_start_.x) + "," +
+                        std::to_string(next_start_.y) + ") or a wait");
     return;
   }
   if (command.plan_epoch == epoch_ && command.action_index <= accepted_index_) return;  // a repeat
@@ -52,6 +59,7 @@ void RobotAgent::step(fleet_transport::Transport& transport, bool reporting) {
         reject(*command, "not a neighbouring cell of (" + std::to_string(report.cell.x) + "," +
                              std::to_string(report.cell.y) + ")");
       } else if (backend_.start_move({command->target_x, command->target_y})) {
+        moving_to_ = {command->target_x, command->target_y};
         executing_epoch_ = command->plan_epoch;
         executing_index_ = command->action_index;
         report = backend_.poll();
@@ -60,6 +68,10 @@ void RobotAgent::step(fleet_transport::Transport& transport, bool reporting) {
     }
   }
   was_moving_ = report.moving;
+  {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    next_start_ = report.moving ? moving_to_ : report.cell;
+  }
   const auto now = std::chrono::steady_clock::now();
   if (!reporting || (!publish_now && now < next_publish_)) return;
   next_publish_ = now + std::chrono::duration_cast<std::chrono::steady_clock::duration>(

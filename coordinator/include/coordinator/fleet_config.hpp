@@ -16,6 +16,9 @@ struct FleetConfig {
   double wait_timeout_s = 30;    // start with whoever is there after this long (at least one robot)
   std::string solver = "cts-pll-v3";
   double plan_time_s = 1.0;
+  // Replanning after a robot leaves or joins favours speed: the first feasible plan.
+  std::string replan_solver = "cts-pll-v2";
+  double replan_time_s = 1.0;
   std::string dds_vendor = "cyclone";
   int domain_id = 0;
   double lease_s = 1.0;

@@ -39,12 +39,14 @@ class RobotAgent {
   RobotBackend& backend_;
   std::mutex mutex_;
   std::optional<fleet_transport::StepCommand> pending_;  // the newest accepted command not yet started
+  GridCell next_start_{};  // where the robot will be when it starts its next command
   int epoch_ = -1;
   int accepted_index_ = -1;  // highest action index accepted in epoch_
   // The command executing or executed last.
   int executing_epoch_ = -1;
   int executing_index_ = -1;
   bool was_moving_ = false;
+  GridCell moving_to_{};
   uint64_t seq_ = 0;
   std::chrono::steady_clock::time_point next_publish_{};
   std::atomic<int> rejected_{0};

@@ -1,0 +1,252 @@
+#!/usr/bin/env python3
+"""Multi-process fleet tests: a real coordinator, real robot agents and an independent safety
+monitor, talking DDS over loopback, each test on its own domain. Every wait is on a condition
+with a generous deadline, so a loaded machine only makes the tests slower."""
+import os
+import re
+import signal
+import subprocess
+import sys
+import tempfile
+import time
+import unittest
+
+import yaml
+
+BIN = os.environ.get("CTSFLEET_BIN", os.path.join(os.path.dirname(__file__), "../../build/bin"))
+ROOT = os.environ.get("CTSFLEET_ROOT", os.path.join(os.path.dirname(__file__), "../.."))
+CONFIG = os.path.join(ROOT, "config/fleet.yaml")
+DDS_DIR = os.path.join(ROOT, "config/dds")
+MISSION = os.path.join(ROOT, "config/default/mission-8.yaml")
+STEP = "0.05"
+TESTS = [
+    "test_mission_completes_safely",
+    "test_cross_vendor_cyclone_coordinator_fastdds_agents",
+    "test_cross_vendor_fastdds_coordinator_cyclone_agents",
+    "test_killed_agent_is_detected_and_the_others_finish",
+    "test_new_agent_takes_over_the_dead_robots_role",
+    "test_jitter_up_to_three_times_the_step",
+    "test_hostile_messages_change_nothing",
+    "test_bad_configuration_and_arguments",
+]
+
+
+def role_starts():
+    with open(MISSION) as f:
+        mission = yaml.safe_load(f)
+    return [tuple(a["start"]) for a in mission["agents"]]
+
+
+def wait_for(predicate, timeout, what):
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        if predicate():
+            return
+        time.sleep(0.1)
+    raise AssertionError(f"timed out after {timeout} s waiting for {what}")
+
+
+def read(path):
+    with open(path, errors="replace") as f:
+        return f.read()
+
+
+class Fleet:
+    """The processes of one test; everything is stopped by close()."""
+
+    def __init__(self, test_name):
+        self.domain = 40 + TESTS.index(test_name)
+        self.dir = tempfile.mkdtemp(prefix=f"ctsfleet-{test_name}-")
+        self.processes = {}
+
+    def log(self, name):
+        return os.path.join(self.dir, name + ".log")
+
+    def start(self, name, args):
+        out = open(self.log(name), "w")
+        self.processes[name] = subprocess.Popen(args, stdout=out, stderr=subprocess.STDOUT)
+        return self.processes[name]
+
+    def agent(self, robot_id, cell, dds="cyclone", extra=()):
+        return self.start(robot_id, [f"{BIN}/ctsfleet-agent", "--id", robot_id, "--start", f"{cell[0]},{cell[1]}",
+                                     "--dds", dds, "--domain", str(self.domain), "--step", STEP,
+                                     "--dds-config-dir", DDS_DIR, *extra])
+
+    def agents(self, dds="cyclone", extra=()):
+        for index, cell in enumerate(role_starts()):
+            self.agent(f"robot{index}", cell, dds, extra)
+
+    def coordinator(self, dds="cyclone", config=CONFIG):
+        return self.start("coordinator", [f"{BIN}/ctsfleet-coordinator", "--config", config, "--dds", dds,
+                                          "--domain", str(self.domain)])
+
+    def monitor(self, dds="cyclone"):
+        return self.start("monitor", [f"{BIN}/ctsfleet-monitor", "--dds", dds, "--domain", str(self.domain),
+                                      "--dds-config-dir", DDS_DIR])
+
+    def wait_exit(self, name, timeout):
+        try:
+            return self.processes[name].wait(timeout=timeout)
+        except subprocess.TimeoutExpired:
+            raise AssertionError(f"{name} still running after {timeout} s; its log:\n" + read(self.log(name))[-3000:])
+
+    def monitor_verdict(self):
+        self.processes["monitor"].send_signal(signal.SIGINT)
+        code = self.wait_exit("monitor", 60)
+        return code, read(self.log("monitor"))
+
+    def close(self):
+        for process in self.processes.values():
+            if process.poll() is None:
+                process.send_signal(signal.SIGTERM)
+        for process in self.processes.values():
+            try:
+                process.wait(timeout=20)
+            except subprocess.TimeoutExpired:
+                process.kill()
+
+
+class FleetTest(unittest.TestCase):
+    def setUp(self):
+        self.fleet = Fleet(self._testMethodName)
+
+    def tearDown(self):
+        self.fleet.close()
+
+    def assert_safe(self):
+        code, text = self.fleet.monitor_verdict()
+        self.assertIn("overlaps 0", text, text)
+        self.assertEqual(code, 0, text)
+        match = re.search(r"states (\d+)", text)
+        self.assertTrue(match and int(match.group(1)) > 100, "the monitor heard almost nothing:\n" + text)
+
+    def run_mission(self, coordinator_dds, agent_dds):
+        self.fleet.monitor(coordinator_dds)
+        self.fleet.agents(agent_dds)
+        self.fleet.coordinator(coordinator_dds)
+        code = self.fleet.wait_exit("coordinator", 240)
+        text = read(self.fleet.log("coordinator"))
+        self.assertEqual(code, 0, text[-3000:])
+        self.assertIn("mission completed: tasks 16/16", text)
+        self.assert_safe()
+
+    def test_mission_completes_safely(self):
+        self.fleet.monitor()
+        launcher = self.fleet.start("sim", [f"{BIN}/ctsfleet-sim", "--robots", "8", "--config", CONFIG,
+                                            "--domain", str(self.fleet.domain), "--step", STEP,
+                                            "--log-dir", os.path.join(self.fleet.dir, "agents")])
+        code = self.fleet.wait_exit("sim", 240)
+        text = read(self.fleet.log("sim"))
+        self.assertEqual(code, 0, text[-3000:])
+        self.assertIn("mission completed: tasks 16/16", text)
+        self.assert_safe()
+
+    def test_cross_vendor_cyclone_coordinator_fastdds_agents(self):
+        self.run_mission("cyclone", "fastdds")
+
+    def test_cross_vendor_fastdds_coordinator_cyclone_agents(self):
+        self.run_mission("fastdds", "cyclone")
+
+    def kill_robot3_mid_run(self):
+        self.fleet.monitor()
+        self.fleet.agents()
+        self.fleet.coordinator()
+        wait_for(lambda: "plan epoch 1" in read(self.fleet.log("coordinator")), 120, "the first plan")
+        wait_for(lambda: "tasks 2/16" in read(self.fleet.log("coordinator")) or
+                 "tasks 3/16" in read(self.fleet.log("coordinator")), 120, "the mission under way")
+        self.fleet.processes["robot3"].send_signal(signal.SIGKILL)
+        killed_at = time.time()
+        wait_for(lambda: "robot robot3 taken out" in read(self.fleet.log("coordinator")), 60, "the loss detected")
+        line = next(l for l in read(self.fleet.log("coordinator")).splitlines() if "robot robot3 taken out" in l)
+        stamp = time.mktime(time.strptime(line[1:20], "%Y-%m-%d %H:%M:%S")) + int(line[21:24]) / 1000
+        print(f"loss detected {stamp - killed_at:.2f} s after SIGKILL ({line.strip()})")
+        self.assertIn("liveliness lost", line)
+        # Lease 1 s: detection within two leases, plus slack for a loaded machine's scheduling.
+        self.assertLess(stamp - killed_at, 2 * 1.0 + 1.0)
+
+    def test_killed_agent_is_detected_and_the_others_finish(self):
+        self.kill_robot3_mid_run()
+        code = self.fleet.wait_exit("coordinator", 240)
+        text = read(self.fleet.log("coordinator"))
+        self.assertEqual(code, 3, text[-3000:])  # completed for the others, robot3's tasks pending
+        pending = [l for l in text.splitlines() if l.startswith("pending:")]
+        self.assertTrue(pending, text[-2000:])
+        for line in pending:
+            self.assertIn("role 3 (no robot)", line)
+        self.assertIn("replanning: robot robot3 lost", text)
+        self.assert_safe()
+
+    def test_new_agent_takes_over_the_dead_robots_role(self):
+        self.kill_robot3_mid_run()
+        self.fleet.agent("robot8", (1, 1))
+        code = self.fleet.wait_exit("coordinator", 240)
+        text = read(self.fleet.log("coordinator"))
+        self.assertEqual(code, 0, text[-3000:])
+        self.assertIn("robot robot8 takes role 3", text)
+        self.assertIn("mission completed: tasks 16/16", text)
+        self.assert_safe()
+
+    def test_jitter_up_to_three_times_the_step(self):
+        self.fleet.monitor()
+        self.fleet.agents(extra=("--jitter", "2.0", "--delay-probability", "0.05", "--delay", "0.3"))
+        self.fleet.coordinator()
+        code = self.fleet.wait_exit("coordinator", 240)
+        self.assertEqual(code, 0, read(self.fleet.log("coordinator"))[-3000:])
+        self.assert_safe()
+
+    def test_hostile_messages_change_nothing(self):
+        self.fleet.monitor()
+        self.fleet.agents()
+        self.fleet.coordinator()
+        wait_for(lambda: "plan epoch 1" in read(self.fleet.log("coordinator")), 120, "the first plan")
+        inject = subprocess.run([f"{BIN}/ctsfleet-test-inject", "--domain", str(self.fleet.domain),
+                                 "--dds-config-dir", DDS_DIR, "--victim", "robot0"],
+                                capture_output=True, text=True, timeout=60)
+        self.assertEqual(inject.returncode, 0, inject.stderr)
+        code = self.fleet.wait_exit("coordinator", 240)
+        coordinator = read(self.fleet.log("coordinator"))
+        self.assertEqual(code, 0, coordinator[-3000:])
+        self.assertIn("unknown robot intruder", coordinator)
+        self.assertIn("duplicate id", coordinator)
+        victim = read(self.fleet.log("robot0"))
+        self.assertIn("not a move to a neighbouring cell", victim)
+        self.assertIn("stale plan epoch", victim)
+        for name, process in self.fleet.processes.items():
+            if name.startswith("robot"):
+                self.assertIsNone(process.poll(), f"{name} died:\n" + read(self.fleet.log(name))[-2000:])
+        self.assert_safe()
+
+    def test_bad_configuration_and_arguments(self):
+        def coordinator_with(text, name):
+            path = os.path.join(self.fleet.dir, name)
+            with open(path, "w") as f:
+                f.write(text)
+            return subprocess.run([f"{BIN}/ctsfleet-coordinator", "--config", path, "--domain",
+                                   str(self.fleet.domain)], capture_output=True, text=True, timeout=60)
+
+        mission = os.path.abspath(MISSION)
+        cases = [
+            ("mission: [unclosed\n", "malformed.yaml", "malformed YAML"),
+            (f"mission: {mission}\nspeed: 3\n", "unknown-key.yaml", "unknown key 'speed'"),
+            (f"mission: {mission}\ndds:\n  vendor: opensplice\n", "vendor.yaml", "dds.vendor"),
+            (f"mission: {mission}\nrobots:\n  quorum: many\n", "quorum.yaml", "robots.quorum"),
+            (f"mission: {mission}\nplanner:\n  solver: magic\n", "solver.yaml", "unknown solver 'magic'"),
+            ("mission: nowhere.yaml\n", "missing-mission.yaml", "nowhere.yaml"),
+        ]
+        for text, name, expected in cases:
+            result = coordinator_with(text, name)
+            self.assertEqual(result.returncode, 2, f"{name}: {result.stdout}{result.stderr}")
+            output = result.stdout + result.stderr
+            self.assertIn(name if expected != "nowhere.yaml" else expected, output)
+            self.assertIn(expected, output)
+        agent = subprocess.run([f"{BIN}/ctsfleet-agent", "--id", "x", "--start", "nonsense"],
+                               capture_output=True, text=True, timeout=60)
+        self.assertEqual(agent.returncode, 2)
+        self.assertIn("--start must be x,y", agent.stdout + agent.stderr)
+        too_long = subprocess.run([f"{BIN}/ctsfleet-agent", "--id", "r" * 40], capture_output=True, text=True,
+                                  timeout=60)
+        self.assertEqual(too_long.returncode, 2)
+
+
+if __name__ == "__main__":
+    unittest.main(argv=[sys.argv[0], *sys.argv[1:]], verbosity=2)
