@@ -7,7 +7,10 @@
 #include <csignal>
 #include <cstdio>
 #include <thread>
+#include <sys/resource.h>
 #include <unistd.h>
+
+#include <algorithm>
 
 #include "coordinator/fleet_config.hpp"
 #include "coordinator/fleet_coordinator.hpp"
@@ -74,6 +77,17 @@ int main(int argc, char** argv) {
                 s.robots_lost, s.robots_joined, static_cast<long long>(s.commands_sent),
                 static_cast<long long>(s.states_received));
     for (double latency : s.replan_latencies_s) std::printf("replan latency %.3f s\n", latency);
+    if (!s.round_trips_ms.empty()) {
+      std::vector<double> sorted = s.round_trips_ms;
+      std::sort(sorted.begin(), sorted.end());
+      const auto at = [&](double q) { return sorted[std::min(sorted.size() - 1, static_cast<size_t>(q * sorted.size()))]; };
+      std::printf("command round trip: n %zu p50 %.2f ms p99 %.2f ms max %.2f ms\n", sorted.size(), at(0.5), at(0.99),
+                  sorted.back());
+    }
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);
+    const double cpu = usage.ru_utime.tv_sec + usage.ru_stime.tv_sec + (usage.ru_utime.tv_usec + usage.ru_stime.tv_usec) / 1e6;
+    std::printf("coordinator cpu %.2f s\n", cpu);
     for (const std::string& line : s.pending) std::printf("pending: %s\n", line.c_str());
     std::fflush(stdout);
     if (g_stop.load()) return 130;

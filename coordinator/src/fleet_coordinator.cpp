@@ -45,7 +45,7 @@ void FleetCoordinator::on_announcement(const fleet_transport::Announcement& anno
 
 void FleetCoordinator::on_state(const fleet_transport::RobotState& state) {
   const std::lock_guard<std::mutex> lock(events_mutex_);
-  events_.push_back({Event::Kind::kState, {}, state, state.robot_id, {}});
+  events_.push_back({Event::Kind::kState, {}, state, state.robot_id, {}, Clock::now()});
 }
 
 void FleetCoordinator::on_robot_gone(const std::string& robot_id, fleet_transport::GoneReason reason) {
@@ -142,6 +142,11 @@ void FleetCoordinator::handle(const Event& event) {
   robot.has_state = true;
   robot.last = state;
   robot.last_heard = Clock::now();
+  if (const int a = robot.plan_agent; a >= 0 && adg_ && state.plan_epoch == epoch_ && a < static_cast<int>(sent_.size()) &&
+                                      state.action_index == sent_[a] && !acknowledged_[a]) {
+    acknowledged_[a] = 1;
+    summary_.round_trips_ms.push_back(std::chrono::duration<double, std::milli>(event.received - first_sent_at_[a]).count());
+  }
   if (!robot.active) {
     robot.active = true;
     blocked_.erase(cell);
@@ -309,6 +314,8 @@ bool FleetCoordinator::replan(fleet_transport::Transport& transport) {
   finished_.assign(instance.agent_count(), 0);
   sent_.assign(instance.agent_count(), -1);
   sent_at_.assign(instance.agent_count(), Clock::time_point{});
+  first_sent_at_.assign(instance.agent_count(), Clock::time_point{});
+  acknowledged_.assign(instance.agent_count(), 0);
   spdlog::info("plan epoch {}: {} robots, {} task visits, flowtime {}, makespan {}", epoch_, instance.agent_count(),
                [&] {
                  int visits = 0;
@@ -369,6 +376,10 @@ void FleetCoordinator::dispatch(fleet_transport::Transport& transport) {
     command.deadline_ms = fleet_transport::wall_clock_ms() + static_cast<int64_t>(4000 * config_.step_s) + 1000;
     transport.send_command(command);
     ++summary_.commands_sent;
+    if (!in_flight) {
+      first_sent_at_[a] = now;
+      acknowledged_[a] = 0;
+    }
     sent_[a] = next;
     sent_at_[a] = now;
     if (!first_command_sent_) {

@@ -85,7 +85,9 @@ int main(int argc, char** argv) {
         std::abort();
       }
       agent.step(*transport, robot.reporting_enabled());
-      std::this_thread::sleep_for(std::chrono::milliseconds(2));
+      // Sleep until a command arrives, the robot arrives, or the next state is due (at most 50 ms).
+      agent.wait_for_command(std::min<std::chrono::steady_clock::duration>(agent.idle_time(),
+                                                                           std::chrono::milliseconds(50)));
     }
     transport->say_goodbye(settings.robot_id);
     spdlog::info("{}: goodbye", settings.robot_id);

@@ -42,6 +42,19 @@ void RobotAgent::on_command(const StepCommand& command) {
   epoch_ = command.plan_epoch;
   accepted_index_ = command.action_index;
   pending_ = command;  // a newer command (or epoch) supersedes one not yet started
+  command_arrived_.notify_one();
+}
+
+void RobotAgent::wait_for_command(std::chrono::steady_clock::duration timeout) {
+  std::unique_lock<std::mutex> lock(mutex_);
+  command_arrived_.wait_for(lock, timeout, [this] { return pending_.has_value(); });
+}
+
+std::chrono::steady_clock::duration RobotAgent::idle_time() const {
+  const auto now = std::chrono::steady_clock::now();
+  auto until = next_publish_ - now;
+  if (const auto arrival = backend_.time_to_arrival()) until = std::min(until, *arrival);
+  return std::max(until, std::chrono::steady_clock::duration::zero());
 }
 
 void RobotAgent::step(fleet_transport::Transport& transport, bool reporting) {

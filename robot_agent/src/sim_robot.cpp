@@ -33,6 +33,11 @@ bool SimRobot::start_move(GridCell target) {
   return true;
 }
 
+std::optional<std::chrono::steady_clock::duration> SimRobot::time_to_arrival() const {
+  if (!target_) return std::nullopt;
+  return std::max(move_ends_ - Clock::now(), Clock::duration::zero());
+}
+
 BackendReport SimRobot::poll() {
   const Clock::time_point now = Clock::now();
   if (target_ && now >= move_ends_) {

@@ -36,6 +36,7 @@ struct MissionSummary {
   int64_t commands_sent = 0;
   int64_t states_received = 0;
   std::vector<double> replan_latencies_s;  // from a loss/join to the first command of the new plan
+  std::vector<double> round_trips_ms;      // command sent -> the robot's state acknowledging it
 };
 
 class FleetCoordinator {
@@ -75,6 +76,7 @@ class FleetCoordinator {
     fleet_transport::RobotState state;
     std::string robot_id;
     fleet_transport::GoneReason reason{};
+    Clock::time_point received{};
   };
 
   void handle(const Event& event);
@@ -118,6 +120,8 @@ class FleetCoordinator {
   std::unique_ptr<ActionDependencyGraph> adg_;
   std::vector<int> finished_, sent_;
   std::vector<Clock::time_point> sent_at_;
+  std::vector<Clock::time_point> first_sent_at_;  // of the move in flight, for round-trip times
+  std::vector<char> acknowledged_;
   MissionSummary summary_;
 };
 

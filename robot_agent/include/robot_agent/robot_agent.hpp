@@ -3,6 +3,8 @@
 #pragma once
 
 #include <atomic>
+#include <chrono>
+#include <condition_variable>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -29,6 +31,10 @@ class RobotAgent {
   // Returns false when the agent must stop (crash fault).
   void step(fleet_transport::Transport& transport, bool reporting);
   fleet_transport::Announcement announcement() const;
+  // Sleeps until a command arrives or `timeout` passes (whichever is first).
+  void wait_for_command(std::chrono::steady_clock::duration timeout);
+  // How long the agent may sleep before step() has something to do (next state or arrival).
+  std::chrono::steady_clock::duration idle_time() const;
 
   int rejected_commands() const { return rejected_.load(); }
 
@@ -38,6 +44,7 @@ class RobotAgent {
   AgentSettings settings_;
   RobotBackend& backend_;
   std::mutex mutex_;
+  std::condition_variable command_arrived_;
   std::optional<fleet_transport::StepCommand> pending_;  // the newest accepted command not yet started
   GridCell next_start_{};  // where the robot will be when it starts its next command
   int epoch_ = -1;

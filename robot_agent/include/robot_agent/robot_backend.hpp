@@ -2,7 +2,9 @@
 // asks it to move one cell; the backend reports where the robot stands.
 #pragma once
 
+#include <chrono>
 #include <cstdint>
+#include <optional>
 #include <string>
 
 namespace robot_agent {
@@ -32,6 +34,8 @@ class RobotBackend {
   virtual bool start_move(GridCell target) = 0;
   // Advances the backend to the present and reports.
   virtual BackendReport poll() = 0;
+  // While moving: the expected time until arrival (so the agent knows when to look again).
+  virtual std::optional<std::chrono::steady_clock::duration> time_to_arrival() const = 0;
 };
 
 }  // namespace robot_agent

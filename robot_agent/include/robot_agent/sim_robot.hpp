@@ -29,6 +29,7 @@ class SimRobot : public RobotBackend {
   std::string kind() const override { return "sim"; }
   bool start_move(GridCell target) override;
   BackendReport poll() override;
+  std::optional<std::chrono::steady_clock::duration> time_to_arrival() const override;
   bool reporting_enabled() const;
   bool should_crash() const;
 
