@@ -291,6 +291,7 @@ bool FleetCoordinator::replan(fleet_transport::Transport& transport) {
   planner_core::SolverConfig solver_config;
   const bool first_plan = epoch_ == 0;
   solver_config.solver = first_plan ? config_.solver : config_.replan_solver;
+  solver_config.forbid_rotations = true;  // robots execute one move at a time
   const auto solver = planner_core::make_solver(solver_config);
   const planner_core::SolveResult result = solver->solve(
       instance, {planner_core::Deadline::in_seconds(first_plan ? config_.plan_time_s : config_.replan_time_s), {}});
@@ -298,7 +299,8 @@ bool FleetCoordinator::replan(fleet_transport::Transport& transport) {
     spdlog::error("planning failed ({}); retrying", result.failure_reason);
     return false;
   }
-  const planner_core::ValidationReport report = planner_core::validate(instance, result.solution);
+  const planner_core::ValidationReport report =
+      planner_core::validate(instance, result.solution, planner_core::ValidationOptions{true});
   if (!report.ok()) {
     spdlog::critical("the plan failed validation; it is not sent:\n{}", report.summary());
     return false;

@@ -12,7 +12,9 @@ SolveResult CtsPibt::solve(const Instance& instance, const SolveOptions& options
   std::mt19937 rng(config_.seed);
   DistTable dist(*instance.graph);
   JointSequencer sequencer(instance, dist, config_.task_order);
-  ExtendedPibt pibt(instance, dist, config_.pibt, rng);
+  PibtConfig pibt_config = config_.pibt;
+  pibt_config.forbid_rotations = pibt_config.forbid_rotations || config_.forbid_rotations;
+  ExtendedPibt pibt(instance, dist, pibt_config, rng);
 
   SolveResult result;
   result.lower_bound = sequencer.lower_bound();

@@ -14,9 +14,12 @@ SolveResult CtsPll::solve(const Instance& instance, const SolveOptions& options)
   JointSequencer sequencer(instance, dist, config_.task_order);
   PibtConfig pibt_config = config_.pibt;
   pibt_config.stall_window = config_.pll_stall_window;
+  pibt_config.forbid_rotations = pibt_config.forbid_rotations || config_.forbid_rotations;
   ExtendedPibt pibt(instance, dist, pibt_config, rng);
-  Lacam lacam(*instance.graph, dist, LacamConfig{}, rng);
-  LnsRefiner lns(instance, dist, config_.lns, rng);
+  Lacam lacam(*instance.graph, dist, LacamConfig{false, config_.forbid_rotations}, rng);
+  LnsConfig lns_config = config_.lns;
+  lns_config.search.forbid_following = lns_config.search.forbid_following || config_.forbid_rotations;
+  LnsRefiner lns(instance, dist, lns_config, rng);
   const Deadline& deadline = options.deadline;
 
   const double total_s = std::chrono::duration<double>(deadline.at - started).count();
@@ -76,7 +79,8 @@ SolveResult CtsPll::solve(const Instance& instance, const SolveOptions& options)
       }
       if (!prefix || releases + 1 >= config_.lock_release.completion_after_releases) {
         // Releases failed or the lock keeps coming back: complete by prioritized planning.
-        if (auto completed = complete_by_prioritized_planning(pibt, *sequence, lock, dist, rng, 8, deadline)) {
+        if (auto completed = complete_by_prioritized_planning(pibt, *sequence, lock, dist, rng, 8,
+                                                                 config_.forbid_rotations, deadline)) {
           ++result.prioritized_completions;
           completed_plan = std::move(completed);
           feasible = true;

@@ -15,7 +15,8 @@ ExtendedPibt::ExtendedPibt(const Instance& instance, DistTable& dist, const Pibt
       config_(config),
       rng_(rng),
       occupied_now_(instance.graph->vertex_count(), kNobody),
-      occupied_next_(instance.graph->vertex_count(), kNobody) {}
+      occupied_next_(instance.graph->vertex_count(), kNobody),
+      planning_(instance.agent_count(), 0) {}
 
 void ExtendedPibt::reset(const JointSequence& sequence, const Solution& prefix) {
   const int n = instance_.agent_count();
@@ -143,17 +144,21 @@ bool ExtendedPibt::plan_move(int agent) {
   std::stable_sort(candidates.begin(), candidates.begin() + count,
                    [&](Vertex a, Vertex b) { return to_target[a] < to_target[b]; });
 
+  planning_[agent] = 1;
   for (int k = 0; k < count; ++k) {
     const Vertex v = candidates[k];
     if (occupied_next_[v] != kNobody) continue;                          // vertex conflict
     const int occupant = occupied_now_[v];
     if (occupant != kNobody && occupant != agent && to_[occupant] == here) continue;  // swap conflict
+    if (config_.forbid_rotations && occupant != kNobody && occupant != agent && planning_[occupant]) continue;
     to_[agent] = v;
     occupied_next_[v] = agent;
     // Priority inheritance: the occupant of v must move first, or this candidate fails.
     if (occupant != kNobody && occupant != agent && to_[occupant] == kNoVertex && !plan_move(occupant)) continue;
+    planning_[agent] = 0;
     return true;
   }
+  planning_[agent] = 0;
   to_[agent] = here;
   occupied_next_[here] = agent;
   return false;

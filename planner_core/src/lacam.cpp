@@ -206,6 +206,7 @@ class Search {
       const int i = node.order[k];
       if (next[i] == kNoVertex && !plan_move(i)) valid = false;
     }
+    if (valid && config_.forbid_rotations && has_rotation(node.config, next)) valid = false;
     for (int i = 0; i < n_; ++i) occupied_now_[node.config[i]] = kNobody;
     for (Vertex v : claimed_) occupied_next_[v] = kNobody;
     claimed_.clear();
@@ -246,6 +247,21 @@ class Search {
     }
     to[agent] = here;
     claim(here, agent);
+    return false;
+  }
+
+  // Agents moving into cells left by agents that also move, closing a cycle.
+  bool has_rotation(const Config& from, const Config& to) const {
+    for (int start = 0; start < n_; ++start) {
+      int agent = start;
+      for (int hops = 0; hops <= n_; ++hops) {
+        if (to[agent] == from[agent]) break;  // the chain ends at an agent that stays
+        const int next = occupied_now_[to[agent]];
+        if (next == kNobody) break;             // moving into a free cell
+        if (next == start) return true;
+        agent = next;
+      }
+    }
     return false;
   }
 

@@ -18,7 +18,7 @@ SolveResult LacamSolver::solve(const Instance& instance, const SolveOptions& opt
     return result;
   }
   std::mt19937 rng(config_.seed);
-  Lacam lacam(*instance.graph, dist, LacamConfig{refine_}, rng);
+  Lacam lacam(*instance.graph, dist, LacamConfig{refine_, config_.forbid_rotations}, rng);
   const LacamResult found = lacam.solve(instance.starts, instance.goals, {}, options.deadline);
   result.sequences_tried = 1;
   if (found.solved) {

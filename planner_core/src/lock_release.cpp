@@ -171,7 +171,8 @@ std::optional<Solution> release_lock(const ExtendedPibt& pibt, const LockSet& lo
 
 std::optional<Solution> complete_by_prioritized_planning(const ExtendedPibt& pibt, const JointSequence& sequence,
                                                          const LockSet& lock, DistTable& dist, std::mt19937& rng,
-                                                         int attempts, const Deadline& deadline) {
+                                                         int attempts, bool forbid_following,
+                                                         const Deadline& deadline) {
   const Instance& instance = pibt.instance();
   const Solution& plan = pibt.plan();
   const int n = instance.agent_count();
@@ -200,6 +201,7 @@ std::optional<Solution> complete_by_prioritized_planning(const ExtendedPibt& pib
   }
   SpaceTimeLimits limits;
   limits.horizon = static_cast<int>(plan.size()) + 4 * instance.graph->vertex_count();
+  limits.forbid_following = forbid_following;
 
   std::vector<int> order = lock.agents;
   for (int attempt = 0; attempt < attempts && !deadline.expired(); ++attempt) {

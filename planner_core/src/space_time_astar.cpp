@@ -96,7 +96,7 @@ Path plan_through_targets(const Graph& graph, DistTable& dist, const PathTable& 
       const auto& slots = intervals(u);
       for (int k = 0; k < static_cast<int>(slots.size()); ++k) {
         const int latest = std::min(slots[k].last, here.last == PathTable::kForever ? PathTable::kForever : here.last + 1);
-        int t = std::max(state.t + 1, slots[k].first);
+        int t = std::max(state.t + 1, slots[k].first + (limits.forbid_following ? 1 : 0));
         if (t > latest) continue;
         if (slots[k].first > (here.last == PathTable::kForever ? PathTable::kForever : here.last + 1)) break;
         // Swap conflict: someone at u at t-1 moving onto our cell at t.

@@ -17,6 +17,7 @@ std::string to_string(Violation::Kind kind) {
     case Violation::Kind::kSwapConflict: return "swap-conflict";
     case Violation::Kind::kNotOnGoal: return "not-on-goal";
     case Violation::Kind::kTaskMissed: return "task-missed";
+    case Violation::Kind::kRotation: return "rotation";
   }
   return "unknown";
 }
@@ -34,7 +35,7 @@ std::string ValidationReport::summary(size_t max_lines) const {
   return out.str();
 }
 
-ValidationReport validate(const Instance& instance, const Solution& solution) {
+ValidationReport validate(const Instance& instance, const Solution& solution, const ValidationOptions& options) {
   using Kind = Violation::Kind;
   ValidationReport report;
   auto& out = report.violations;
@@ -98,6 +99,28 @@ ValidationReport validate(const Instance& instance, const Solution& solution) {
         out.push_back({Kind::kSwapConflict, t, a, other->second,
                        "t=" + std::to_string(t) + ": agents " + std::to_string(a) + " and " +
                            std::to_string(other->second) + " swap " + cell(before[a]) + " <-> " + cell(now[a])});
+      }
+    }
+    if (options.forbid_rotations) {
+      // Follow each moving agent into the cell it enters; coming back to the start is a cycle.
+      std::vector<int> cycle;
+      for (int a = 0; a < n; ++a) {
+        int agent = a;
+        cycle.assign(1, a);
+        for (int hops = 0; hops <= n; ++hops) {
+          if (before[agent] == now[agent] || now[agent] == kNoVertex) break;
+          const auto next = agent_before.find(now[agent]);
+          if (next == agent_before.end()) break;
+          if (next->second == a && hops >= 2 && a == *std::min_element(cycle.begin(), cycle.end())) {
+            out.push_back({Kind::kRotation, t, a, agent,
+                           "t=" + std::to_string(t) + ": agents " + std::to_string(a) + " ... " +
+                               std::to_string(agent) + " move in a cycle"});
+            break;
+          }
+          if (next->second == a) break;  // a swap (reported above), or a cycle reported by its smallest agent
+          agent = next->second;
+          cycle.push_back(agent);
+        }
       }
     }
     std::swap(agent_before, agent_at);

@@ -87,6 +87,23 @@ TEST(CtsPll, InterruptStopsTheAnytimeLoop) {
   EXPECT_LT(result.comp_time_ms, 60000);
 }
 
+TEST(CtsPll, ForbiddenRotationsNeverAppear) {
+  for (const char* file : {"instances/random-32-32-20-N10-M30-00.yaml", "instances/maze-32-32-2-N50-M60-00.yaml",
+                           "instances/empty-32-32-N05-M50-00.yaml"}) {
+    const Instance instance = load_instance(testing::data_path(file));
+    for (const char* solver : {"cts-pibt", "cts-pll-v1", "cts-pll-v3"}) {
+      SolverConfig config;
+      config.solver = solver;
+      config.forbid_rotations = true;
+      config.max_sequences = 2;
+      const SolveResult result = make_solver(config)->solve(instance, {Deadline::in_seconds(2), {}});
+      if (!result.solved) continue;  // cts-pibt may fail; the others are checked for success elsewhere
+      const ValidationReport report = validate(instance, result.solution, {true});
+      EXPECT_TRUE(report.ok()) << file << " " << solver << "\n" << report.summary();
+    }
+  }
+}
+
 TEST(Lns, RefinedPlanStaysValid) {
   const Instance instance = load_instance(testing::data_path("instances/random-32-32-20-N10-M30-00.yaml"));
   const SolveResult first = solve_with(instance, "cts-pibt", 10);

@@ -96,5 +96,18 @@ TEST_F(ValidatorTest, TaskMissed) {
   EXPECT_EQ(report.violations.front().other, 0);  // the task id
 }
 
+TEST_F(ValidatorTest, RotationOnlyWhenForbidden) {
+  // Four agents turn around a 2x2 block in one step: allowed by FORMATS.md, not for robots.
+  const Instance square = testing::make_instance({"..", ".."}, {{{0, 0}, {1, 0}}, {{1, 0}, {1, 1}}, {{1, 1}, {0, 1}},
+                                                                  {{0, 1}, {0, 0}}});
+  const auto v = [&](int x, int y) { return square.graph->vertex_at({x, y}); };
+  const Solution plan = {{v(0, 0), v(1, 0), v(1, 1), v(0, 1)}, {v(1, 0), v(1, 1), v(0, 1), v(0, 0)}};
+  EXPECT_TRUE(validate(square, plan).ok());
+  const ValidationReport strict = validate(square, plan, {true});
+  ASSERT_TRUE(strict.has(Kind::kRotation));
+  EXPECT_EQ(strict.violations.size(), 1u);
+  EXPECT_EQ(strict.violations.front().time, 1);
+}
+
 }  // namespace
 }  // namespace planner_core

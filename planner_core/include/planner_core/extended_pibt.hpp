@@ -22,6 +22,10 @@ struct PibtConfig {
   // Stop early when the number of targets reached (tasks visited + agents finished) has not
   // exceeded its best for this many steps (0 = never; CTS-PIBT runs to the step limit).
   int stall_window = 0;
+  // No rotations: never move into the cell of an agent that is itself (through priority
+  // inheritance) waiting to move, which would close a cycle of agents moving in one step. Plans
+  // for real robots need this: a rotation cannot be executed one move at a time.
+  bool forbid_rotations = false;
 };
 
 class ExtendedPibt {
@@ -84,6 +88,7 @@ class ExtendedPibt {
   // Scratch state of one step, indexed by vertex and reset only where touched.
   Config from_, to_;
   std::vector<int> occupied_now_, occupied_next_;
+  std::vector<char> planning_;  // agents on the current priority-inheritance chain
   std::vector<int> order_;
   std::vector<PriorityKey> priority_;
 };

@@ -18,6 +18,7 @@ namespace planner_core {
 
 struct LacamConfig {
   bool refine = false;  // LaCAM*: after the first solution keep searching for a cheaper one until the deadline
+  bool forbid_rotations = false;  // reject successors in which agents move in a cycle
 };
 
 struct LacamResult {

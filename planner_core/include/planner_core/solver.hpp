@@ -25,6 +25,8 @@ struct SolverConfig {
   int pll_stall_window = 150;  // CTS-PLL: Extended-PIBT without progress this long triggers lock release
   LockReleaseConfig lock_release;
   LnsConfig lns;
+  // Plans for real robots: no agents moving in a cycle within one step (see PibtConfig).
+  bool forbid_rotations = false;
   int max_sequences = 0;  // anytime variants: stop after this many joint sequences (0 = until the deadline)
 };
 

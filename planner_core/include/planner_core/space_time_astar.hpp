@@ -14,6 +14,8 @@ namespace planner_core {
 struct SpaceTimeLimits {
   int horizon = 4000;           // no arrival later than this
   int max_expansions = 200000;  // give up beyond this many expanded states
+  // Enter a cell only if it was free the step before (no following, hence no rotations).
+  bool forbid_following = false;
 };
 
 // The earliest-arrival such path, or an empty path when there is none within the limits.

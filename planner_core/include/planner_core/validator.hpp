@@ -22,6 +22,7 @@ struct Violation {
     kSwapConflict,    // two agents swap cells in one step
     kNotOnGoal,       // the agent does not end on its goal
     kTaskMissed,      // a task not visited by one of its agents before it settles on its goal
+    kRotation,        // agents moving in a cycle in one step (only with ValidationOptions::forbid_rotations)
   };
   Kind kind;
   int time = -1;
@@ -41,6 +42,12 @@ struct ValidationReport {
   std::string summary(size_t max_lines = 10) const;
 };
 
-ValidationReport validate(const Instance& instance, const Solution& solution);
+struct ValidationOptions {
+  // FORMATS.md allows three or more agents to rotate in one step; robots executing a plan one
+  // move at a time cannot, so the coordinator forbids it.
+  bool forbid_rotations = false;
+};
+
+ValidationReport validate(const Instance& instance, const Solution& solution, const ValidationOptions& options = {});
 
 }  // namespace planner_core
