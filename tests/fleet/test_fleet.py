@@ -58,12 +58,14 @@ class Fleet:
         self.domain = 40 + TESTS.index(test_name)
         self.dir = tempfile.mkdtemp(prefix=f"ctsfleet-{test_name}-")
         self.processes = {}
+        self.files = []
 
     def log(self, name):
         return os.path.join(self.dir, name + ".log")
 
     def start(self, name, args):
         out = open(self.log(name), "w")
+        self.files.append(out)
         self.processes[name] = subprocess.Popen(args, stdout=out, stderr=subprocess.STDOUT)
         return self.processes[name]
 
@@ -104,6 +106,8 @@ class Fleet:
                 process.wait(timeout=20)
             except subprocess.TimeoutExpired:
                 process.kill()
+        for out in self.files:
+            out.close()
 
 
 class FleetTest(unittest.TestCase):
@@ -152,8 +156,8 @@ class FleetTest(unittest.TestCase):
         self.fleet.agents()
         self.fleet.coordinator()
         wait_for(lambda: "plan epoch 1" in read(self.fleet.log("coordinator")), 120, "the first plan")
-        wait_for(lambda: "tasks 2/16" in read(self.fleet.log("coordinator")) or
-                 "tasks 3/16" in read(self.fleet.log("coordinator")), 120, "the mission under way")
+        wait_for(lambda: any(int(done) >= 2 for done in re.findall(r"tasks (\d+)/16", read(self.fleet.log("coordinator")))),
+                 120, "the mission under way (two tasks done)")
         self.fleet.processes["robot3"].send_signal(signal.SIGKILL)
         killed_at = time.time()
         wait_for(lambda: "robot robot3 taken out" in read(self.fleet.log("coordinator")), 60, "the loss detected")
