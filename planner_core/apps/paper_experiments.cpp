@@ -127,7 +127,11 @@ int dense(const ExperimentSettings& settings, std::ostringstream& md, std::ofstr
     md << "| " << m << " | " << percent(solved_pibt, n) << " | " << percent(solved_v1, n) << " | "
        << (paper_success.count(m) ? std::to_string(paper_success.at(m).first) + "%" : "-") << " | "
        << (paper_success.count(m) ? std::to_string(paper_success.at(m).second) + "%" : "-") << " | "
-       << median(first) << " |\n";
+       << [&] {
+            char text[32];
+            std::snprintf(text, sizeof text, "%.1f", median(first));
+            return std::string(text);
+          }() << " |\n";
     pibt_series.points.emplace_back(m, 100.0 * solved_pibt / n);
     v1_series.points.emplace_back(m, 100.0 * solved_v1 / n);
     v3_series.points.emplace_back(m, 100.0 * solved_v3 / n);

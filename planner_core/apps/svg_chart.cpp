@@ -35,6 +35,7 @@ std::string line_chart(const std::string& title, const std::string& x_label, con
     }
   }
   if (x_min > x_max) x_min = 0, x_max = 1, y_min = 0, y_max = 1;
+  x_min = std::min(x_min, 0.0);  // time and counts start at zero
   if (x_max == x_min) x_max = x_min + 1;
   const double pad = (y_max - y_min) * 0.05 + 1e-9;
   y_min -= pad, y_max += pad;

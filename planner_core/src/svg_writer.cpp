@@ -45,13 +45,14 @@ std::string render_svg(const Instance& instance, const Solution& solution) {
   svg << "</g>\n";
   // Paths first, so markers stay visible on top.
   for (int a = 0; a < n && !solution.empty(); ++a) {
-    svg << "<polyline fill=\"none\" stroke-width=\"3\" stroke-opacity=\"0.75\" stroke-linejoin=\"round\" stroke=\""
+    svg << "<polyline fill=\"none\" stroke-width=\"2\" stroke-opacity=\"0.8\" stroke-linejoin=\"round\" stroke=\""
         << agent_colour(a) << "\" points=\"";
     Vertex previous = kNoVertex;
+    const double offset = ((a % 5) - 2) * 2.0;  // side by side where paths share a corridor
     for (const Config& config : solution) {
       if (config[a] == previous || config[a] == kNoVertex) continue;
       const Cell c = graph.cell_of(config[a]);
-      svg << centre(c.x) << "," << centre(c.y) << " ";
+      svg << centre(c.x) + offset << "," << centre(c.y) + offset << " ";
       previous = config[a];
     }
     svg << "\"><title>agent " << a << "</title></polyline>\n";
