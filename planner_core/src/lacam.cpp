@@ -66,6 +66,7 @@ class Search {
 
   LacamResult run(const Deadline& deadline) {
     LacamResult result;
+    const Clock::time_point started = Clock::now();
     HighLevelNode* goal_node = nullptr;
     Config next(n_);
     int64_t iterations = 0;
@@ -73,6 +74,7 @@ class Search {
       if ((++iterations & 63) == 0 && deadline.expired()) break;
       HighLevelNode* node = open_.back();
       if (node->config == goals_ && (!goal_node || node->g < goal_node->g)) {
+        if (!goal_node) result.first_solution_ms = elapsed_ms(started);
         goal_node = node;
         if (!config_.refine) break;
       }

@@ -30,7 +30,7 @@ SolveResult LacamSolver::solve(const Instance& instance, const SolveOptions& opt
     result.flowtime = report.flowtime;
     result.makespan = report.makespan;
     result.sum_of_loss = sum_of_loss(found.solution, instance.goals);
-    result.first_solution_ms = elapsed_ms(started);
+    result.first_solution_ms = found.first_solution_ms;
     result.improvements.push_back({result.first_solution_ms, result.flowtime, 0});
     if (options.on_solution) options.on_solution(result);
   } else {

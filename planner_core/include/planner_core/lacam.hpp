@@ -27,6 +27,7 @@ struct LacamResult {
   int64_t explored = 0;    // configurations generated
   int64_t cost = 0;        // sum of loss of the solution
   bool exhausted = false;  // the whole reachable space was searched (no solution exists when !solved)
+  double first_solution_ms = -1;  // when the first solution was found (LaCAM* goes on after it)
 };
 
 class Lacam {
