@@ -74,6 +74,13 @@ void FleetCoordinator::lose(Robot& robot, const std::string& why) {
     const Vertex last = mission_vertex(robot.last.cell_x, robot.last.cell_y);
     if (last != planner_core::kNoVertex) blocked_.insert(last);  // it may still stand there
   }
+  // A robot that fell silent mid-move may have arrived at its target: keep that cell clear too.
+  const int a = robot.plan_agent;
+  if (a >= 0 && adg_ && a < static_cast<int>(sent_.size()) && sent_[a] == finished_[a] &&
+      finished_[a] < static_cast<int>(adg_->moves(a).size())) {
+    const Cell target = plan_graph_->cell_of(adg_->moves(a)[finished_[a]].to);
+    blocked_.insert(mission_vertex(target.x, target.y));
+  }
   if (robot.role >= 0) {
     robot_of_role_[robot.role] = "";
     robot.role = -1;

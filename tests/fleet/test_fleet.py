@@ -28,6 +28,7 @@ TESTS = [
     "test_jitter_up_to_three_times_the_step",
     "test_hostile_messages_change_nothing",
     "test_bad_configuration_and_arguments",
+    "test_silent_robot_is_taken_out",
 ]
 
 
@@ -192,7 +193,10 @@ class FleetTest(unittest.TestCase):
 
     def test_jitter_up_to_three_times_the_step(self):
         self.fleet.monitor()
-        self.fleet.agents(extra=("--jitter", "2.0", "--delay-probability", "0.05", "--delay", "0.3"))
+        jitter = ("--jitter", "2.0", "--delay-probability", "0.05", "--delay", "0.3")
+        for index, cell in enumerate(role_starts()):
+            stall = ("--stall-at", "4", "--stall-for", "3") if index == 2 else ()  # stuck 3 s mid-move
+            self.fleet.agent(f"robot{index}", cell, extra=jitter + stall)
         self.fleet.coordinator()
         code = self.fleet.wait_exit("coordinator", 240)
         self.assertEqual(code, 0, read(self.fleet.log("coordinator"))[-3000:])
@@ -218,6 +222,23 @@ class FleetTest(unittest.TestCase):
         for name, process in self.fleet.processes.items():
             if name.startswith("robot"):
                 self.assertIsNone(process.poll(), f"{name} died:\n" + read(self.fleet.log(name))[-2000:])
+        self.assert_safe()
+
+    def test_silent_robot_is_taken_out(self):
+        self.fleet.monitor()
+        for index, cell in enumerate(role_starts()):
+            extra = ("--silent-at", "6") if index == 5 else ()
+            self.fleet.agent(f"robot{index}", cell, extra=extra)
+        self.fleet.coordinator()
+        code = self.fleet.wait_exit("coordinator", 240)
+        text = read(self.fleet.log("coordinator"))
+        self.assertIn("robot robot5 taken out: no state for", text)
+        self.assertIn("replanning: robot robot5 lost", text)
+        # Completed for the others; robot5's remaining tasks (if any) are pending for its role.
+        self.assertIn(code, (0, 3), text[-3000:])
+        for line in text.splitlines():
+            if line.startswith("pending:"):
+                self.assertIn("role 5 (no robot)", line)
         self.assert_safe()
 
     def test_bad_configuration_and_arguments(self):
