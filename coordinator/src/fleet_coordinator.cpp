@@ -222,6 +222,14 @@ void FleetCoordinator::bind_roles(const std::vector<Robot*>& robots) {
 }
 
 bool FleetCoordinator::replan(fleet_transport::Transport& transport) {
+  // Extra robots take over the roles (and remaining tasks) of robots that left.
+  std::vector<Robot*> extras;
+  for (auto& [id, robot] : robots_) {
+    if (robot.active && robot.has_state && robot.role < 0) extras.push_back(&robot);
+  }
+  const bool free_role = std::find(robot_of_role_.begin(), robot_of_role_.end(), "") != robot_of_role_.end();
+  if (!extras.empty() && free_role && phase_ != Phase::kWaiting) bind_roles(extras);
+
   // The planning map: the mission map with the cells of lost robots blocked.
   std::vector<std::string> rows = mission_.graph->rows();
   std::set<Vertex> obstacles = blocked_;

@@ -29,6 +29,7 @@ TESTS = [
     "test_hostile_messages_change_nothing",
     "test_bad_configuration_and_arguments",
     "test_silent_robot_is_taken_out",
+    "test_extra_robot_takes_over_a_lost_role",
 ]
 
 
@@ -152,9 +153,11 @@ class FleetTest(unittest.TestCase):
     def test_cross_vendor_fastdds_coordinator_cyclone_agents(self):
         self.run_mission("fastdds", "cyclone")
 
-    def kill_robot3_mid_run(self):
+    def kill_robot3_mid_run(self, extra_robot=False):
         self.fleet.monitor()
         self.fleet.agents()
+        if extra_robot:
+            self.fleet.agent("robot8", (1, 1))
         self.fleet.coordinator()
         wait_for(lambda: "plan epoch 1" in read(self.fleet.log("coordinator")), 120, "the first plan")
         wait_for(lambda: any(int(done) >= 2 for done in re.findall(r"tasks (\d+)/16", read(self.fleet.log("coordinator")))),
@@ -184,6 +187,15 @@ class FleetTest(unittest.TestCase):
     def test_new_agent_takes_over_the_dead_robots_role(self):
         self.kill_robot3_mid_run()
         self.fleet.agent("robot8", (1, 1))
+        code = self.fleet.wait_exit("coordinator", 240)
+        text = read(self.fleet.log("coordinator"))
+        self.assertEqual(code, 0, text[-3000:])
+        self.assertIn("robot robot8 takes role 3", text)
+        self.assertIn("mission completed: tasks 16/16", text)
+        self.assert_safe()
+
+    def test_extra_robot_takes_over_a_lost_role(self):
+        self.kill_robot3_mid_run(extra_robot=True)
         code = self.fleet.wait_exit("coordinator", 240)
         text = read(self.fleet.log("coordinator"))
         self.assertEqual(code, 0, text[-3000:])
