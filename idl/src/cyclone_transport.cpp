@@ -62,6 +62,7 @@ class CycloneTransport : public Transport {
     dds_qset_reliability(state, DDS_RELIABILITY_BEST_EFFORT, 0);
     dds_qset_history(state, DDS_HISTORY_KEEP_LAST, 1);
     dds_qset_liveliness(state, DDS_LIVELINESS_AUTOMATIC, lease);
+    dds_qset_deadline(state, 2 * lease);  // robots publish state several times per second
     dds_qos_t* command = dds_create_qos();
     dds_qset_reliability(command, DDS_RELIABILITY_RELIABLE, DDS_SECS(1));
     dds_qset_history(command, DDS_HISTORY_KEEP_LAST, 8);

@@ -99,6 +99,7 @@ class FastDdsTransport : public Transport {
     state_w.liveliness().kind = AUTOMATIC_LIVELINESS_QOS;
     state_w.liveliness().lease_duration = lease;
     state_w.liveliness().announcement_period = announce_every;
+    state_w.deadline().period = eprosima::fastrtps::Duration_t(2 * config.lease_s);
     DataReaderQos state_r = DATAREADER_QOS_DEFAULT;
     state_r.reliability().kind = BEST_EFFORT_RELIABILITY_QOS;
     state_r.durability().kind = VOLATILE_DURABILITY_QOS;
@@ -106,6 +107,7 @@ class FastDdsTransport : public Transport {
     state_r.history().depth = 1;
     state_r.liveliness().kind = AUTOMATIC_LIVELINESS_QOS;
     state_r.liveliness().lease_duration = lease;
+    state_r.deadline().period = eprosima::fastrtps::Duration_t(2 * config.lease_s);
 
     DataWriterQos command_w = DATAWRITER_QOS_DEFAULT;
     command_w.reliability().kind = RELIABLE_RELIABILITY_QOS;

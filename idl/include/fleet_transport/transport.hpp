@@ -1,6 +1,7 @@
 // Transport: publish and subscribe the fleet's messages by robot, with liveliness events, over
 // Cyclone DDS or Fast DDS chosen at run time. Topics are keyed by robot id (one DDS instance per
-// robot). QoS: commands reliable; state best-effort keep-last 1; announcements and fleet status
+// robot). QoS: commands reliable; state best-effort keep-last 1 with a deadline of two leases
+// (missed deadlines are acted on by the coordinator's silence timeout); announcements and fleet status
 // reliable transient-local keep-last 1; liveliness automatic with the configured lease.
 #pragma once
 
