@@ -44,10 +44,7 @@ int main(int argc, char** argv) {
     transport_config.vendor = fleet_transport::parse_vendor(config.dds_vendor);
     transport_config.domain_id = config.domain_id;
     transport_config.lease_s = config.lease_s;
-    if (!config.dds_config_dir.empty()) {
-      transport_config.cyclone_xml = config.dds_config_dir + "/cyclonedds-loopback.xml";
-      transport_config.fastdds_xml = config.dds_config_dir + "/fastdds-loopback.xml";
-    }
+    transport_config.loopback_config_dir = config.dds_config_dir;
     fleet_transport::Handlers handlers;
     handlers.on_announcement = [&](const fleet_transport::Announcement& a) { coordinator.on_announcement(a); };
     handlers.on_state = [&](const fleet_transport::RobotState& s) { coordinator.on_state(s); };

@@ -2,9 +2,7 @@
 // processes): command -> state round trip (p50, p99), coordinator CPU, and the replanning latency
 // after one robot is killed (from the loss to the first command of the new plan).
 #include <CLI/CLI.hpp>
-#include <fcntl.h>
 #include <signal.h>
-#include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -16,27 +14,12 @@
 #include <sstream>
 #include <thread>
 
+#include "coordinator/child_process.hpp"
 #include "planner_core/instance_generator.hpp"
 
-extern char** environ;
 namespace fs = std::filesystem;
 
 namespace {
-
-pid_t spawn(const std::vector<std::string>& args, const std::string& log_file) {
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log_file.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
-  std::vector<char*> argv;
-  for (const std::string& arg : args) argv.push_back(const_cast<char*>(arg.c_str()));
-  argv.push_back(nullptr);
-  pid_t pid = -1;
-  const int rc = posix_spawn(&pid, args[0].c_str(), &actions, nullptr, argv.data(), environ);
-  posix_spawn_file_actions_destroy(&actions);
-  if (rc != 0) throw std::runtime_error("cannot start " + args[0] + ": " + std::strerror(rc));
-  return pid;
-}
 
 std::string read_file(const std::string& path) {
   std::ifstream in(path);
@@ -87,14 +70,14 @@ int main(int argc, char** argv) {
     std::vector<pid_t> agents;
     for (int r = 0; r < n; ++r) {
       const planner_core::Cell start = graph->cell_of(mission.starts[r]);
-      agents.push_back(spawn({(here / "ctsfleet-agent").string(), "--id", "robot" + std::to_string(r), "--start",
+      agents.push_back(coordinator::start_child({(here / "ctsfleet-agent").string(), "--id", "robot" + std::to_string(r), "--start",
                               std::to_string(start.x) + "," + std::to_string(start.y), "--dds", vendor, "--domain",
                               std::to_string(domain), "--step", std::to_string(step), "--jitter", "0.1",
                               "--dds-config-dir", (root / "config/dds").string()},
                              (work / ("robot" + std::to_string(r) + ".log")).string()));
     }
     const std::string coordinator_log = (work / ("coordinator-" + std::to_string(n) + ".log")).string();
-    const pid_t coordinator = spawn({(here / "ctsfleet-coordinator").string(), "--config", config_file.string()},
+    const pid_t coordinator_pid = coordinator::start_child({(here / "ctsfleet-coordinator").string(), "--config", config_file.string()},
                                     coordinator_log);
     // Kill one robot once the mission is under way.
     const auto started = std::chrono::steady_clock::now();
@@ -105,7 +88,7 @@ int main(int argc, char** argv) {
     std::this_thread::sleep_for(std::chrono::duration<double>(kill_after));
     kill(agents[0], SIGKILL);
     int status = 0;
-    waitpid(coordinator, &status, 0);
+    waitpid(coordinator_pid, &status, 0);
     for (pid_t pid : agents) kill(pid, SIGTERM);
     for (pid_t pid : agents) waitpid(pid, nullptr, 0);
     const std::string text = read_file(coordinator_log);

@@ -42,10 +42,7 @@ int main(int argc, char** argv) {
   fleet_transport::TransportConfig config;
   config.vendor = fleet_transport::parse_vendor(vendor);
   config.domain_id = domain;
-  if (!dds_dir.empty()) {
-    config.cyclone_xml = dds_dir + "/cyclonedds-loopback.xml";
-    config.fastdds_xml = dds_dir + "/fastdds-loopback.xml";
-  }
+  config.loopback_config_dir = dds_dir;
   fleet_transport::Handlers handlers;
   handlers.on_state = [&](const fleet_transport::RobotState& s) {
     const std::lock_guard<std::mutex> lock(mutex);

@@ -2,9 +2,7 @@
 // ctsfleet-agent processes (each its own process), waits for the mission, stops everything.
 // Exits 0 only when the mission completed; Ctrl-C stops everything cleanly.
 #include <CLI/CLI.hpp>
-#include <fcntl.h>
 #include <signal.h>
-#include <spawn.h>
 #include <spdlog/spdlog.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -17,34 +15,17 @@
 #include <set>
 #include <thread>
 
+#include "coordinator/child_process.hpp"
 #include "coordinator/fleet_config.hpp"
 #include "planner_core/input_error.hpp"
 #include "planner_core/instance.hpp"
 
-extern char** environ;
 
 namespace {
 
 namespace fs = std::filesystem;
 std::atomic<bool> g_stop{false};
 extern "C" void on_signal(int) { g_stop.store(true); }
-
-pid_t spawn(const std::vector<std::string>& args, const std::string& log_file) {
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  if (!log_file.empty()) {
-    posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log_file.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
-  }
-  std::vector<char*> argv;
-  for (const std::string& arg : args) argv.push_back(const_cast<char*>(arg.c_str()));
-  argv.push_back(nullptr);
-  pid_t pid = -1;
-  const int rc = posix_spawn(&pid, args[0].c_str(), &actions, nullptr, argv.data(), environ);
-  posix_spawn_file_actions_destroy(&actions);
-  if (rc != 0) throw std::runtime_error("cannot start " + args[0] + ": " + std::strerror(rc));
-  return pid;
-}
 
 }  // namespace
 
@@ -104,9 +85,9 @@ int main(int argc, char** argv) {
                                        "--jitter", std::to_string(jitter),
                                        "--seed", std::to_string(seed + r)};
       if (!config.dds_config_dir.empty()) args.insert(args.end(), {"--dds-config-dir", config.dds_config_dir});
-      agents.push_back(spawn(args, log_dir + "/robot" + std::to_string(r) + ".log"));
+      agents.push_back(coordinator::start_child(args, log_dir + "/robot" + std::to_string(r) + ".log"));
     }
-    const pid_t coordinator = spawn({(here / "ctsfleet-coordinator").string(), "--config", config_path, "--dds",
+    const pid_t coordinator_pid = coordinator::start_child({(here / "ctsfleet-coordinator").string(), "--config", config_path, "--dds",
                                      vendor, "--domain", std::to_string(domain)},
                                     "");
     spdlog::info("started {} agents ({}) and the coordinator ({}) on domain {}; agent logs in {}", robots,
@@ -114,14 +95,14 @@ int main(int argc, char** argv) {
     int status = 0;
     bool coordinator_done = false;
     while (!coordinator_done) {
-      const pid_t done = waitpid(coordinator, &status, WNOHANG);
-      if (done == coordinator) {
+      const pid_t done = waitpid(coordinator_pid, &status, WNOHANG);
+      if (done == coordinator_pid) {
         coordinator_done = true;
         break;
       }
       if (g_stop.load()) {
-        kill(coordinator, SIGINT);
-        waitpid(coordinator, &status, 0);
+        kill(coordinator_pid, SIGINT);
+        waitpid(coordinator_pid, &status, 0);
         coordinator_done = true;
         break;
       }

@@ -62,10 +62,7 @@ int main(int argc, char** argv) {
     config.domain_id = domain;
     config.lease_s = lease;
     config.commands_for = settings.robot_id;
-    if (!dds_dir.empty()) {
-      config.cyclone_xml = dds_dir + "/cyclonedds-loopback.xml";
-      config.fastdds_xml = dds_dir + "/fastdds-loopback.xml";
-    }
+    config.loopback_config_dir = dds_dir;
     fleet_transport::Handlers handlers;
     handlers.on_command = [&agent](const fleet_transport::StepCommand& c) { agent.on_command(c); };
     auto transport = fleet_transport::make_transport(config, handlers);

@@ -19,10 +19,7 @@ int main(int argc, char** argv) {
   fleet_transport::TransportConfig config;
   config.vendor = fleet_transport::parse_vendor(vendor);
   config.domain_id = domain;
-  if (!dds_dir.empty()) {
-    config.cyclone_xml = dds_dir + "/cyclonedds-loopback.xml";
-    config.fastdds_xml = dds_dir + "/fastdds-loopback.xml";
-  }
+  config.loopback_config_dir = dds_dir;
   auto transport = fleet_transport::make_transport(config, {});
   std::this_thread::sleep_for(std::chrono::seconds(2));  // discovery
   const int64_t later = fleet_transport::wall_clock_ms() + 5000;

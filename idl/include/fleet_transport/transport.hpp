@@ -21,10 +21,10 @@ struct TransportConfig {
   Vendor vendor = Vendor::kCyclone;
   int domain_id = 0;
   double lease_s = 1.0;
-  // Loopback configuration files, exported as CYCLONEDDS_URI / FASTRTPS_DEFAULT_PROFILES_FILE when
-  // those variables are not already set ("" = leave the environment alone).
-  std::string cyclone_xml;
-  std::string fastdds_xml;
+  // Folder with cyclonedds-loopback.xml and fastdds-loopback.xml, exported as CYCLONEDDS_URI /
+  // FASTRTPS_DEFAULT_PROFILES_FILE when those variables are not already set ("" = leave the
+  // environment alone).
+  std::string loopback_config_dir;
   // An agent passes its own id: commands for other robots are dropped in the transport.
   std::string commands_for;
 };
