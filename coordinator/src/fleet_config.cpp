@@ -3,9 +3,9 @@
 #include <yaml-cpp/yaml.h>
 
 #include <filesystem>
-#include <set>
 
 #include "planner_core/input_error.hpp"
+#include "planner_core/yaml_context.hpp"
 #include "planner_core/solver.hpp"
 
 #include <algorithm>
@@ -15,53 +15,10 @@ namespace coordinator {
 namespace fs = std::filesystem;
 using planner_core::InputError;
 
-namespace {
-
-class Reader {
- public:
-  explicit Reader(std::string file) : file_(std::move(file)) {}
-
-  [[noreturn]] void fail(const YAML::Node& node, const std::string& field, const std::string& problem) const {
-    std::string where = file_;
-    if (node.IsDefined() && node.Mark().line >= 0) where += ":" + std::to_string(node.Mark().line + 1);
-    throw InputError(where + ": " + field + ": " + problem);
-  }
-
-  void only_keys(const YAML::Node& map, const std::set<std::string>& allowed, const std::string& field) const {
-    if (!map.IsMap()) fail(map, field, "expected a mapping");
-    for (const auto& item : map) {
-      if (!allowed.count(item.first.as<std::string>())) {
-        fail(item.first, field, "unknown key '" + item.first.as<std::string>() + "'");
-      }
-    }
-  }
-
-  template <typename T>
-  void read(const YAML::Node& map, const std::string& key, const std::string& field, T& out) const {
-    const YAML::Node node = map[key];
-    if (!node) return;
-    try {
-      out = node.as<T>();
-    } catch (const YAML::Exception&) {
-      fail(node, field + "." + key, "wrong type");
-    }
-  }
-
- private:
-  std::string file_;
-};
-
-}  // namespace
 
 FleetConfig load_fleet_config(const std::string& path) {
-  if (!fs::exists(path)) throw InputError(path + ": no such file");
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(path);
-  } catch (const YAML::Exception& e) {
-    throw InputError(path + ":" + std::to_string(e.mark.line + 1) + ": malformed YAML: " + e.msg);
-  }
-  const Reader r(path);
+  const YAML::Node root = planner_core::load_yaml_file(path);
+  const planner_core::YamlContext r(path);
   FleetConfig config;
   config.source = path;
   r.only_keys(root, {"mission", "robots", "planner", "dds", "timing"}, "top level");

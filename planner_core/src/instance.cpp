@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "planner_core/input_error.hpp"
+#include "planner_core/yaml_context.hpp"
 
 namespace planner_core {
 
@@ -24,47 +25,6 @@ void Instance::index_tasks() {
 
 namespace {
 
-// "file:line: field: problem" for a YAML node.
-class YamlContext {
- public:
-  explicit YamlContext(std::string file) : file_(std::move(file)) {}
-
-  [[noreturn]] void fail(const YAML::Node& node, const std::string& field, const std::string& problem) const {
-    std::string where = file_;
-    if (node.IsDefined() && node.Mark().line >= 0) where += ":" + std::to_string(node.Mark().line + 1);
-    throw InputError(where + ": " + field + ": " + problem);
-  }
-
-  Cell cell(const YAML::Node& node, const std::string& field) const {
-    if (!node.IsSequence() || node.size() != 2) fail(node, field, "expected [x, y]");
-    return {integer(node[0], field + "[0]"), integer(node[1], field + "[1]")};
-  }
-
-  int integer(const YAML::Node& node, const std::string& field) const {
-    if (!node.IsScalar()) fail(node, field, "expected an integer");
-    try {
-      const std::string text = node.Scalar();
-      size_t used = 0;
-      const long value = std::stol(text, &used);
-      if (used != text.size()) throw std::invalid_argument(text);
-      return static_cast<int>(value);
-    } catch (const std::exception&) {
-      fail(node, field, "expected an integer, got '" + node.Scalar() + "'");
-    }
-  }
-
-  void only_keys(const YAML::Node& map, const std::set<std::string>& allowed, const std::string& field) const {
-    if (!map.IsMap()) fail(map, field, "expected a mapping");
-    for (const auto& item : map) {
-      const std::string key = item.first.as<std::string>();
-      if (!allowed.count(key)) fail(item.first, field, "unknown key '" + key + "'");
-    }
-  }
-
- private:
-  std::string file_;
-};
-
 Vertex free_vertex(const Graph& graph, Cell cell, const YamlContext& ctx, const YAML::Node& node,
                    const std::string& field) {
   if (!graph.inside(cell)) ctx.fail(node, field, to_string(cell) + " is outside the map");
@@ -76,13 +36,7 @@ Vertex free_vertex(const Graph& graph, Cell cell, const YamlContext& ctx, const 
 }  // namespace
 
 Instance load_instance_yaml(const std::string& path) {
-  if (!fs::exists(path)) throw InputError(path + ": no such file");
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(path);
-  } catch (const YAML::Exception& e) {
-    throw InputError(path + ":" + std::to_string(e.mark.line + 1) + ": malformed YAML: " + e.msg);
-  }
+  const YAML::Node root = load_yaml_file(path);
   const YamlContext ctx(path);
   ctx.only_keys(root, {"map", "agents", "tasks"}, "top level");
   if (!root["map"] || !root["map"].IsScalar()) ctx.fail(root, "map", "missing or not a file name");
