@@ -30,6 +30,7 @@ TESTS = [
     "test_bad_configuration_and_arguments",
     "test_silent_robot_is_taken_out",
     "test_extra_robot_takes_over_a_lost_role",
+    "test_ctrl_c_stops_the_whole_fleet",
 ]
 
 
@@ -146,6 +147,16 @@ class FleetTest(unittest.TestCase):
         self.assertEqual(code, 0, text[-3000:])
         self.assertIn("mission completed: tasks 16/16", text)
         self.assert_safe()
+
+    def test_ctrl_c_stops_the_whole_fleet(self):
+        launcher = self.fleet.start("sim", [f"{BIN}/ctsfleet-sim", "--robots", "8", "--config", CONFIG,
+                                            "--domain", str(self.fleet.domain), "--step", STEP,
+                                            "--log-dir", os.path.join(self.fleet.dir, "agents")])
+        wait_for(lambda: "plan epoch 1" in read(self.fleet.log("sim")), 120, "the first plan")
+        launcher.send_signal(signal.SIGINT)
+        self.assertEqual(self.fleet.wait_exit("sim", 60), 130)
+        left = subprocess.run(["pgrep", "-f", f"--domain {self.fleet.domain}( |$)"], capture_output=True, text=True)
+        self.assertEqual(left.stdout.strip(), "", "processes left behind")
 
     def test_cross_vendor_cyclone_coordinator_fastdds_agents(self):
         self.run_mission("cyclone", "fastdds")
