@@ -58,7 +58,7 @@ class Fleet:
     """The processes of one test; everything is stopped by close()."""
 
     def __init__(self, test_name):
-        self.domain = 40 + TESTS.index(test_name)
+        self.domain = 40 + 2 * TESTS.index(test_name)  # apart, so no test ever hears another
         self.dir = tempfile.mkdtemp(prefix=f"ctsfleet-{test_name}-")
         self.processes = {}
         self.files = []
@@ -164,7 +164,8 @@ class FleetTest(unittest.TestCase):
     def test_cross_vendor_fastdds_coordinator_cyclone_agents(self):
         self.run_mission("fastdds", "cyclone")
 
-    def kill_robot3_mid_run(self, extra_robot=False):
+    def kill_role3_robot_mid_run(self, extra_robot=False):
+        """Kills (SIGKILL) the robot that plays role 3 once two tasks are done; returns its id."""
         self.fleet.monitor()
         self.fleet.agents()
         if extra_robot:
@@ -173,46 +174,48 @@ class FleetTest(unittest.TestCase):
         wait_for(lambda: "plan epoch 1" in read(self.fleet.log("coordinator")), 120, "the first plan")
         wait_for(lambda: any(int(done) >= 2 for done in re.findall(r"tasks (\d+)/16", read(self.fleet.log("coordinator")))),
                  120, "the mission under way (two tasks done)")
-        self.fleet.processes["robot3"].send_signal(signal.SIGKILL)
+        victim = re.search(r"robot (robot\d+) takes role 3", read(self.fleet.log("coordinator"))).group(1)
+        self.fleet.processes[victim].send_signal(signal.SIGKILL)
         killed_at = time.time()
-        wait_for(lambda: "robot robot3 taken out" in read(self.fleet.log("coordinator")), 60, "the loss detected")
-        line = next(l for l in read(self.fleet.log("coordinator")).splitlines() if "robot robot3 taken out" in l)
+        wait_for(lambda: f"robot {victim} taken out" in read(self.fleet.log("coordinator")), 60, "the loss detected")
+        line = next(l for l in read(self.fleet.log("coordinator")).splitlines() if f"robot {victim} taken out" in l)
         stamp = time.mktime(time.strptime(line[1:20], "%Y-%m-%d %H:%M:%S")) + int(line[21:24]) / 1000
         print(f"loss detected {stamp - killed_at:.2f} s after SIGKILL ({line.strip()})")
         self.assertIn("liveliness lost", line)
         # Lease 1 s: detection within two leases, plus slack for a loaded machine's scheduling.
         self.assertLess(stamp - killed_at, 2 * 1.0 + 1.0)
+        return victim
 
     def test_killed_agent_is_detected_and_the_others_finish(self):
-        self.kill_robot3_mid_run()
+        victim = self.kill_role3_robot_mid_run()
         code = self.fleet.wait_exit("coordinator", 240)
         text = read(self.fleet.log("coordinator"))
-        self.assertEqual(code, 3, text[-3000:])  # completed for the others, robot3's tasks pending
+        self.assertEqual(code, 3, text[-3000:])  # completed for the others, role 3's tasks pending
         pending = [l for l in text.splitlines() if l.startswith("pending:")]
         self.assertTrue(pending, text[-2000:])
         for line in pending:
             self.assertIn("role 3 (no robot)", line)
-        self.assertIn("replanning: robot robot3 lost", text)
+        self.assertIn(f"replanning: robot {victim} lost", text)
         self.assert_safe()
 
     def test_new_agent_takes_over_the_dead_robots_role(self):
-        self.kill_robot3_mid_run()
-        self.fleet.agent("robot8", (1, 1))
+        self.kill_role3_robot_mid_run()
+        self.fleet.agent("robot9", (1, 1))
         code = self.fleet.wait_exit("coordinator", 240)
         text = read(self.fleet.log("coordinator"))
         self.assertEqual(code, 0, text[-3000:])
-        self.assertIn("robot robot8 takes role 3", text)
+        self.assertIn("robot robot9 takes role 3", text)
         self.assertIn("mission completed: tasks 16/16", text)
         self.assert_safe()
 
     def test_extra_robot_takes_over_a_lost_role(self):
-        self.kill_robot3_mid_run(extra_robot=True)
+        victim = self.kill_role3_robot_mid_run(extra_robot=True)
         code = self.fleet.wait_exit("coordinator", 240)
         text = read(self.fleet.log("coordinator"))
         self.assertEqual(code, 0, text[-3000:])
-        # Nine robots, eight roles: whichever robot was left without a role takes robot3's.
+        # Nine robots, eight roles: whichever robot was left without a role takes the lost robot's role.
         self.assertIn("stays as an extra robot", text)
-        after_loss = text[text.index("robot robot3 taken out"):]
+        after_loss = text[text.index(f"robot {victim} taken out"):]
         self.assertRegex(after_loss, r"robot robot\d takes role 3")
         self.assertIn("mission completed: tasks 16/16", text)
         self.assert_safe()
@@ -260,11 +263,12 @@ class FleetTest(unittest.TestCase):
         text = read(self.fleet.log("coordinator"))
         self.assertIn("robot robot5 taken out: no state for", text)
         self.assertIn("replanning: robot robot5 lost", text)
-        # Completed for the others; robot5's remaining tasks (if any) are pending for its role.
+        # Completed for the others; what is pending is robot5's role, or tasks its cell now blocks.
         self.assertIn(code, (0, 3), text[-3000:])
         for line in text.splitlines():
-            if line.startswith("pending:"):
-                self.assertIn("role 5 (no robot)", line)
+            if line.startswith("pending:") and "role 5 (no robot)" not in line:
+                task = re.search(r"task (\d+)", line).group(1)
+                self.assertIn(f"task {task} unreachable", text, line)
         self.assert_safe()
 
     def test_bad_configuration_and_arguments(self):
