@@ -2,6 +2,7 @@
 #include <dds/dds.h>
 
 #include <cstring>
+#include <mutex>
 #include <stdexcept>
 #include <vector>
 
@@ -49,7 +50,7 @@ class CycloneTransport : public Transport {
     check(participant_, "create participant");
     const dds_duration_t lease = DDS_SECS(1) * config.lease_s;
 
-    dds_qos_t* registry = dds_create_qos();
+    dds_qos_t* registry = registry_qos_ = dds_create_qos();
     dds_qset_reliability(registry, DDS_RELIABILITY_RELIABLE, DDS_SECS(1));
     dds_qset_durability(registry, DDS_DURABILITY_TRANSIENT_LOCAL);
     dds_qset_history(registry, DDS_HISTORY_KEEP_LAST, 1);
@@ -58,12 +59,12 @@ class CycloneTransport : public Transport {
     dds_qset_liveliness(registry, DDS_LIVELINESS_AUTOMATIC, lease);
     // A writer that dies leaves its instances "no writers", not "disposed": only a goodbye disposes.
     dds_qset_writer_data_lifecycle(registry, false);
-    dds_qos_t* state = dds_create_qos();
+    dds_qos_t* state = state_qos_ = dds_create_qos();
     dds_qset_reliability(state, DDS_RELIABILITY_BEST_EFFORT, 0);
     dds_qset_history(state, DDS_HISTORY_KEEP_LAST, 1);
     dds_qset_liveliness(state, DDS_LIVELINESS_AUTOMATIC, lease);
     dds_qset_deadline(state, 2 * lease);  // robots publish state several times per second
-    dds_qos_t* command = dds_create_qos();
+    dds_qos_t* command = command_qos_ = dds_create_qos();
     dds_qset_reliability(command, DDS_RELIABILITY_RELIABLE, DDS_SECS(1));
     dds_qset_history(command, DDS_HISTORY_KEEP_LAST, 8);
 
@@ -72,22 +73,30 @@ class CycloneTransport : public Transport {
     command_topic_ = make_topic(&fleet_StepCommand_desc, "rt/fleet/step_command");
     status_topic_ = make_topic(&fleet_FleetStatus_desc, "rt/fleet/fleet_status");
 
-    announcement_writer_ = make_writer(announcement_topic_, registry);
-    state_writer_ = make_writer(state_topic_, state);
-    command_writer_ = make_writer(command_topic_, command);
-    status_writer_ = make_writer(status_topic_, registry);
+    // Writers are made on first use: a process writes few of the topics, and every idle writer
+    // would still be matched with every reader of the fleet. The ones a role surely writes are
+    // made now, so readers have matched them before the first sample (volatile data is lost
+    // otherwise): agents (command readers) announce and report state, the coordinator (state
+    // reader) commands.
+    if (handlers_.on_command) {
+      writer(announcement_writer_, announcement_topic_, registry_qos_);
+      writer(state_writer_, state_topic_, state_qos_);
+    }
+    if (handlers_.on_state) writer(command_writer_, command_topic_, command_qos_);
     if (handlers_.on_announcement || handlers_.on_robot_gone) {
       make_reader(announcement_topic_, registry, &CycloneTransport::announcements_available);
     }
     if (handlers_.on_state) make_reader(state_topic_, state, &CycloneTransport::states_available);
     if (handlers_.on_command) make_reader(command_topic_, command, &CycloneTransport::commands_available);
     if (handlers_.on_fleet_status) make_reader(status_topic_, registry, &CycloneTransport::statuses_available);
-    dds_delete_qos(registry);
-    dds_delete_qos(state);
-    dds_delete_qos(command);
   }
 
-  ~CycloneTransport() override { dds_delete(participant_); }
+  ~CycloneTransport() override {
+    dds_delete(participant_);
+    dds_delete_qos(registry_qos_);
+    dds_delete_qos(state_qos_);
+    dds_delete_qos(command_qos_);
+  }
 
   void announce(const Announcement& a) override {
     fleet_Announcement wire{};
@@ -96,15 +105,16 @@ class CycloneTransport : public Transport {
     copy_string(wire.capabilities, a.capabilities);
     copy_string(wire.version, a.version);
     wire.leaving = a.leaving;
-    check(dds_write(announcement_writer_, &wire), "write announcement");
+    check(dds_write(writer(announcement_writer_, announcement_topic_, registry_qos_), &wire), "write announcement");
   }
 
   void say_goodbye(const std::string& robot_id) override {
     fleet_Announcement wire{};
     copy_string(wire.robot_id, robot_id);
     wire.leaving = true;
-    check(dds_write(announcement_writer_, &wire), "write goodbye");
-    check(dds_dispose(announcement_writer_, &wire), "dispose announcement");
+    const dds_entity_t w = writer(announcement_writer_, announcement_topic_, registry_qos_);
+    check(dds_write(w, &wire), "write goodbye");
+    check(dds_dispose(w, &wire), "dispose announcement");
   }
 
   void publish_state(const RobotState& s) override {
@@ -121,7 +131,7 @@ class CycloneTransport : public Transport {
     wire.battery_percent = s.battery_percent;
     wire.seq_number = s.seq_number;
     wire.stamp_ms = s.stamp_ms;
-    check(dds_write(state_writer_, &wire), "write state");
+    check(dds_write(writer(state_writer_, state_topic_, state_qos_), &wire), "write state");
   }
 
   void send_command(const StepCommand& c) override {
@@ -134,7 +144,7 @@ class CycloneTransport : public Transport {
     wire.target_pose_x = c.target_pose_x;
     wire.target_pose_y = c.target_pose_y;
     wire.deadline_ms = c.deadline_ms;
-    check(dds_write(command_writer_, &wire), "write command");
+    check(dds_write(writer(command_writer_, command_topic_, command_qos_), &wire), "write command");
   }
 
   void publish_fleet_status(const FleetStatus& s) override {
@@ -153,7 +163,7 @@ class CycloneTransport : public Transport {
     wire.assignments._length = wire.assignments._maximum = static_cast<uint32_t>(rows.size());
     wire.assignments._buffer = rows.data();
     wire.assignments._release = false;
-    check(dds_write(status_writer_, &wire), "write fleet status");
+    check(dds_write(writer(status_writer_, status_topic_, registry_qos_), &wire), "write fleet status");
   }
 
   const char* vendor_name() const override { return "cyclone"; }
@@ -164,10 +174,13 @@ class CycloneTransport : public Transport {
     check(topic, name);
     return topic;
   }
-  dds_entity_t make_writer(dds_entity_t topic, const dds_qos_t* qos) {
-    const dds_entity_t writer = dds_create_writer(participant_, topic, qos, nullptr);
-    check(writer, "create writer");
-    return writer;
+  dds_entity_t writer(dds_entity_t& slot, dds_entity_t topic, const dds_qos_t* qos) {
+    const std::lock_guard<std::mutex> lock(writers_mutex_);
+    if (slot == 0) {
+      slot = dds_create_writer(participant_, topic, qos, nullptr);
+      check(slot, "create writer");
+    }
+    return slot;
   }
   void make_reader(dds_entity_t topic, const dds_qos_t* qos, void (*on_data)(dds_entity_t, void*)) {
     dds_listener_t* listener = dds_create_listener(this);
@@ -258,6 +271,8 @@ class CycloneTransport : public Transport {
   dds_entity_t participant_ = 0;
   dds_entity_t announcement_topic_ = 0, state_topic_ = 0, command_topic_ = 0, status_topic_ = 0;
   dds_entity_t announcement_writer_ = 0, state_writer_ = 0, command_writer_ = 0, status_writer_ = 0;
+  dds_qos_t *registry_qos_ = nullptr, *state_qos_ = nullptr, *command_qos_ = nullptr;
+  std::mutex writers_mutex_;
 };
 
 }  // namespace

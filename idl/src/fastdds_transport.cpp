@@ -73,7 +73,7 @@ class FastDdsTransport : public Transport {
     const eprosima::fastrtps::Duration_t announce_every(config.lease_s / 3);
     const eprosima::fastrtps::Duration_t heartbeat(0, 100000000);  // 100 ms: prompt late joiners (Cyclone)
 
-    DataWriterQos registry_w = DATAWRITER_QOS_DEFAULT;
+    DataWriterQos& registry_w = registry_w_;
     registry_w.reliability().kind = RELIABLE_RELIABILITY_QOS;
     registry_w.durability().kind = TRANSIENT_LOCAL_DURABILITY_QOS;
     registry_w.history().kind = KEEP_LAST_HISTORY_QOS;
@@ -91,7 +91,7 @@ class FastDdsTransport : public Transport {
     registry_r.liveliness().kind = AUTOMATIC_LIVELINESS_QOS;
     registry_r.liveliness().lease_duration = lease;
 
-    DataWriterQos state_w = DATAWRITER_QOS_DEFAULT;
+    DataWriterQos& state_w = state_w_;
     state_w.reliability().kind = BEST_EFFORT_RELIABILITY_QOS;
     state_w.durability().kind = VOLATILE_DURABILITY_QOS;
     state_w.history().kind = KEEP_LAST_HISTORY_QOS;
@@ -109,7 +109,7 @@ class FastDdsTransport : public Transport {
     state_r.liveliness().lease_duration = lease;
     state_r.deadline().period = eprosima::fastrtps::Duration_t(2 * config.lease_s);
 
-    DataWriterQos command_w = DATAWRITER_QOS_DEFAULT;
+    DataWriterQos& command_w = command_w_;
     command_w.reliability().kind = RELIABLE_RELIABILITY_QOS;
     command_w.durability().kind = VOLATILE_DURABILITY_QOS;
     command_w.history().kind = KEEP_LAST_HISTORY_QOS;
@@ -125,10 +125,18 @@ class FastDdsTransport : public Transport {
     Topic* state = make_topic<fleet::RobotStatePubSubType>("rt/fleet/robot_state");
     Topic* command = make_topic<fleet::StepCommandPubSubType>("rt/fleet/step_command");
     Topic* status = make_topic<fleet::FleetStatusPubSubType>("rt/fleet/fleet_status");
-    announcement_writer_ = make_writer(announcement, registry_w);
-    state_writer_ = make_writer(state, state_w);
-    command_writer_ = make_writer(command, command_w);
-    status_writer_ = make_writer(status, registry_w);
+    // Writers are made on first use: a process writes few of the topics, and every idle writer
+    // would still be matched with every reader of the fleet.
+    announcement_topic_ = announcement;
+    state_topic_ = state;
+    command_topic_ = command;
+    status_topic_ = status;
+    // The writers a role surely uses are made now, so readers match them before the first sample.
+    if (handlers_.on_command) {
+      writer(announcement_writer_, announcement_topic_, registry_w_);
+      writer(state_writer_, state_topic_, state_w_);
+    }
+    if (handlers_.on_state) writer(command_writer_, command_topic_, command_w_);
 
     if (handlers_.on_announcement || handlers_.on_robot_gone) {
       listen<fleet::Announcement>(announcement, registry_r, [this](const fleet::Announcement& w, const SampleInfo& info) {
@@ -189,15 +197,16 @@ class FastDdsTransport : public Transport {
     wire.capabilities(a.capabilities);
     wire.version(a.version);
     wire.leaving(a.leaving);
-    announcement_writer_->write(&wire);
+    writer(announcement_writer_, announcement_topic_, registry_w_)->write(&wire);
   }
 
   void say_goodbye(const std::string& robot_id) override {
     fleet::Announcement wire;
     wire.robot_id(robot_id);
     wire.leaving(true);
-    announcement_writer_->write(&wire);
-    announcement_writer_->dispose(&wire, announcement_writer_->lookup_instance(&wire));
+    DataWriter* w = writer(announcement_writer_, announcement_topic_, registry_w_);
+    w->write(&wire);
+    w->dispose(&wire, w->lookup_instance(&wire));
   }
 
   void publish_state(const RobotState& s) override {
@@ -214,7 +223,7 @@ class FastDdsTransport : public Transport {
     wire.battery_percent(s.battery_percent);
     wire.seq_number(s.seq_number);
     wire.stamp_ms(s.stamp_ms);
-    state_writer_->write(&wire);
+    writer(state_writer_, state_topic_, state_w_)->write(&wire);
   }
 
   void send_command(const StepCommand& c) override {
@@ -227,7 +236,7 @@ class FastDdsTransport : public Transport {
     wire.target_pose_x(c.target_pose_x);
     wire.target_pose_y(c.target_pose_y);
     wire.deadline_ms(c.deadline_ms);
-    command_writer_->write(&wire);
+    writer(command_writer_, command_topic_, command_w_)->write(&wire);
   }
 
   void publish_fleet_status(const FleetStatus& s) override {
@@ -246,7 +255,7 @@ class FastDdsTransport : public Transport {
       rows.push_back(row);
     }
     wire.assignments(rows);
-    status_writer_->write(&wire);
+    writer(status_writer_, status_topic_, registry_w_)->write(&wire);
   }
 
   const char* vendor_name() const override { return "fastdds"; }
@@ -261,10 +270,13 @@ class FastDdsTransport : public Transport {
     return topic;
   }
 
-  DataWriter* make_writer(Topic* topic, const DataWriterQos& qos) {
-    DataWriter* writer = publisher_->create_datawriter(topic, qos);
-    if (!writer) throw std::runtime_error("Fast DDS: cannot create a writer on " + topic->get_name());
-    return writer;
+  DataWriter* writer(DataWriter*& slot, Topic* topic, const DataWriterQos& qos) {
+    const std::lock_guard<std::mutex> lock(writers_mutex_);
+    if (!slot) {
+      slot = publisher_->create_datawriter(topic, qos);
+      if (!slot) throw std::runtime_error("Fast DDS: cannot create a writer on " + topic->get_name());
+    }
+    return slot;
   }
 
   template <typename Wire>
@@ -311,6 +323,10 @@ class FastDdsTransport : public Transport {
   Subscriber* subscriber_ = nullptr;
   DataWriter *announcement_writer_ = nullptr, *state_writer_ = nullptr, *command_writer_ = nullptr,
              *status_writer_ = nullptr;
+  Topic *announcement_topic_ = nullptr, *state_topic_ = nullptr, *command_topic_ = nullptr, *status_topic_ = nullptr;
+  DataWriterQos registry_w_ = DATAWRITER_QOS_DEFAULT, state_w_ = DATAWRITER_QOS_DEFAULT,
+                command_w_ = DATAWRITER_QOS_DEFAULT;
+  std::mutex writers_mutex_;
   std::vector<std::unique_ptr<DataReaderListener>> listeners_;
   std::vector<DataReader*> readers_;
   std::mutex instances_mutex_;
