@@ -34,8 +34,7 @@ FleetCoordinator::FleetCoordinator(const FleetConfig& config, planner_core::Inst
     : config_(config), mission_(std::move(mission)), started_(Clock::now()) {
   robot_of_role_.assign(mission_.agent_count(), "");
   for (const planner_core::Task& task : mission_.tasks) task_done_.emplace_back(task.agents.size(), 0);
-  summary_.tasks_total = 0;
-  for (const planner_core::Task& task : mission_.tasks) summary_.tasks_total += 1;
+  summary_.tasks_total = mission_.task_count();
 }
 
 void FleetCoordinator::on_announcement(const fleet_transport::Announcement& announcement) {
@@ -68,6 +67,7 @@ void FleetCoordinator::request_replan(const std::string& why) {
 void FleetCoordinator::lose(Robot& robot, const std::string& why) {
   if (!robot.active) return;
   robot.active = false;
+  replanned_after_finish_ = false;
   ++summary_.robots_lost;
   spdlog::warn("robot {} taken out: {}", robot.id, why);
   if (robot.has_state) {
@@ -159,6 +159,7 @@ void FleetCoordinator::handle(const Event& event) {
     blocked_.erase(cell);
     if (phase_ != Phase::kWaiting) {
       ++summary_.robots_joined;
+      replanned_after_finish_ = false;
       std::vector<Robot*> joining{&robot};
       bind_roles(joining);
       request_replan("robot " + robot.id + " joined");
@@ -510,18 +511,20 @@ bool FleetCoordinator::step(fleet_transport::Transport& transport) {
         phase_ = Phase::kDone;
         summary_.completed = true;
       } else if (plan_finished()) {
-        // Everyone active is done; what is left belongs to roles without robots.
-        bool waiting_for_robot = false;
+        // Everyone active is done. What is left belongs to roles without robots, or is blocked by a
+        // lost robot (a replan from here changed nothing): wait for a robot, then end.
+        bool waiting_for_robot = replanned_after_finish_;
         for (int t = 0; t < mission_.task_count(); ++t) {
           for (size_t k = 0; k < task_done_[t].size(); ++k) {
             if (!task_done_[t][k] && robot_of_role_[mission_.tasks[t].agents[k]].empty()) waiting_for_robot = true;
           }
         }
         if (!waiting_for_robot) {
+          replanned_after_finish_ = true;
           request_replan("plan finished with tasks left");
         } else if (!waiting_for_robot_since_) {
           waiting_for_robot_since_ = now;
-          spdlog::warn("tasks left only for roles without a robot: waiting {} s for a robot to join",
+          spdlog::warn("what is left cannot be done by the robots here: waiting {} s for a robot to join",
                        config_.replacement_timeout_s);
         } else if (seconds_between(*waiting_for_robot_since_, now) > config_.replacement_timeout_s) {
           list_pending();
@@ -566,6 +569,14 @@ bool FleetCoordinator::step(fleet_transport::Transport& transport) {
 
 void FleetCoordinator::list_pending() {
   summary_.pending.clear();
+  for (int role = 0; role < mission_.agent_count(); ++role) {
+    if (robot_of_role_[role].empty()) continue;
+    const Robot& robot = robots_.at(robot_of_role_[role]);
+    if (mission_vertex(robot.last.cell_x, robot.last.cell_y) != mission_.goals[role]) {
+      summary_.pending.push_back("role " + std::to_string(role) + ": robot " + robot.id +
+                                 " could not reach its goal (blocked)");
+    }
+  }
   for (int t = 0; t < mission_.task_count(); ++t) {
     for (size_t k = 0; k < task_done_[t].size(); ++k) {
       if (task_done_[t][k]) continue;

@@ -166,8 +166,6 @@ class CycloneTransport : public Transport {
     check(dds_write(writer(status_writer_, status_topic_, registry_qos_), &wire), "write fleet status");
   }
 
-  const char* vendor_name() const override { return "cyclone"; }
-
  private:
   dds_entity_t make_topic(const dds_topic_descriptor_t* descriptor, const char* name) {
     const dds_entity_t topic = dds_create_topic(participant_, descriptor, name, nullptr, nullptr);

@@ -258,8 +258,6 @@ class FastDdsTransport : public Transport {
     writer(status_writer_, status_topic_, registry_w_)->write(&wire);
   }
 
-  const char* vendor_name() const override { return "fastdds"; }
-
  private:
   template <typename PubSubType>
   Topic* make_topic(const std::string& name) {

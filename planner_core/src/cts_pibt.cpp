@@ -1,9 +1,6 @@
 #include "planner_core/cts_pibt.hpp"
 
 #include <random>
-#include <stdexcept>
-
-#include "planner_core/validator.hpp"
 
 namespace planner_core {
 
@@ -27,23 +24,8 @@ SolveResult CtsPibt::solve(const Instance& instance, const SolveOptions& options
     const ExtendedPibt::Outcome outcome = pibt.run(options.deadline);
     if (outcome == ExtendedPibt::Outcome::kStepLimit) ++result.pibt_failures;
     if (outcome == ExtendedPibt::Outcome::kSolved) {
-      const int64_t cost = flowtime(pibt.plan(), instance.goals);
-      if (!result.solved || cost < result.flowtime) {
-        const ValidationReport report = validate(instance, pibt.plan());
-        if (!report.ok()) {
-          throw std::logic_error("Extended-PIBT produced an invalid plan:\n" + report.summary());
-        }
-        result.solved = true;
-        result.solution = pibt.plan();
-        result.orders = sequence->orders;
-        result.flowtime = cost;
-        result.makespan = report.makespan;
-        result.sum_of_loss = sum_of_loss(result.solution, instance.goals);
-        const double now = elapsed_ms(started);
-        if (result.first_solution_ms < 0) result.first_solution_ms = now;
-        result.improvements.push_back({now, cost, sequence->index});
-        if (options.on_solution) options.on_solution(result);
-      }
+      keep_if_better(result, instance, pibt.plan(), sequence->orders, sequence->index, started, options,
+                     "Extended-PIBT");
     }
     if (!anytime_) break;
   }

@@ -1,9 +1,6 @@
 #include "planner_core/cts_pll.hpp"
 
 #include <random>
-#include <stdexcept>
-
-#include "planner_core/validator.hpp"
 
 namespace planner_core {
 
@@ -28,25 +25,6 @@ SolveResult CtsPll::solve(const Instance& instance, const SolveOptions& options)
 
   SolveResult result;
   result.lower_bound = sequencer.lower_bound();
-  const auto keep_if_better = [&](const Solution& plan, const std::vector<std::vector<int>>& orders, int index) {
-    const int64_t cost = flowtime(plan, instance.goals);
-    if (result.solved && cost >= result.flowtime) return;
-    const ValidationReport report = validate(instance, plan);
-    if (!report.ok()) throw std::logic_error("CTS-PLL produced an invalid plan:\n" + report.summary());
-    result.solved = true;
-    result.solution = plan;
-    result.orders = orders;
-    result.flowtime = cost;
-    result.makespan = report.makespan;
-    result.sum_of_loss = sum_of_loss(plan, instance.goals);
-    const double now = elapsed_ms(started);
-    if (result.first_solution_ms < 0) result.first_solution_ms = now;
-    if (result.improvements.empty() || result.improvements.back().flowtime > cost) {
-      result.improvements.push_back({now, cost, index});
-    }
-    if (options.on_solution) options.on_solution(result);
-  };
-
   while (!deadline.expired()) {
     if (config_.max_sequences > 0 && result.sequences_tried >= config_.max_sequences) break;
     const std::optional<JointSequence> sequence = sequencer.next();
@@ -94,7 +72,7 @@ SolveResult CtsPll::solve(const Instance& instance, const SolveOptions& options)
     }
     if (feasible) {
       Solution plan = completed_plan ? std::move(*completed_plan) : pibt.plan();
-      keep_if_better(plan, sequence->orders, sequence->index);
+      keep_if_better(result, instance, plan, sequence->orders, sequence->index, started, options, "CTS-PLL");
       if (variant_ == Variant::kV3) {
         Deadline budget = Deadline::in_seconds(lns_per_sequence_s, deadline.interrupt);
         budget.at = std::min(budget.at, deadline.at);
@@ -105,7 +83,7 @@ SolveResult CtsPll::solve(const Instance& instance, const SolveOptions& options)
           }
         });
         result.lns_iterations += stats.iterations;
-        keep_if_better(plan, sequence->orders, sequence->index);
+        keep_if_better(result, instance, plan, sequence->orders, sequence->index, started, options, "CTS-PLL");
       }
     }
     if (variant_ == Variant::kV1) break;

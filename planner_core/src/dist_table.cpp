@@ -22,7 +22,6 @@ const std::vector<int>& DistTable::of(Vertex target) {
       }
     }
   }
-  ++bfs_count_;
   return dist;
 }
 

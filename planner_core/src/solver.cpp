@@ -5,8 +5,31 @@
 #include "planner_core/cts_pibt.hpp"
 #include "planner_core/cts_pll.hpp"
 #include "planner_core/lacam_solver.hpp"
+#include "planner_core/validator.hpp"
 
 namespace planner_core {
+
+void keep_if_better(SolveResult& result, const Instance& instance, const Solution& plan,
+                    const std::vector<std::vector<int>>& orders, int sequence_index, Clock::time_point started,
+                    const SolveOptions& options, const std::string& solver) {
+  const int64_t cost = flowtime(plan, instance.goals);
+  if (result.solved && cost >= result.flowtime) return;
+  const ValidationReport report = validate(instance, plan);
+  if (!report.ok()) throw std::logic_error(solver + " produced an invalid plan:\n" + report.summary());
+  result.solved = true;
+  result.solution = plan;
+  result.orders = orders;
+  result.flowtime = cost;
+  result.makespan = report.makespan;
+  result.sum_of_loss = sum_of_loss(plan, instance.goals);
+  const double now = elapsed_ms(started);
+  if (result.first_solution_ms < 0) result.first_solution_ms = now;
+  // The anytime LNS may already have logged this flowtime as it found it.
+  if (result.improvements.empty() || result.improvements.back().flowtime > cost) {
+    result.improvements.push_back({now, cost, sequence_index});
+  }
+  if (options.on_solution) options.on_solution(result);
+}
 
 std::vector<std::string> solver_names() { return {"cts-pibt", "cts-pibt-anytime", "cts-pll-v1", "cts-pll-v2", "cts-pll-v3", "lacam", "lacam-star"}; }
 

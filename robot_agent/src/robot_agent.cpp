@@ -17,7 +17,6 @@ fleet_transport::Announcement RobotAgent::announcement() const {
 }
 
 void RobotAgent::reject(const StepCommand& command, const std::string& why) {
-  ++rejected_;
   spdlog::warn("{}: rejected command epoch {} action {} to ({},{}): {}", settings_.robot_id, command.plan_epoch,
                command.action_index, command.target_x, command.target_y, why);
 }

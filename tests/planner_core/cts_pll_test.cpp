@@ -4,7 +4,7 @@
 
 #include "planner_core/lns.hpp"
 #include "planner_core/solver.hpp"
-#include "planner_core/space_time_astar.hpp"
+#include "planner_core/safe_interval_planning.hpp"
 #include "planner_core/validator.hpp"
 #include "test_helpers.hpp"
 

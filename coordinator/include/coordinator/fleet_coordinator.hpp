@@ -111,6 +111,7 @@ class FleetCoordinator {
   bool awaiting_replan_latency_ = false;
   Clock::time_point retry_plan_at_;
   std::optional<Clock::time_point> waiting_for_robot_since_;
+  bool replanned_after_finish_ = false;  // the plan in hand was made because the last one left work
   void list_pending();
 
   // The plan being executed.

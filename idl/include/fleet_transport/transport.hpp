@@ -50,7 +50,6 @@ class Transport {
   virtual void publish_state(const RobotState& state) = 0;
   virtual void send_command(const StepCommand& command) = 0;
   virtual void publish_fleet_status(const FleetStatus& status) = 0;
-  virtual const char* vendor_name() const = 0;
 };
 
 // Throws std::runtime_error when the middleware cannot be set up.

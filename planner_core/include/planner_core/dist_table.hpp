@@ -18,12 +18,10 @@ class DistTable {
   // one table per solver thread.
   int get(Vertex target, Vertex from) { return of(target)[from]; }
   const std::vector<int>& of(Vertex target);
-  int bfs_count() const { return bfs_count_; }
 
  private:
   const Graph& graph_;
   std::vector<std::unique_ptr<std::vector<int>>> by_target_;
-  int bfs_count_ = 0;
 };
 
 }  // namespace planner_core

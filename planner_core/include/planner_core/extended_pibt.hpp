@@ -44,7 +44,6 @@ class ExtendedPibt {
   bool step();
 
   const Solution& plan() const { return plan_; }
-  int step_limit() const { return step_limit_; }
   bool finished(int agent) const;                 // all tasks visited and on its goal
   bool tasks_done(int agent) const { return agents_[agent].next == agents_[agent].task_count; }
   int last_target_time(int agent) const { return agents_[agent].last_target_time; }

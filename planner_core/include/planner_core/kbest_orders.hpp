@@ -27,7 +27,6 @@ class KBestOrders {
   // Costs are non-decreasing in k when the agent's task count is within the exact limit; beyond it
   // the sub-problems are solved heuristically and the sequence follows their estimated costs.
   const TaskOrder* get(int k);
-  int generated() const { return static_cast<int>(orders_.size()); }
   int lower_bound() const { return solver_.lower_bound(); }
   bool exact() const { return solver_.exact(); }
 

@@ -13,7 +13,7 @@
 #include "planner_core/deadline.hpp"
 #include "planner_core/path_table.hpp"
 #include "planner_core/solution.hpp"
-#include "planner_core/space_time_astar.hpp"
+#include "planner_core/safe_interval_planning.hpp"
 
 namespace planner_core {
 

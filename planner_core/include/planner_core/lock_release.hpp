@@ -10,7 +10,7 @@
 
 #include "planner_core/extended_pibt.hpp"
 #include "planner_core/lacam.hpp"
-#include "planner_core/space_time_astar.hpp"
+#include "planner_core/safe_interval_planning.hpp"
 
 namespace planner_core {
 

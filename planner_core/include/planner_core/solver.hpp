@@ -67,6 +67,13 @@ class Solver {
   virtual SolveResult solve(const Instance& instance, const SolveOptions& options) = 0;
 };
 
+// Keeps `plan` in `result` when it is the first plan or cheaper than the one kept: validates it
+// (an invalid plan is a bug: std::logic_error naming `solver`), records the improvement and
+// reports it through options.on_solution.
+void keep_if_better(SolveResult& result, const Instance& instance, const Solution& plan,
+                    const std::vector<std::vector<int>>& orders, int sequence_index, Clock::time_point started,
+                    const SolveOptions& options, const std::string& solver);
+
 std::vector<std::string> solver_names();
 // Throws std::invalid_argument for an unknown solver name.
 std::unique_ptr<Solver> make_solver(const SolverConfig& config);

@@ -2,7 +2,6 @@
 // robot, executes step commands addressed to it (checking each one), publishes its state.
 #pragma once
 
-#include <atomic>
 #include <chrono>
 #include <condition_variable>
 #include <memory>
@@ -36,8 +35,6 @@ class RobotAgent {
   // How long the agent may sleep before step() has something to do (next state or arrival).
   std::chrono::steady_clock::duration idle_time() const;
 
-  int rejected_commands() const { return rejected_.load(); }
-
  private:
   void reject(const fleet_transport::StepCommand& command, const std::string& why);
 
@@ -56,7 +53,6 @@ class RobotAgent {
   GridCell moving_to_{};
   uint64_t seq_ = 0;
   std::chrono::steady_clock::time_point next_publish_{};
-  std::atomic<int> rejected_{0};
 };
 
 }  // namespace robot_agent

@@ -1,4 +1,4 @@
-#include "planner_core/space_time_astar.hpp"
+#include "planner_core/safe_interval_planning.hpp"
 
 #include <algorithm>
 #include <cstdint>
