@@ -1,5 +1,7 @@
 // ctsfleet-sim: runs a whole simulated fleet on this host: one ctsfleet-coordinator and N
 // ctsfleet-agent processes (each its own process), waits for the mission, stops everything.
+// With --backend toio-emulated the agents drive emulated toio cubes through their real BLE code
+// path: a private dbus-daemon, ctsfleet-toio-emulator as BlueZ, agents with --backend toio.
 // Exits 0 only when the mission completed; Ctrl-C stops everything cleanly.
 #include <CLI/CLI.hpp>
 #include <signal.h>
@@ -11,6 +13,9 @@
 #include <csignal>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <optional>
+#include <sstream>
 #include <random>
 #include <set>
 #include <thread>
@@ -19,7 +24,7 @@
 #include "coordinator/fleet_config.hpp"
 #include "planner_core/input_error.hpp"
 #include "planner_core/instance.hpp"
-
+#include "robot_agent/mat_calibration.hpp"
 
 namespace {
 
@@ -27,23 +32,58 @@ namespace fs = std::filesystem;
 std::atomic<bool> g_stop{false};
 extern "C" void on_signal(int) { g_stop.store(true); }
 
+// Waits until `done` holds, polling; false after `timeout`.
+template <typename Condition>
+bool wait_until(Condition done, std::chrono::seconds timeout) {
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  while (!done()) {
+    if (std::chrono::steady_clock::now() > deadline || g_stop.load()) return false;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  return true;
+}
+
+bool file_contains(const std::string& path, const std::string& text) {
+  std::ifstream file(path);
+  std::stringstream content;
+  content << file.rdbuf();
+  return content.str().find(text) != std::string::npos;
+}
+
+// A private D-Bus for the emulated BlueZ; returns its address. The socket lives in log_dir.
+std::string start_private_bus(const fs::path& log_dir, std::vector<pid_t>& helpers) {
+  const fs::path socket = fs::absolute(log_dir / "bluez-bus.socket");
+  fs::remove(socket);
+  const std::string address = "unix:path=" + socket.string();
+  helpers.push_back(coordinator::start_child(
+      {"/usr/bin/dbus-daemon", "--session", "--nofork", "--nopidfile", "--address=" + address},
+      (log_dir / "dbus-daemon.log").string()));
+  if (!wait_until([&] { return fs::exists(socket); }, std::chrono::seconds(20))) {
+    throw std::runtime_error("the private dbus-daemon did not start (see " + (log_dir / "dbus-daemon.log").string() + ")");
+  }
+  return address;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{"ctsfleet-sim: a coordinator and N simulated robot agents as separate processes"};
   const fs::path here = fs::canonical("/proc/self/exe").parent_path();
-  std::string config_path = (here / "../../config/fleet.yaml").lexically_normal().string();
+  std::string config_path;
+  std::string mat_path = (here / "../../config/mats/toio-collection-ring.yaml").lexically_normal().string();
   std::string vendor, agent_vendor, backend = "sim", log_dir = "out/sim-logs";
   int robots = 8, domain = -1;
   double step = 0.1, jitter = 0.2;
   unsigned seed = 1;
   app.add_option("--robots", robots, "number of robot agents")->capture_default_str();
-  app.add_option("-c,--config", config_path, "fleet configuration")->capture_default_str();
+  app.add_option("-c,--config", config_path,
+                 "fleet configuration (default: config/fleet.yaml, or config/toio/fleet.yaml for toio-emulated)");
+  app.add_option("--mat", mat_path, "toio-emulated: mat file placing the grid on the mat")->capture_default_str();
   app.add_option("--dds", vendor, "DDS for every process (default: the config's)")
       ->check(CLI::IsMember({"cyclone", "fastdds"}));
   app.add_option("--agent-dds", agent_vendor, "DDS for the agents only (cross-vendor runs)")
       ->check(CLI::IsMember({"cyclone", "fastdds"}));
-  app.add_option("--backend", backend, "robot backend")->check(CLI::IsMember({"sim"}))->capture_default_str();
+  app.add_option("--backend", backend, "robot backend")->check(CLI::IsMember({"sim", "toio-emulated"}))->capture_default_str();
   app.add_option("--domain", domain, "DDS domain id (default: the config's)");
   app.add_option("--step", step, "sim: seconds per move")->capture_default_str();
   app.add_option("--jitter", jitter, "sim: each move takes step * (1 + U[0, jitter])")->capture_default_str();
@@ -52,6 +92,16 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
+  const bool toio = backend == "toio-emulated";
+  if (config_path.empty()) {
+    config_path = (here / (toio ? "../../config/toio/fleet.yaml" : "../../config/fleet.yaml")).lexically_normal().string();
+  }
+  std::vector<pid_t> helpers;  // dbus-daemon and emulator, stopped last
+  auto stop_helpers = [&helpers] {
+    for (auto it = helpers.rbegin(); it != helpers.rend(); ++it) kill(*it, SIGTERM);
+    for (pid_t pid : helpers) waitpid(pid, nullptr, 0);
+    helpers.clear();
+  };
 
   try {
     const coordinator::FleetConfig config = coordinator::load_fleet_config(config_path);
@@ -72,11 +122,36 @@ int main(int argc, char** argv) {
       if (used.insert(v).second) starts.push_back(mission.graph->cell_of(v));
     }
 
+    std::optional<robot_agent::MatCalibration> mat;
+    if (toio) {
+      mat = robot_agent::MatCalibration::load(mat_path);
+      if (mission.graph->width() > mat->grid_width() || mission.graph->height() > mat->grid_height()) {
+        throw planner_core::InputError(config.mission + ": the " + std::to_string(mission.graph->width()) + "x" +
+                                       std::to_string(mission.graph->height()) + " map does not fit the " +
+                                       std::to_string(mat->grid_width()) + "x" + std::to_string(mat->grid_height()) +
+                                       " grid of " + mat_path);
+      }
+      const std::string bus = start_private_bus(log_dir, helpers);
+      setenv("DBUS_SYSTEM_BUS_ADDRESS", bus.c_str(), 1);  // the agents' "system bus" is the private one
+      std::vector<std::string> emulator = {(here / "ctsfleet-toio-emulator").string(), "--bus", bus, "--mat", mat_path};
+      for (int r = 0; r < robots; ++r) {
+        emulator.push_back("--cube");
+        emulator.push_back("toio-" + std::to_string(r) + "@cell:" + std::to_string(starts[r].x) + "," +
+                           std::to_string(starts[r].y));
+      }
+      const std::string emulator_log = (fs::path(log_dir) / "toio-emulator.log").string();
+      helpers.push_back(coordinator::start_child(emulator, emulator_log));
+      if (!wait_until([&] { return file_contains(emulator_log, "toio-emulator ready"); }, std::chrono::seconds(20))) {
+        throw std::runtime_error("the toio emulator did not start (see " + emulator_log + ")");
+      }
+      spdlog::info("emulated BlueZ with {} toio cubes on {}", robots, bus);
+    }
+
     std::vector<pid_t> agents;
     for (int r = 0; r < robots; ++r) {
       std::vector<std::string> args = {(here / "ctsfleet-agent").string(),
                                        "--id", "robot" + std::to_string(r),
-                                       "--backend", backend,
+                                       "--backend", toio ? "toio" : "sim",
                                        "--start", std::to_string(starts[r].x) + "," + std::to_string(starts[r].y),
                                        "--dds", agent_vendor,
                                        "--domain", std::to_string(domain),
@@ -85,6 +160,7 @@ int main(int argc, char** argv) {
                                        "--jitter", std::to_string(jitter),
                                        "--seed", std::to_string(seed + r)};
       if (!config.dds_config_dir.empty()) args.insert(args.end(), {"--dds-config-dir", config.dds_config_dir});
+      if (toio) args.insert(args.end(), {"--cube", "toio-" + std::to_string(r), "--mat", mat_path});
       agents.push_back(coordinator::start_child(args, log_dir + "/robot" + std::to_string(r) + ".log"));
     }
     const pid_t coordinator_pid = coordinator::start_child({(here / "ctsfleet-coordinator").string(), "--config", config_path, "--dds",
@@ -110,14 +186,17 @@ int main(int argc, char** argv) {
     }
     for (pid_t pid : agents) kill(pid, SIGTERM);
     for (pid_t pid : agents) waitpid(pid, nullptr, 0);
+    stop_helpers();
     if (g_stop.load()) return 130;
     const int code = WIFEXITED(status) ? WEXITSTATUS(status) : 1;
     spdlog::info("coordinator exited with {}", code);
     return code;
   } catch (const planner_core::InputError& e) {
+    stop_helpers();
     spdlog::error("{}", e.what());
     return 2;
   } catch (const std::exception& e) {
+    stop_helpers();
     spdlog::error("{}", e.what());
     return 1;
   }

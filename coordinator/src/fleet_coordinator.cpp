@@ -72,14 +72,14 @@ void FleetCoordinator::lose(Robot& robot, const std::string& why) {
   spdlog::warn("robot {} taken out: {}", robot.id, why);
   if (robot.has_state) {
     const Vertex last = mission_vertex(robot.last.cell_x, robot.last.cell_y);
-    if (last != planner_core::kNoVertex) blocked_.insert(last);  // it may still stand there
+    if (last != planner_core::kNoVertex) blocked_[last] = robot.id;  // it may still stand there
   }
   // A robot that fell silent mid-move may have arrived at its target: keep that cell clear too.
   const int a = robot.plan_agent;
   if (a >= 0 && adg_ && a < static_cast<int>(sent_.size()) && sent_[a] == finished_[a] &&
       finished_[a] < static_cast<int>(adg_->moves(a).size())) {
     const Cell target = plan_graph_->cell_of(adg_->moves(a)[finished_[a]].to);
-    blocked_.insert(mission_vertex(target.x, target.y));
+    blocked_[mission_vertex(target.x, target.y)] = robot.id;
   }
   if (robot.role >= 0) {
     robot_of_role_[robot.role] = "";
@@ -146,9 +146,15 @@ void FleetCoordinator::handle(const Event& event) {
     return;
   }
   if (robot.has_state && state.seq_number <= robot.last.seq_number && state.seq_number != 1) return;  // stale
+  robot.last_heard = Clock::now();
+  if (state.status == RobotStatus::kFault) {
+    // A robot in fault (a toio cube lifted, disconnected, between cells...) is out until it reports
+    // a cell again; its last good cell and the cell it was moving to stay blocked meanwhile.
+    if (robot.active) lose(robot, "reports a fault");
+    return;
+  }
   robot.has_state = true;
   robot.last = state;
-  robot.last_heard = Clock::now();
   if (const int a = robot.plan_agent; a >= 0 && adg_ && state.plan_epoch == epoch_ && a < static_cast<int>(sent_.size()) &&
                                       state.action_index == sent_[a] && !acknowledged_[a]) {
     acknowledged_[a] = 1;
@@ -156,7 +162,8 @@ void FleetCoordinator::handle(const Event& event) {
   }
   if (!robot.active) {
     robot.active = true;
-    blocked_.erase(cell);
+    // It is where it reports, no longer where it was lost.
+    std::erase_if(blocked_, [&](const auto& entry) { return entry.second == robot.id || entry.first == cell; });
     if (phase_ != Phase::kWaiting) {
       ++summary_.robots_joined;
       replanned_after_finish_ = false;
@@ -233,7 +240,8 @@ bool FleetCoordinator::replan(fleet_transport::Transport& transport) {
 
   // The planning map: the mission map with the cells of lost robots blocked.
   std::vector<std::string> rows = mission_.graph->rows();
-  std::set<Vertex> obstacles = blocked_;
+  std::set<Vertex> obstacles;
+  for (const auto& [cell, robot_id] : blocked_) obstacles.insert(cell);
   for (const auto& [id, cell] : unknown_cells_) obstacles.insert(cell);  // robots we cannot command
   for (Vertex v : obstacles) {
     const Cell c = mission_.graph->cell_of(v);

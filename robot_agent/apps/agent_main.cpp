@@ -1,5 +1,5 @@
-// ctsfleet-agent: one robot's process. Bridges the fleet's step commands to a simulated robot
-// (or, later, a toio cube) and reports the robot's state.
+// ctsfleet-agent: one robot's process. Bridges the fleet's step commands to a simulated robot or
+// to a toio cube over BLE (BlueZ on the system D-Bus) and reports the robot's state.
 #include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
 
@@ -8,8 +8,10 @@
 #include <cstdlib>
 #include <thread>
 
+#include "planner_core/input_error.hpp"
 #include "robot_agent/robot_agent.hpp"
 #include "robot_agent/sim_robot.hpp"
+#include "robot_agent/toio_robot.hpp"
 
 namespace {
 std::atomic<bool> g_stop{false};
@@ -18,14 +20,17 @@ extern "C" void on_signal(int) { g_stop.store(true); }
 
 int main(int argc, char** argv) {
   using namespace robot_agent;
-  CLI::App app{"ctsfleet-agent: one robot of the fleet (simulated backend)"};
+  CLI::App app{"ctsfleet-agent: one robot of the fleet (simulated robot or toio cube)"};
   AgentSettings settings;
   SimSettings sim;
-  std::string backend = "sim", start_text = "0,0", vendor = "cyclone", dds_dir;
+  ToioSettings toio;
+  std::string mat_file;
+  int max_speed = toio.max_speed, move_timeout_s = toio.move_timeout_s;
+  std::string backend_name = "sim", start_text = "0,0", vendor = "cyclone", dds_dir;
   int domain = 0;
   double lease = 1.0;
   app.add_option("--id", settings.robot_id, "robot id (at most 32 characters)")->required();
-  app.add_option("--backend", backend, "robot backend")->check(CLI::IsMember({"sim"}))->capture_default_str();
+  app.add_option("--backend", backend_name, "robot backend")->check(CLI::IsMember({"sim", "toio"}))->capture_default_str();
   app.add_option("--start", start_text, "starting cell x,y (sim)")->capture_default_str();
   app.add_option("--dds", vendor, "DDS implementation")->check(CLI::IsMember({"cyclone", "fastdds"}))->capture_default_str();
   app.add_option("--domain", domain, "DDS domain id")->capture_default_str();
@@ -41,6 +46,13 @@ int main(int argc, char** argv) {
   app.add_option("--silent-at", sim.silent_at_s, "sim fault: stop reporting state after this many seconds");
   app.add_option("--crash-at", sim.crash_at_s, "sim fault: abort the process after this many seconds");
   app.add_option("--seed", sim.seed, "sim: random seed");
+  app.add_option("--cube", toio.cube, "toio: the cube's advertised name (toio-XXX) or Bluetooth address");
+  app.add_option("--mat", mat_file, "toio: mat file (config/mats/*.yaml) placing the grid on the mat");
+  app.add_option("--adapter", toio.adapter, "toio: Bluetooth adapter")->capture_default_str();
+  app.add_option("--max-speed", max_speed, "toio: speed of a move, 10-255")->capture_default_str()
+      ->check(CLI::Range(10, 255));
+  app.add_option("--move-timeout", move_timeout_s, "toio: seconds before a move counts as failed")
+      ->capture_default_str()->check(CLI::Range(1, 30));
   CLI11_PARSE(app, argc, argv);
 
   if (settings.robot_id.empty() || settings.robot_id.size() > fleet_transport::kMaxRobotIdLength) {
@@ -54,8 +66,29 @@ int main(int argc, char** argv) {
   }
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
+  std::unique_ptr<RobotBackend> backend;
+  SimRobot* sim_robot = nullptr;
   try {
-    SimRobot robot(start, sim);
+    if (backend_name == "toio") {
+      toio.max_speed = static_cast<uint8_t>(max_speed);
+      toio.move_timeout_s = static_cast<uint8_t>(move_timeout_s);
+      if (toio.cube.empty() || mat_file.empty()) {
+        spdlog::error("--backend toio needs --cube and --mat");
+        return 2;
+      }
+      backend = std::make_unique<ToioRobot>(toio, MatCalibration::load(mat_file));
+    } else {
+      auto robot = std::make_unique<SimRobot>(start, sim);
+      sim_robot = robot.get();
+      backend = std::move(robot);
+    }
+  } catch (const planner_core::InputError& e) {
+    spdlog::error("{}", e.what());
+    return 2;
+  }
+  auto reporting = [sim_robot] { return sim_robot == nullptr || sim_robot->reporting_enabled(); };
+  try {
+    RobotBackend& robot = *backend;
     RobotAgent agent(settings, robot);
     fleet_transport::TransportConfig config;
     config.vendor = fleet_transport::parse_vendor(vendor);
@@ -67,21 +100,20 @@ int main(int argc, char** argv) {
     handlers.on_command = [&agent](const fleet_transport::StepCommand& c) { agent.on_command(c); };
     auto transport = fleet_transport::make_transport(config, handlers);
     transport->announce(agent.announcement());
-    spdlog::info("{}: {} robot at ({},{}) on {} domain {}", settings.robot_id, robot.kind(), start.x, start.y, vendor,
-                 domain);
+    spdlog::info("{}: {} robot on {} domain {}", settings.robot_id, robot.kind(), vendor, domain);
     // Announce again every second: a coordinator that starts later or restarts learns of us even
     // when the middleware's late-joiner delivery is slow (seen with Fast DDS).
     auto next_announcement = std::chrono::steady_clock::now() + std::chrono::seconds(1);
     while (!g_stop.load()) {
-      if (std::chrono::steady_clock::now() >= next_announcement && robot.reporting_enabled()) {
+      if (std::chrono::steady_clock::now() >= next_announcement && reporting()) {
         transport->announce(agent.announcement());
         next_announcement += std::chrono::seconds(1);
       }
-      if (robot.should_crash()) {
+      if (sim_robot && sim_robot->should_crash()) {
         spdlog::error("{}: injected crash", settings.robot_id);
         std::abort();
       }
-      agent.step(*transport, robot.reporting_enabled());
+      agent.step(*transport, reporting());
       // Sleep until a command arrives, the robot arrives, or the next state is due (at most 50 ms).
       agent.wait_for_command(std::min<std::chrono::steady_clock::duration>(agent.idle_time(),
                                                                            std::chrono::milliseconds(50)));

@@ -100,7 +100,7 @@ class FleetCoordinator {
   std::map<std::string, Robot> robots_;
   std::vector<std::string> robot_of_role_;          // "" when the role has no robot
   std::vector<std::vector<char>> task_done_;        // [task][index in task.agents] visited by that role's robot
-  std::set<planner_core::Vertex> blocked_;          // last cells of lost robots (mission graph ids)
+  std::map<planner_core::Vertex, std::string> blocked_;  // cells of lost robots (mission graph ids) -> robot
   std::set<std::string> warned_unknown_;
   std::map<std::string, planner_core::Vertex> unknown_cells_;  // robots heard but not announced
 

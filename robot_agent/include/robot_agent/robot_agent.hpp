@@ -50,6 +50,8 @@ class RobotAgent {
   int executing_epoch_ = -1;
   int executing_index_ = -1;
   bool was_moving_ = false;
+  bool was_fault_ = false;
+  int fault_epoch_ = -1;  // commands of this epoch or older were issued before a fault
   GridCell moving_to_{};
   uint64_t seq_ = 0;
   std::chrono::steady_clock::time_point next_publish_{};

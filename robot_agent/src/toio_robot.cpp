@@ -1,0 +1,346 @@
+#include "robot_agent/toio_robot.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "fleet_transport/messages.hpp"
+#include "robot_agent/bluez_client.hpp"
+
+namespace robot_agent {
+
+namespace {
+
+std::chrono::milliseconds millis(double seconds) {
+  return std::chrono::milliseconds(static_cast<int64_t>(seconds * 1000));
+}
+
+std::string cell_text(GridCell cell) { return "(" + std::to_string(cell.x) + "," + std::to_string(cell.y) + ")"; }
+
+}  // namespace
+
+ToioRobot::ToioRobot(ToioSettings settings, MatCalibration calibration)
+    : settings_(std::move(settings)), calibration_(std::move(calibration)), fault_since_(Clock::now()) {
+  thread_ = std::thread([this] { ble_thread(); });
+}
+
+ToioRobot::~ToioRobot() {
+  {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    stop_ = true;
+    if (client_) client_->wake();
+  }
+  stop_requested_.notify_all();
+  thread_.join();
+}
+
+// ---- Agent side -------------------------------------------------------------------------------
+
+bool ToioRobot::start_move(GridCell target) {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  if (!fault_.empty() || !have_cell_ || move_) return false;
+  if (target == cell_) {  // a wait: nothing to drive
+    arrived_ms_ = fleet_transport::wall_clock_ms();
+    return true;
+  }
+  if (target.x < 0 || target.y < 0 || target.x >= calibration_.grid_width() || target.y >= calibration_.grid_height()) {
+    spdlog::warn("toio {}: target {} is outside the {}x{} grid of mat {}", settings_.cube, cell_text(target),
+                 calibration_.grid_width(), calibration_.grid_height(), calibration_.mat().name);
+    return false;
+  }
+  move_ = Move{target, next_control_id_++, Clock::now(), false};
+  wake_requested_ = true;
+  if (client_) client_->wake();
+  return true;
+}
+
+BackendReport ToioRobot::poll() {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  if (fault_sticky_ && !move_ && connected_ && lookup_.status == CellLookup::Status::kOnCell &&
+      Clock::now() - fault_since_ >= millis(settings_.fault_hold_s)) {
+    spdlog::info("toio {}: fault cleared, on cell {}", settings_.cube, cell_text(lookup_.cell));
+    fault_.clear();
+    fault_sticky_ = false;
+    cell_ = lookup_.cell;
+    have_cell_ = true;
+  }
+  BackendReport report;
+  report.cell = cell_;
+  report.pose_x = lookup_.grid.x();
+  report.pose_y = lookup_.grid.y();
+  if (position_) {
+    // The cube's angle is clockwise from the mat's +x axis; report it relative to the grid's x axis.
+    double heading = position_->angle - calibration_.grid_heading_deg();
+    report.pose_theta = std::remainder(heading, 360.0) * std::numbers::pi / 180.0;
+  }
+  report.moving = move_.has_value();
+  report.fault = !fault_.empty() || !have_cell_;
+  report.battery_percent = battery_percent_;
+  report.arrived_ms = arrived_ms_;
+  return report;
+}
+
+std::optional<std::chrono::steady_clock::duration> ToioRobot::time_to_arrival() const {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  if (!move_) return std::nullopt;
+  const auto expected = move_->started + millis(settings_.expected_move_s);
+  return std::max<Clock::duration>(expected - Clock::now(), std::chrono::milliseconds(20));
+}
+
+std::string ToioRobot::fault_reason() const {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  return fault_;
+}
+
+bool ToioRobot::connected() const {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  return connected_;
+}
+
+std::optional<toio::PositionId> ToioRobot::mat_position() const {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  return position_;
+}
+
+void ToioRobot::identify() {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  identify_requested_ = true;
+  if (client_) client_->wake();
+}
+
+// ---- Shared helpers (mutex_ held) -------------------------------------------------------------
+
+void ToioRobot::set_fault(const std::string& reason, bool sticky) {
+  if (sticky) {
+    move_.reset();  // a failed move is over
+    fault_sticky_ = true;
+    fault_since_ = Clock::now();
+  } else if (fault_sticky_) {
+    return;  // keep the reason that needs to be seen
+  }
+  if (fault_ != reason) spdlog::warn("toio {}: fault: {}", settings_.cube, reason);
+  fault_ = reason;
+}
+
+void ToioRobot::finish_move(GridCell at) {
+  cell_ = at;
+  have_cell_ = true;
+  move_.reset();
+  arrived_ms_ = fleet_transport::wall_clock_ms();
+}
+
+// ---- BLE thread -------------------------------------------------------------------------------
+
+void ToioRobot::on_id(const toio::Bytes& bytes) {
+  const toio::Decoded<toio::IdReading> decoded = toio::decode_id(bytes);
+  const std::lock_guard<std::mutex> lock(mutex_);
+  if (!decoded) {
+    spdlog::warn("toio {}: ignored ID notification [{}]: {}", settings_.cube, toio::to_hex(bytes), decoded.error);
+    return;
+  }
+  if (const auto* p = std::get_if<toio::PositionId>(&*decoded.value)) {
+    position_ = *p;
+    lookup_ = calibration_.cell_at(Eigen::Vector2d(p->x, p->y));
+    if (move_) {
+      if (lookup_.status == CellLookup::Status::kOnCell && lookup_.cell == move_->target) finish_move(move_->target);
+      return;
+    }
+    if (lookup_.status == CellLookup::Status::kOnCell) {
+      if (!fault_sticky_) {
+        if (!fault_.empty()) spdlog::info("toio {}: ready on cell {}", settings_.cube, cell_text(lookup_.cell));
+        fault_.clear();
+        cell_ = lookup_.cell;
+        have_cell_ = true;
+      }
+      return;
+    }
+    set_fault("cube is " + std::string(describe(lookup_.status)) + " at mat (" + std::to_string(p->x) + ", " +
+                  std::to_string(p->y) + "), " + std::to_string(static_cast<int>(lookup_.distance)) +
+                  " units from the centre of cell " + cell_text(lookup_.cell),
+              false);
+    return;
+  }
+  position_.reset();
+  lookup_ = CellLookup{};
+  if (std::holds_alternative<toio::StandardId>(*decoded.value)) {
+    set_fault("cube is on a Standard ID card, not on the mat", move_.has_value());
+  } else {
+    set_fault("cube lost the mat (ID missed: lifted or off the mat)", move_.has_value());
+  }
+}
+
+void ToioRobot::on_motor(const toio::Bytes& bytes) {
+  const toio::Decoded<toio::MotorNotification> decoded = toio::decode_motor(bytes);
+  const std::lock_guard<std::mutex> lock(mutex_);
+  if (!decoded) {
+    spdlog::warn("toio {}: ignored motor notification [{}]: {}", settings_.cube, toio::to_hex(bytes), decoded.error);
+    return;
+  }
+  const auto* response = std::get_if<toio::MotorResponse>(&*decoded.value);
+  if (!response || !move_ || response->control_id != move_->control_id) return;  // speed info, or an older move
+  if (response->result == toio::MotorResult::kSuccess) {
+    finish_move(move_->target);
+  } else {
+    set_fault("move to " + cell_text(move_->target) + " failed: " + toio::describe(response->result), true);
+  }
+}
+
+void ToioRobot::on_battery(const toio::Bytes& bytes) {
+  const toio::Decoded<int> decoded = toio::decode_battery(bytes);
+  const std::lock_guard<std::mutex> lock(mutex_);
+  if (decoded) battery_percent_ = *decoded.value;
+}
+
+void ToioRobot::serve_connection(BluezClient& client) {
+  const std::string cube = settings_.cube;
+  const auto device = client.find_device(cube, millis(settings_.discovery_timeout_s));
+  if (!device) throw BluezError("cube " + cube + " not found by adapter " + settings_.adapter);
+  client.forget(*device);
+  bool link_lost = false;
+  client.on_disconnected(*device, [&link_lost] { link_lost = true; });
+  spdlog::info("toio {}: connecting to {}", cube, *device);
+  client.connect(*device, millis(settings_.connect_timeout_s));
+  const auto found = client.characteristics(*device, toio::kServiceUuid);
+  auto path_of = [&](const char* uuid, const char* what) {
+    const auto it = found.find(uuid);
+    if (it == found.end()) throw BluezError("cube " + cube + " has no " + what + " characteristic " + uuid);
+    return it->second;
+  };
+  const std::string id_path = path_of(toio::kIdUuid, "ID");
+  const std::string motor_path = path_of(toio::kMotorUuid, "motor");
+  const std::string config_path = path_of(toio::kConfigurationUuid, "configuration");
+  const auto battery = found.find(toio::kBatteryUuid);
+  const auto light = found.find(toio::kLightUuid);
+  const auto sound = found.find(toio::kSoundUuid);
+
+  std::string protocol_version;
+  client.start_notify(config_path, [&](const toio::Bytes& bytes) {
+    const auto reply = toio::decode_configuration(bytes);
+    if (!reply) {
+      spdlog::warn("toio {}: ignored configuration reply [{}]: {}", cube, toio::to_hex(bytes), reply.error);
+    } else if (reply.value->type == 0x81) {
+      protocol_version = reply.value->version;
+    } else if (reply.value->code != 0) {
+      spdlog::warn("toio {}: configuration 0x{:02x} refused with code {}", cube, reply.value->type, reply.value->code);
+    }
+  });
+  client.start_notify(id_path, [this](const toio::Bytes& bytes) { on_id(bytes); });
+  client.start_notify(motor_path, [this](const toio::Bytes& bytes) { on_motor(bytes); });
+  if (battery != found.end()) {
+    client.start_notify(battery->second, [this](const toio::Bytes& bytes) { on_battery(bytes); });
+    on_battery(client.read(battery->second));
+  }
+  client.write(config_path, toio::encode_protocol_version_request(), true);
+  client.write(config_path,
+               toio::encode_id_notification_rate(settings_.id_interval_10ms, toio::IdNotifyCondition::kOnChange), true);
+  on_id(client.read(id_path));  // where the cube stands now, without waiting for a change
+  const auto version_deadline = Clock::now() + std::chrono::seconds(2);
+  while (protocol_version.empty() && Clock::now() < version_deadline && !link_lost) {
+    client.process(std::chrono::milliseconds(20));
+  }
+  spdlog::info("toio {}: connected (protocol {}), battery {}%", cube,
+               protocol_version.empty() ? "unknown" : protocol_version, battery_percent_);
+  {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    connected_ = true;
+    client_ = &client;
+    if (fault_ == "not connected yet" || fault_.rfind("BLE", 0) == 0) {
+      fault_ = position_ ? "" : "no position from the cube yet";
+      if (fault_.empty() && lookup_.status != CellLookup::Status::kOnCell) fault_ = "cube is not on a cell";
+    }
+    identify_requested_ = identify_requested_ || settings_.identify_on_connect;
+  }
+  auto disconnect_cleanup = [&] {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    connected_ = false;
+    client_ = nullptr;
+  };
+  try {
+    for (;;) {
+      client.process(std::chrono::milliseconds(100));
+      std::optional<Move> to_write;
+      bool identify_now = false;
+      {
+        const std::lock_guard<std::mutex> lock(mutex_);
+        if (stop_) break;
+        if (link_lost) {
+          set_fault("BLE link to the cube lost", true);
+          break;
+        }
+        if (move_ && !move_->written) {
+          move_->written = true;
+          to_write = move_;
+        } else if (move_ && Clock::now() - move_->started > std::chrono::seconds(settings_.move_timeout_s + 2)) {
+          set_fault("move to " + cell_text(move_->target) + " got no answer from the cube", true);
+        }
+        identify_now = identify_requested_;
+        identify_requested_ = false;
+      }
+      if (to_write) {
+        const Eigen::Vector2d centre = calibration_.cell_centre(to_write->target);
+        toio::MoveSettings move;
+        move.control_id = to_write->control_id;
+        move.timeout_s = settings_.move_timeout_s;
+        move.move_type = toio::MoveType::kRotateAfterMoving;
+        move.max_speed = settings_.max_speed;
+        move.speed_change = toio::SpeedChange::kConstant;
+        const toio::MatTarget target{static_cast<uint16_t>(std::lround(centre.x())),
+                                     static_cast<uint16_t>(std::lround(centre.y())), 0,
+                                     toio::RotationType::kNoRotation};
+        client.write(motor_path, toio::encode_move_to_target(move, target), false);
+      }
+      if (identify_now) {
+        if (light != found.end()) client.write(light->second, toio::encode_light_on(100, 0, 255, 0), false);
+        if (sound != found.end()) client.write(sound->second, toio::encode_beep(72, 15, 255, 1), false);
+      }
+    }
+  } catch (...) {
+    disconnect_cleanup();
+    throw;
+  }
+  disconnect_cleanup();
+  bool stopping = false;
+  {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    stopping = stop_;
+  }
+  if (stopping) {
+    try {
+      client.write(motor_path, toio::encode_motor_control(0, 0), false);
+      client.disconnect(*device);
+    } catch (const BluezError&) {
+      // Leaving anyway.
+    }
+  }
+  client.forget(*device);
+}
+
+void ToioRobot::ble_thread() {
+  double backoff = settings_.reconnect_backoff_min_s;
+  std::unique_ptr<BluezClient> client;
+  for (;;) {
+    {
+      const std::lock_guard<std::mutex> lock(mutex_);
+      if (stop_) return;
+    }
+    const auto attempt_started = Clock::now();
+    try {
+      if (!client) client = std::make_unique<BluezClient>(settings_.adapter);
+      serve_connection(*client);
+    } catch (const std::exception& e) {
+      const std::lock_guard<std::mutex> lock(mutex_);
+      set_fault(std::string("BLE: ") + e.what(), false);
+      client.reset();  // a fresh bus connection next time, in case this one is what failed
+    }
+    // A connection that lasted a while earns a quick retry; repeated failures back off.
+    if (Clock::now() - attempt_started > std::chrono::seconds(10)) backoff = settings_.reconnect_backoff_min_s;
+    std::unique_lock<std::mutex> lock(mutex_);
+    if (stop_) return;
+    if (!fault_.empty()) spdlog::info("toio {}: reconnecting in {:.1f} s", settings_.cube, backoff);
+    stop_requested_.wait_for(lock, millis(backoff), [this] { return stop_; });
+    backoff = std::min(backoff * 2, settings_.reconnect_backoff_max_s);
+  }
+}
+
+}  // namespace robot_agent
