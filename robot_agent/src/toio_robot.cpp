@@ -16,6 +16,9 @@ std::chrono::milliseconds millis(double seconds) {
   return std::chrono::milliseconds(static_cast<int64_t>(seconds * 1000));
 }
 
+// The spec's "target reached": within 15 mat units of it.
+constexpr double kReachedDistance = 15;
+
 std::string cell_text(GridCell cell) { return "(" + std::to_string(cell.x) + "," + std::to_string(cell.y) + ")"; }
 
 }  // namespace
@@ -143,11 +146,13 @@ void ToioRobot::on_id(const toio::Bytes& bytes) {
     position_ = *p;
     lookup_ = calibration_.cell_at(Eigen::Vector2d(p->x, p->y));
     if (move_) {
-      if (lookup_.status == CellLookup::Status::kOnCell && lookup_.cell == move_->target) finish_move(move_->target);
+      if (lookup_.cell == move_->target && lookup_.distance <= std::min(calibration_.tolerance(), kReachedDistance)) {
+        finish_move(move_->target);
+      }
       return;
     }
     if (lookup_.status == CellLookup::Status::kOnCell) {
-      if (!fault_sticky_) {
+      if (!fault_sticky_ && connected_) {
         if (!fault_.empty()) spdlog::info("toio {}: ready on cell {}", settings_.cube, cell_text(lookup_.cell));
         fault_.clear();
         cell_ = lookup_.cell;
@@ -234,23 +239,24 @@ void ToioRobot::serve_connection(BluezClient& client) {
   client.write(config_path, toio::encode_protocol_version_request(), true);
   client.write(config_path,
                toio::encode_id_notification_rate(settings_.id_interval_10ms, toio::IdNotifyCondition::kOnChange), true);
-  on_id(client.read(id_path));  // where the cube stands now, without waiting for a change
   const auto version_deadline = Clock::now() + std::chrono::seconds(2);
   while (protocol_version.empty() && Clock::now() < version_deadline && !link_lost) {
     client.process(std::chrono::milliseconds(20));
   }
+  auto flash_and_beep = [&] {
+    if (light != found.end()) client.write(light->second, toio::encode_light_on(100, 0, 255, 0), false);
+    if (sound != found.end()) client.write(sound->second, toio::encode_beep(72, 15, 255, 1), false);
+  };
+  if (settings_.identify_on_connect) flash_and_beep();
   spdlog::info("toio {}: connected (protocol {}), battery {}%", cube,
                protocol_version.empty() ? "unknown" : protocol_version, battery_percent_);
   {
     const std::lock_guard<std::mutex> lock(mutex_);
     connected_ = true;
     client_ = &client;
-    if (fault_ == "not connected yet" || fault_.rfind("BLE", 0) == 0) {
-      fault_ = position_ ? "" : "no position from the cube yet";
-      if (fault_.empty() && lookup_.status != CellLookup::Status::kOnCell) fault_ = "cube is not on a cell";
-    }
-    identify_requested_ = identify_requested_ || settings_.identify_on_connect;
+    if (!fault_sticky_) fault_ = "no position from the cube yet";
   }
+  on_id(client.read(id_path));  // where the cube stands now, without waiting for it to move
   auto disconnect_cleanup = [&] {
     const std::lock_guard<std::mutex> lock(mutex_);
     connected_ = false;
@@ -290,10 +296,7 @@ void ToioRobot::serve_connection(BluezClient& client) {
                                      toio::RotationType::kNoRotation};
         client.write(motor_path, toio::encode_move_to_target(move, target), false);
       }
-      if (identify_now) {
-        if (light != found.end()) client.write(light->second, toio::encode_light_on(100, 0, 255, 0), false);
-        if (sound != found.end()) client.write(sound->second, toio::encode_beep(72, 15, 255, 1), false);
-      }
+      if (identify_now) flash_and_beep();
     }
   } catch (...) {
     disconnect_cleanup();

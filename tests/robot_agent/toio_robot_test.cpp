@@ -1,0 +1,149 @@
+// ToioRobot through its real BlueZ D-Bus code path, against the cube emulator on a private bus:
+// connect, move, and every fault (lifted, between cells, link lost, cube absent, no bus).
+#include "robot_agent/toio_robot.hpp"
+
+#include <gtest/gtest.h>
+
+#include "emulated_bluez.hpp"
+
+namespace robot_agent {
+namespace {
+
+using testing::EmulatedBluez;
+using testing::eventually;
+
+const std::string kRing = CTSFLEET_CONFIG_DIR "/mats/toio-collection-ring.yaml";
+
+ToioSettings settings_for(const std::string& cube) {
+  ToioSettings settings;
+  settings.cube = cube;
+  settings.discovery_timeout_s = 5;
+  settings.reconnect_backoff_min_s = 0.2;
+  settings.reconnect_backoff_max_s = 1;
+  return settings;
+}
+
+bool ready(ToioRobot& robot) { return !robot.poll().fault; }
+
+void move_and_arrive(ToioRobot& robot, EmulatedBluez& bluez, const std::string& cube, GridCell target) {
+  ASSERT_TRUE(robot.start_move(target));
+  EXPECT_TRUE(robot.poll().moving);
+  ASSERT_TRUE(eventually([&] { return !robot.poll().moving; })) << "no arrival at " << target.x << "," << target.y;
+  const BackendReport report = robot.poll();
+  EXPECT_FALSE(report.fault) << robot.fault_reason();
+  EXPECT_EQ(report.cell, target);
+  EXPECT_GT(report.arrived_ms, 0);
+  // Arrival is declared within the spec's reach (15 units); the cube settles on the centre.
+  const Eigen::Vector2d centre = robot.calibration().cell_centre(target);
+  EXPECT_LE((Eigen::Vector2d(bluez.pose(cube).x, bluez.pose(cube).y) - centre).norm(), 15.5);
+  EXPECT_TRUE(eventually([&] {
+    const testing::EmulatedCubePose pose = bluez.pose(cube);
+    return (Eigen::Vector2d(pose.x, pose.y) - centre).norm() < 2.0;
+  }));
+}
+
+TEST(ToioRobot, ConnectsThenMovesACubeThreeCells) {
+  EmulatedBluez bluez({"toio-a@cell:1,1", "toio-b@cell:5,5"});
+  ToioRobot robot(settings_for("toio-a"), MatCalibration::load(kRing));
+  ASSERT_TRUE(eventually([&] { return ready(robot); })) << robot.fault_reason() << "\n" << bluez.log();
+  EXPECT_TRUE(robot.connected());
+  EXPECT_EQ(robot.poll().cell, (GridCell{1, 1}));
+  EXPECT_EQ(robot.poll().battery_percent, 90);
+  EXPECT_GE(bluez.pose("toio-a").light_writes, 1);  // identified itself with its light
+  EXPECT_FALSE(bluez.pose("toio-b").connected);      // the other cube is left alone
+  move_and_arrive(robot, bluez, "toio-a", {2, 1});
+  move_and_arrive(robot, bluez, "toio-a", {2, 2});
+  move_and_arrive(robot, bluez, "toio-a", {1, 2});
+  // The reported pose follows the cube's Position IDs (cell units).
+  EXPECT_TRUE(eventually([&] {
+    const BackendReport report = robot.poll();
+    return std::abs(report.pose_x - 1) < 0.05 && std::abs(report.pose_y - 2) < 0.05;
+  }));
+  EXPECT_TRUE(robot.start_move({1, 2}));  // a wait: nothing to drive
+  EXPECT_FALSE(robot.poll().moving);
+  EXPECT_FALSE(robot.start_move({-1, 2}));  // off the grid
+}
+
+TEST(ToioRobot, FindsACubeByAddress) {
+  EmulatedBluez bluez({"toio-a@cell:1,1", "toio-b@cell:5,5"});
+  ToioRobot robot(settings_for("e0:7c:00:00:00:01"), MatCalibration::load(kRing));
+  ASSERT_TRUE(eventually([&] { return ready(robot); })) << robot.fault_reason();
+  EXPECT_EQ(robot.poll().cell, (GridCell{5, 5}));
+}
+
+TEST(ToioRobot, LiftedCubeIsAFaultUntilPutBackOnACell) {
+  EmulatedBluez bluez({"toio-a@cell:1,1"});
+  ToioRobot robot(settings_for("toio-a"), MatCalibration::load(kRing));
+  ASSERT_TRUE(eventually([&] { return ready(robot); })) << robot.fault_reason();
+  bluez.lift("toio-a");
+  ASSERT_TRUE(eventually([&] { return robot.poll().fault; }));
+  EXPECT_NE(robot.fault_reason().find("ID missed"), std::string::npos) << robot.fault_reason();
+  EXPECT_FALSE(robot.start_move({2, 1}));
+  const Eigen::Vector2d cell = robot.calibration().cell_centre({4, 3});
+  bluez.place("toio-a", cell.x(), cell.y());
+  ASSERT_TRUE(eventually([&] { return ready(robot); })) << robot.fault_reason();
+  EXPECT_EQ(robot.poll().cell, (GridCell{4, 3}));
+}
+
+TEST(ToioRobot, CubeLiftedMidMoveFailsTheMoveAndIsHeldAsAFault) {
+  EmulatedBluez bluez({"toio-a@cell:1,1"});
+  ToioRobot robot(settings_for("toio-a"), MatCalibration::load(kRing));
+  ASSERT_TRUE(eventually([&] { return ready(robot); })) << robot.fault_reason();
+  ASSERT_TRUE(robot.start_move({2, 1}));
+  bluez.lift("toio-a");
+  ASSERT_TRUE(eventually([&] { return robot.poll().fault && !robot.poll().moving; }));
+  EXPECT_NE(robot.fault_reason().find("ID missed"), std::string::npos) << robot.fault_reason();
+  bluez.place("toio-a", 125, 125);  // back on cell (1,1)
+  const auto placed = std::chrono::steady_clock::now();
+  ASSERT_TRUE(eventually([&] { return ready(robot); })) << robot.fault_reason();
+  // The failed move stays visible as a fault for at least fault_hold_s (1 s by default).
+  EXPECT_GE(std::chrono::steady_clock::now() - placed, std::chrono::milliseconds(500));
+  EXPECT_EQ(robot.poll().cell, (GridCell{1, 1}));
+}
+
+TEST(ToioRobot, CubeBetweenCellsIsAFaultNotRoundedToACell) {
+  EmulatedBluez bluez({"toio-a@cell:1,1"});
+  ToioRobot robot(settings_for("toio-a"), MatCalibration::load(kRing));
+  ASSERT_TRUE(eventually([&] { return ready(robot); })) << robot.fault_reason();
+  bluez.place("toio-a", 150, 125);  // halfway between cells (1,1) and (2,1)
+  ASSERT_TRUE(eventually([&] { return robot.poll().fault; }));
+  EXPECT_NE(robot.fault_reason().find("between cells"), std::string::npos) << robot.fault_reason();
+  EXPECT_FALSE(robot.start_move({2, 1}));
+}
+
+TEST(ToioRobot, LostLinkIsAFaultThenTheRobotReconnects) {
+  EmulatedBluez bluez({"toio-a@cell:1,1"});
+  ToioRobot robot(settings_for("toio-a"), MatCalibration::load(kRing));
+  ASSERT_TRUE(eventually([&] { return ready(robot); })) << robot.fault_reason();
+  bluez.drop_connection("toio-a", 2.0);  // unreachable for 2 s: the first reconnects fail
+  ASSERT_TRUE(eventually([&] { return robot.poll().fault; }));
+  EXPECT_NE(robot.fault_reason().find("link"), std::string::npos) << robot.fault_reason();
+  ASSERT_TRUE(eventually([&] { return !robot.connected(); }));
+  ASSERT_TRUE(eventually([&] { return robot.connected() && ready(robot); })) << robot.fault_reason() << bluez.log();
+  move_and_arrive(robot, bluez, "toio-a", {1, 2});
+}
+
+TEST(ToioRobot, AbsentCubeIsAFaultAndTheBackendStillStopsPromptly) {
+  EmulatedBluez bluez({"toio-a@cell:1,1"});
+  ToioSettings settings = settings_for("toio-zzz");
+  settings.discovery_timeout_s = 0.5;
+  auto robot = std::make_unique<ToioRobot>(settings, MatCalibration::load(kRing));
+  ASSERT_TRUE(eventually([&] { return robot->fault_reason().find("not found") != std::string::npos; }))
+      << robot->fault_reason();
+  EXPECT_TRUE(robot->poll().fault);
+  EXPECT_FALSE(robot->start_move({1, 2}));
+  const auto stopping = std::chrono::steady_clock::now();
+  robot.reset();
+  EXPECT_LT(std::chrono::steady_clock::now() - stopping, std::chrono::seconds(5));
+}
+
+TEST(ToioRobot, NoBusIsAFaultThatNamesTheBus) {
+  setenv("DBUS_SYSTEM_BUS_ADDRESS", "unix:path=/nonexistent/ctsfleet-bus", 1);
+  ToioRobot robot(settings_for("toio-a"), MatCalibration::load(kRing));
+  ASSERT_TRUE(eventually([&] { return robot.fault_reason().find("D-Bus") != std::string::npos; }))
+      << robot.fault_reason();
+  EXPECT_TRUE(robot.poll().fault);
+}
+
+}  // namespace
+}  // namespace robot_agent
