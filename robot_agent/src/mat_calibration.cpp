@@ -184,6 +184,7 @@ MatCalibration MatCalibration::load(const std::string& path) {
 }
 
 void MatCalibration::save(const std::string& path, const std::string& comment) const {
+  auto tidy = [](double value) { return std::round(value * 1e4) / 1e4 + 0.0; };  // no 1e-14 noise, no -0
   YAML::Emitter out;
   out << YAML::BeginMap;
   out << YAML::Key << "mat" << YAML::Value << YAML::BeginMap;
@@ -199,11 +200,11 @@ void MatCalibration::save(const std::string& path, const std::string& comment) c
   out << YAML::Key << "transform" << YAML::Value << YAML::BeginMap;
   out << YAML::Key << "matrix" << YAML::Value << YAML::Flow << YAML::BeginSeq;
   for (int row = 0; row < 2; ++row) {
-    out << YAML::Flow << YAML::BeginSeq << linear_(row, 0) << linear_(row, 1) << YAML::EndSeq;
+    out << YAML::Flow << YAML::BeginSeq << tidy(linear_(row, 0)) << tidy(linear_(row, 1)) << YAML::EndSeq;
   }
   out << YAML::EndSeq;
-  out << YAML::Key << "offset" << YAML::Value << YAML::Flow << YAML::BeginSeq << offset_.x() << offset_.y() << YAML::EndSeq;
-  if (fit_residual_ >= 0) out << YAML::Key << "rms_residual" << YAML::Value << fit_residual_;
+  out << YAML::Key << "offset" << YAML::Value << YAML::Flow << YAML::BeginSeq << tidy(offset_.x()) << tidy(offset_.y()) << YAML::EndSeq;
+  if (fit_residual_ >= 0) out << YAML::Key << "rms_residual" << YAML::Value << tidy(fit_residual_);
   out << YAML::EndMap;
   out << YAML::EndMap;
   std::ofstream file(path);

@@ -31,6 +31,10 @@ void RobotAgent::on_command(const StepCommand& command) {
     reject(command, "stale plan epoch (current epoch " + std::to_string(epoch_) + ")");
     return;
   }
+  if (in_fault_) {
+    reject(command, "the robot is in fault");
+    return;
+  }
   if (command.plan_epoch <= fault_epoch_) {
     reject(command, "plan epoch " + std::to_string(command.plan_epoch) +
                         " was made before the robot's fault; waiting for a new plan");
@@ -64,12 +68,15 @@ std::chrono::steady_clock::duration RobotAgent::idle_time() const {
 void RobotAgent::step(fleet_transport::Transport& transport, bool reporting) {
   BackendReport report = backend_.poll();
   bool publish_now = (was_moving_ && !report.moving) || report.fault != was_fault_;  // report changes at once
-  if (report.fault && !was_fault_) {
+  if (report.fault != was_fault_) {
     // The coordinator takes a faulted robot out and replans; nothing of the old plan may move it.
     const std::lock_guard<std::mutex> lock(mutex_);
-    fault_epoch_ = epoch_;
-    if (pending_) spdlog::warn("{}: fault: dropped the command not yet started", settings_.robot_id);
-    pending_.reset();
+    in_fault_ = report.fault;
+    if (report.fault) {
+      fault_epoch_ = epoch_;
+      if (pending_) spdlog::warn("{}: fault: dropped the command not yet started", settings_.robot_id);
+      pending_.reset();
+    }
   }
   was_fault_ = report.fault;
   if (!report.moving && !report.fault) {

@@ -328,19 +328,22 @@ void ToioRobot::ble_thread() {
       if (stop_) return;
     }
     const auto attempt_started = Clock::now();
+    std::string failure;
     try {
       if (!client) client = std::make_unique<BluezClient>(settings_.adapter);
       serve_connection(*client);
     } catch (const std::exception& e) {
       const std::lock_guard<std::mutex> lock(mutex_);
-      set_fault(std::string("BLE: ") + e.what(), false);
+      failure = e.what();
+      set_fault("BLE: " + failure, false);
       client.reset();  // a fresh bus connection next time, in case this one is what failed
     }
     // A connection that lasted a while earns a quick retry; repeated failures back off.
     if (Clock::now() - attempt_started > std::chrono::seconds(10)) backoff = settings_.reconnect_backoff_min_s;
     std::unique_lock<std::mutex> lock(mutex_);
     if (stop_) return;
-    if (!fault_.empty()) spdlog::info("toio {}: reconnecting in {:.1f} s", settings_.cube, backoff);
+    spdlog::info("toio {}: {}; reconnecting in {:.1f} s", settings_.cube,
+                 failure.empty() ? "connection ended" : failure, backoff);
     stop_requested_.wait_for(lock, millis(backoff), [this] { return stop_; });
     backoff = std::min(backoff * 2, settings_.reconnect_backoff_max_s);
   }
