@@ -104,8 +104,11 @@ void RobotAgent::step(fleet_transport::Transport& transport, bool reporting) {
     const std::lock_guard<std::mutex> lock(mutex_);
     next_start_ = report.moving ? moving_to_ : report.cell;
   }
+  // Until the robot has once stood on a cell (a toio cube still connecting), it has no cell to
+  // report, and the fleet must not see a made-up one.
+  if (!report.fault) has_stood_on_a_cell_ = true;
   const auto now = std::chrono::steady_clock::now();
-  if (!reporting || (!publish_now && now < next_publish_)) return;
+  if (!reporting || !has_stood_on_a_cell_ || (!publish_now && now < next_publish_)) return;
   next_publish_ = now + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
                             std::chrono::duration<double>(1.0 / settings_.state_rate_hz));
   fleet_transport::RobotState state;

@@ -65,8 +65,7 @@ BackendReport ToioRobot::poll() {
     spdlog::info("toio {}: fault cleared, on cell {}", settings_.cube, cell_text(lookup_.cell));
     fault_.clear();
     fault_sticky_ = false;
-    cell_ = lookup_.cell;
-    have_cell_ = true;
+    stand_on(lookup_.cell);
   }
   BackendReport report;
   report.cell = cell_;
@@ -126,6 +125,12 @@ void ToioRobot::set_fault(const std::string& reason, bool sticky) {
   fault_ = reason;
 }
 
+void ToioRobot::stand_on(GridCell cell) {
+  if (!have_cell_ || cell_ != cell) arrived_ms_ = fleet_transport::wall_clock_ms();  // found (or put) there now
+  cell_ = cell;
+  have_cell_ = true;
+}
+
 void ToioRobot::finish_move(GridCell at) {
   cell_ = at;
   have_cell_ = true;
@@ -155,8 +160,7 @@ void ToioRobot::on_id(const toio::Bytes& bytes) {
       if (!fault_sticky_ && connected_) {
         if (!fault_.empty()) spdlog::info("toio {}: ready on cell {}", settings_.cube, cell_text(lookup_.cell));
         fault_.clear();
-        cell_ = lookup_.cell;
-        have_cell_ = true;
+        stand_on(lookup_.cell);
       }
       return;
     }

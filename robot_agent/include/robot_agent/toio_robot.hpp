@@ -79,6 +79,7 @@ class ToioRobot : public RobotBackend {
   // Both with mutex_ held.
   void set_fault(const std::string& reason, bool sticky);
   void finish_move(GridCell at);
+  void stand_on(GridCell cell);  // seen standing on a cell while not moving
 
   const ToioSettings settings_;
   const MatCalibration calibration_;
