@@ -5,16 +5,19 @@
 #include <cstdio>
 #include <tuple>
 
+#include "robot_agent/bluez_names.hpp"
+#include "robot_agent/toio_protocol.hpp"
+
 namespace toio_emulator {
 
 namespace {
 
-constexpr const char* kAdapter = "org.bluez.Adapter1";
-constexpr const char* kDevice = "org.bluez.Device1";
-constexpr const char* kService = "org.bluez.GattService1";
-constexpr const char* kCharacteristic = "org.bluez.GattCharacteristic1";
+using robot_agent::bluez::kAdapter;
+using robot_agent::bluez::kDevice;
+using robot_agent::toio::kServiceUuid;
+constexpr const char* kService = robot_agent::bluez::kGattService;
+constexpr const char* kCharacteristic = robot_agent::bluez::kGattCharacteristic;
 constexpr const char* kControl = "io.ctsfleet.ToioEmulator1";
-constexpr const char* kServiceUuid = "10b20100-5b3b-4571-9508-cf3efcd7bbae";
 
 struct CharacteristicInfo {
   Characteristic kind;
@@ -24,14 +27,14 @@ struct CharacteristicInfo {
 
 const std::vector<CharacteristicInfo>& toio_characteristics() {
   static const std::vector<CharacteristicInfo> list = {
-      {Characteristic::kId, "10b20101-5b3b-4571-9508-cf3efcd7bbae", {"read", "notify"}},
-      {Characteristic::kMotor, "10b20102-5b3b-4571-9508-cf3efcd7bbae", {"write-without-response", "read", "notify"}},
-      {Characteristic::kLight, "10b20103-5b3b-4571-9508-cf3efcd7bbae", {"write", "read"}},
-      {Characteristic::kSound, "10b20104-5b3b-4571-9508-cf3efcd7bbae", {"write", "read"}},
-      {Characteristic::kSensor, "10b20106-5b3b-4571-9508-cf3efcd7bbae", {"write", "read", "notify"}},
-      {Characteristic::kButton, "10b20107-5b3b-4571-9508-cf3efcd7bbae", {"read", "notify"}},
-      {Characteristic::kBattery, "10b20108-5b3b-4571-9508-cf3efcd7bbae", {"read", "notify"}},
-      {Characteristic::kConfiguration, "10b201ff-5b3b-4571-9508-cf3efcd7bbae", {"write", "read", "notify"}},
+      {Characteristic::kId, robot_agent::toio::kIdUuid, {"read", "notify"}},
+      {Characteristic::kMotor, robot_agent::toio::kMotorUuid, {"write-without-response", "read", "notify"}},
+      {Characteristic::kLight, robot_agent::toio::kLightUuid, {"write", "read"}},
+      {Characteristic::kSound, robot_agent::toio::kSoundUuid, {"write", "read"}},
+      {Characteristic::kSensor, robot_agent::toio::kSensorUuid, {"write", "read", "notify"}},
+      {Characteristic::kButton, robot_agent::toio::kButtonUuid, {"read", "notify"}},
+      {Characteristic::kBattery, robot_agent::toio::kBatteryUuid, {"read", "notify"}},
+      {Characteristic::kConfiguration, robot_agent::toio::kConfigurationUuid, {"write", "read", "notify"}},
   };
   return list;
 }
@@ -150,7 +153,7 @@ void FakeBluez::make_present(Cube& cube) {
   device.registerProperty("ServicesResolved").onInterface(kDevice).withGetter([c] { return c->services_resolved; });
   device.registerProperty("RSSI").onInterface(kDevice).withGetter([] { return int16_t{-55}; });
   device.registerProperty("UUIDs").onInterface(kDevice).withGetter([] {
-    return std::vector<std::string>{kServiceUuid};
+    return std::vector<std::string>{std::string(kServiceUuid)};
   });
   device.finishRegistration();
   device.emitInterfacesAddedSignal();

@@ -3,7 +3,8 @@
 // in place towards the target, then drives straight at a speed set by max_speed), and produces the
 // notifications a real cube sends: Position ID at the configured rate, ID missed when lifted, 83/84
 // motor responses, configuration replies. Written from the spec independently of the central's
-// codec (robot_agent/toio_protocol.hpp), so the two check each other in the end-to-end tests.
+// codec (robot_agent/toio_protocol.hpp; only the UUIDs are shared), so the two check each other
+// in the end-to-end tests.
 #pragma once
 
 #include <cstdint>

@@ -4,17 +4,19 @@
 #include <cctype>
 #include <thread>
 
+#include "robot_agent/bluez_names.hpp"
+
 namespace robot_agent {
 
 namespace {
 
-constexpr const char* kBluez = "org.bluez";
-constexpr const char* kAdapter = "org.bluez.Adapter1";
-constexpr const char* kDevice = "org.bluez.Device1";
-constexpr const char* kService = "org.bluez.GattService1";
-constexpr const char* kCharacteristic = "org.bluez.GattCharacteristic1";
-constexpr const char* kProperties = "org.freedesktop.DBus.Properties";
-constexpr const char* kObjectManager = "org.freedesktop.DBus.ObjectManager";
+using bluez::kAdapter;
+using bluez::kDevice;
+using bluez::kObjectManager;
+using bluez::kProperties;
+constexpr const char* kBluez = bluez::kBusName;
+constexpr const char* kService = bluez::kGattService;
+constexpr const char* kCharacteristic = bluez::kGattCharacteristic;
 constexpr uint64_t kCallTimeoutUs = 10'000'000;  // BlueZ's own calls can take seconds over the air
 
 std::string lower(std::string text) {

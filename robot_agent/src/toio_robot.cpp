@@ -115,6 +115,7 @@ void ToioRobot::identify() {
 
 void ToioRobot::set_fault(const std::string& reason, bool sticky) {
   if (sticky) {
+    if (move_ && !move_->recovery) interrupted_ = InterruptedMove{cell_, move_->target};
     move_.reset();  // a failed move is over
     fault_sticky_ = true;
     fault_since_ = Clock::now();
@@ -129,6 +130,23 @@ void ToioRobot::stand_on(GridCell cell) {
   if (!have_cell_ || cell_ != cell) arrived_ms_ = fleet_transport::wall_clock_ms();  // found (or put) there now
   cell_ = cell;
   have_cell_ = true;
+}
+
+void ToioRobot::start_recovery_if_needed() {
+  if (!interrupted_ || move_ || !connected_ || !position_) return;
+  const InterruptedMove interrupted = *interrupted_;
+  if (lookup_.status == CellLookup::Status::kOnCell) {
+    interrupted_.reset();  // it stopped on a cell (or was put on one): nothing to do
+    return;
+  }
+  if (lookup_.status != CellLookup::Status::kBetweenCells ||
+      (lookup_.cell != interrupted.from && lookup_.cell != interrupted.to)) {
+    return;  // somewhere else: a person has to put it on a cell
+  }
+  interrupted_.reset();
+  spdlog::info("toio {}: stopped between {} and {}: driving onto {}", settings_.cube, cell_text(interrupted.from),
+               cell_text(interrupted.to), cell_text(lookup_.cell));
+  move_ = Move{lookup_.cell, next_control_id_++, Clock::now(), false, true};
 }
 
 void ToioRobot::finish_move(GridCell at) {
@@ -278,6 +296,7 @@ void ToioRobot::serve_connection(BluezClient& client) {
           set_fault("BLE link to the cube lost", true);
           break;
         }
+        start_recovery_if_needed();
         if (move_ && !move_->written) {
           move_->written = true;
           to_write = move_;

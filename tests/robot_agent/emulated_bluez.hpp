@@ -41,7 +41,7 @@ struct EmulatedCubePose {
 
 class EmulatedBluez {
  public:
-  explicit EmulatedBluez(const std::vector<std::string>& cube_args) {
+  explicit EmulatedBluez(const std::vector<std::string>& cube_args, const std::vector<std::string>& extra_args = {}) {
     dir_ = std::filesystem::temp_directory_path() / ("ctsfleet-bluez-" + std::to_string(getpid()) + "-" +
                                                       std::to_string(counter()++));
     std::filesystem::create_directories(dir_);
@@ -53,6 +53,7 @@ class EmulatedBluez {
     std::vector<std::string> args = {CTSFLEET_BIN_DIR "/ctsfleet-toio-emulator", "--bus", address, "--mat",
                                      CTSFLEET_CONFIG_DIR "/mats/toio-collection-ring.yaml"};
     for (const std::string& cube : cube_args) args.insert(args.end(), {"--cube", cube});
+    args.insert(args.end(), extra_args.begin(), extra_args.end());
     emulator_pid_ = spawn(args, dir_ / "emulator.log");
     if (!eventually([&] { return log().find("toio-emulator ready") != std::string::npos; })) {
       throw std::runtime_error("the emulator did not start: " + log());

@@ -86,7 +86,7 @@ TEST(ToioRobot, LiftedCubeIsAFaultUntilPutBackOnACell) {
 }
 
 TEST(ToioRobot, CubeLiftedMidMoveFailsTheMoveAndIsHeldAsAFault) {
-  EmulatedBluez bluez({"toio-a@cell:1,1"});
+  EmulatedBluez bluez({"toio-a@cell:1,1"}, {"--speed-per-unit", "0.25"});  // slow: lifted surely mid-move
   ToioRobot robot(settings_for("toio-a"), MatCalibration::load(kRing));
   ASSERT_TRUE(eventually([&] { return ready(robot); })) << robot.fault_reason();
   ASSERT_TRUE(robot.start_move({2, 1}));
@@ -121,6 +121,28 @@ TEST(ToioRobot, LostLinkIsAFaultThenTheRobotReconnects) {
   ASSERT_TRUE(eventually([&] { return !robot.connected(); }));
   ASSERT_TRUE(eventually([&] { return robot.connected() && ready(robot); })) << robot.fault_reason() << bluez.log();
   move_and_arrive(robot, bluez, "toio-a", {1, 2});
+}
+
+TEST(ToioRobot, LinkLostMidMoveThenTheCubeIsDrivenOntoTheNearerOfItsTwoCells) {
+  // A slow cube (20 units/s) so that even a loaded machine cuts the link while it is between cells.
+  EmulatedBluez bluez({"toio-a@cell:1,1"}, {"--speed-per-unit", "0.25"});
+  ToioRobot robot(settings_for("toio-a"), MatCalibration::load(kRing));
+  ASSERT_TRUE(eventually([&] { return ready(robot); })) << robot.fault_reason();
+  ASSERT_TRUE(robot.start_move({2, 1}));
+  // Cut the link once the cube is between cells (more than the tolerance, 18, from both centres
+  // at x 125 and 175); it stops there, as a real cube stops its motors when the link drops.
+  ASSERT_TRUE(eventually([&] { return bluez.pose("toio-a").x > 145; }));
+  bluez.drop_connection("toio-a", 0.5);
+  ASSERT_TRUE(eventually([&] { return robot.poll().fault && !robot.connected(); }));
+  const double stopped_x = bluez.pose("toio-a").x;
+  ASSERT_GT(stopped_x, 143) << "the cube must stop between the cells for this test";
+  ASSERT_LT(stopped_x, 157) << "the cube must stop between the cells for this test";
+  ASSERT_TRUE(eventually([&] { return ready(robot); })) << robot.fault_reason() << bluez.log();
+  const GridCell nearer = stopped_x < 150 ? GridCell{1, 1} : GridCell{2, 1};
+  EXPECT_EQ(robot.poll().cell, nearer);
+  EXPECT_TRUE(eventually([&] {
+    return std::abs(bluez.pose("toio-a").x - robot.calibration().cell_centre(nearer).x()) < 2;
+  }));
 }
 
 TEST(ToioRobot, AbsentCubeIsAFaultAndTheBackendStillStopsPromptly) {

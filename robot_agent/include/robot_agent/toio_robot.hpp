@@ -69,6 +69,11 @@ class ToioRobot : public RobotBackend {
     uint8_t control_id = 0;
     Clock::time_point started;
     bool written = false;
+    bool recovery = false;  // our own move back onto a cell after an interrupted one
+  };
+  // A move that failed part way: the two cells the cube may stand between.
+  struct InterruptedMove {
+    GridCell from, to;
   };
 
   void ble_thread();
@@ -79,6 +84,9 @@ class ToioRobot : public RobotBackend {
   // Both with mutex_ held.
   void set_fault(const std::string& reason, bool sticky);
   void finish_move(GridCell at);
+  // After an interrupted move the cube may stand between its two cells, both of which the
+  // coordinator keeps clear for it; drive it onto the nearer one (once) so it can rejoin.
+  void start_recovery_if_needed();
   void stand_on(GridCell cell);  // seen standing on a cell while not moving
 
   const ToioSettings settings_;
@@ -95,6 +103,7 @@ class ToioRobot : public RobotBackend {
   GridCell cell_;
   CellLookup lookup_;
   std::optional<Move> move_;
+  std::optional<InterruptedMove> interrupted_;
   uint8_t next_control_id_ = 1;
   std::string fault_ = "not connected yet";
   bool fault_sticky_ = false;
