@@ -98,6 +98,12 @@ FakeBluez::FakeBluez(sdbus::IConnection& connection, const std::vector<CubeSpec>
         cube.unreachable_for_s = unreachable_s;
         drop_connection(cube, "dropped on request, unreachable for " + std::to_string(unreachable_s) + " s");
       });
+  control_->registerMethod("Block")
+      .onInterface(kControl)
+      .implementedAs([this](const std::string& name, bool blocked) {
+        spdlog::info("{}: {}", name, blocked ? "blocked (cannot move)" : "free to move");
+        cube_named(name).model.set_blocked(blocked);
+      });
   control_->registerMethod("Pose").onInterface(kControl).implementedAs([this](const std::string& name) {
     const Cube& cube = cube_named(name);
     const CubePose& pose = cube.model.pose();

@@ -3,7 +3,7 @@
 // (Connect, Disconnect, Connected, ServicesResolved), the toio GattService1 and its
 // GattCharacteristic1 objects (ReadValue, WriteValue, StartNotify, StopNotify; notifications as
 // PropertiesChanged of Value). A control interface io.ctsfleet.ToioEmulator1 at
-// /io/ctsfleet/emulator lets tests lift, place and disconnect cubes.
+// /io/ctsfleet/emulator lets tests lift, place, block and disconnect cubes.
 #pragma once
 
 #include <sdbus-c++/sdbus-c++.h>

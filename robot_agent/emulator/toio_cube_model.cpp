@@ -133,7 +133,7 @@ std::vector<Notification> ToioCubeModel::advance(double dt) {
     const double dx = move.target_x - pose_.x, dy = move.target_y - pose_.y;
     const double distance = std::hypot(dx, dy);
     double budget = dt;
-    if (distance > 0.5) {  // turn in place towards the target, then drive straight
+    if (distance > 0.5 && !blocked_) {  // turn in place towards the target, then drive straight
       const double heading = std::atan2(dy, dx) * 180 / std::numbers::pi;
       const double turn = std::remainder(heading - pose_.angle_deg, 360.0);
       const double turn_step = std::min(std::abs(turn), kTurnRateDegPerS * budget);

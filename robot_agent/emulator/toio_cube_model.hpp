@@ -43,6 +43,7 @@ class ToioCubeModel {
   void lift();  // off the mat: ID missed, a move in progress fails
   void place(CubePose pose);
   void disconnected();  // settings reset and motors stop, as on a real cube
+  void set_blocked(bool blocked) { blocked_ = blocked; }  // wheels spin, the cube does not move
 
   const CubePose& pose() const { return pose_; }
   bool on_mat() const { return on_mat_; }
@@ -64,6 +65,7 @@ class ToioCubeModel {
   CubePose pose_;
   double speed_per_unit_;
   bool on_mat_ = true;
+  bool blocked_ = false;
   std::optional<Move> move_;
   // ID notification settings (reset on disconnect).
   double id_interval_s_ = 0.01;

@@ -89,6 +89,15 @@ class EmulatedBluez {
   void drop_connection(const std::string& cube, double unreachable_s) {
     control_->callMethod("DropConnection").onInterface(kControl).withArguments(cube, unreachable_s);
   }
+  void block(const std::string& cube, bool blocked) {
+    control_->callMethod("Block").onInterface(kControl).withArguments(cube, blocked);
+  }
+  // Another program writing to a cube's motor characteristic (the first cube's, address ...:00).
+  void write_motor_of_first_cube(const std::vector<uint8_t>& bytes) {
+    auto motor = sdbus::createProxy(*connection_, "org.bluez", "/org/bluez/hci0/dev_E0_7C_00_00_00_00/service000b/char000f");
+    std::map<std::string, sdbus::Variant> options{{"type", sdbus::Variant(std::string("command"))}};
+    motor->callMethod("WriteValue").onInterface("org.bluez.GattCharacteristic1").withArguments(bytes, options);
+  }
   EmulatedCubePose pose(const std::string& cube) {
     std::tuple<bool, double, double, double, bool, int> reply;
     control_->callMethod("Pose").onInterface(kControl).withArguments(cube).storeResultsTo(reply);

@@ -101,6 +101,33 @@ TEST(ToioRobot, CubeLiftedMidMoveFailsTheMoveAndIsHeldAsAFault) {
   EXPECT_EQ(robot.poll().cell, (GridCell{1, 1}));
 }
 
+TEST(ToioRobot, BlockedCubeTimesOutAsAFaultThenRejoinsFromWhereItStands) {
+  EmulatedBluez bluez({"toio-a@cell:1,1"});
+  ToioSettings settings = settings_for("toio-a");
+  settings.move_timeout_s = 1;
+  ToioRobot robot(settings, MatCalibration::load(kRing));
+  ASSERT_TRUE(eventually([&] { return ready(robot); })) << robot.fault_reason();
+  bluez.block("toio-a", true);
+  ASSERT_TRUE(robot.start_move({2, 1}));
+  ASSERT_TRUE(eventually([&] { return robot.poll().fault; }));
+  EXPECT_NE(robot.fault_reason().find("move to (2,1) failed: timeout"), std::string::npos) << robot.fault_reason();
+  EXPECT_FALSE(robot.poll().moving);
+  bluez.block("toio-a", false);
+  ASSERT_TRUE(eventually([&] { return ready(robot); })) << robot.fault_reason();
+  EXPECT_EQ(robot.poll().cell, (GridCell{1, 1}));  // it never left
+}
+
+TEST(ToioRobot, MovePreemptedByAnotherProgramIsAFault) {
+  EmulatedBluez bluez({"toio-a@cell:1,1"}, {"--speed-per-unit", "0.25"});  // slow: preempted surely mid-move
+  ToioRobot robot(settings_for("toio-a"), MatCalibration::load(kRing));
+  ASSERT_TRUE(eventually([&] { return ready(robot); })) << robot.fault_reason();
+  ASSERT_TRUE(robot.start_move({1, 2}));
+  ASSERT_TRUE(eventually([&] { return bluez.pose("toio-a").y > 130; }));
+  bluez.write_motor_of_first_cube({0x01, 0x01, 0x01, 0x00, 0x02, 0x01, 0x00});  // stop, from elsewhere
+  ASSERT_TRUE(eventually([&] { return robot.poll().fault; }));
+  EXPECT_NE(robot.fault_reason().find("preempted by another write"), std::string::npos) << robot.fault_reason();
+}
+
 TEST(ToioRobot, CubeBetweenCellsIsAFaultNotRoundedToACell) {
   EmulatedBluez bluez({"toio-a@cell:1,1"});
   ToioRobot robot(settings_for("toio-a"), MatCalibration::load(kRing));
