@@ -4,7 +4,8 @@
 //            and reports the residual;
 //   corners  drives a cube to the four corner cells of the grid and reports how far from each
 //            cell centre it stops (exit 1 when one is beyond the mat file's tolerance);
-//   identify blinks and beeps a cube so a person can tell which one it is.
+//   identify blinks and beeps a cube so a person can tell which one it is;
+//   scan     lists the toio cubes in range (name, address, signal strength).
 #include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
 
@@ -14,6 +15,7 @@
 #include <thread>
 
 #include "planner_core/input_error.hpp"
+#include "robot_agent/bluez_client.hpp"
 #include "robot_agent/mat_calibration.hpp"
 #include "robot_agent/toio_robot.hpp"
 
@@ -176,10 +178,22 @@ int identify(const std::string& mat_file, const std::string& cube, const std::st
   return 0;
 }
 
+int scan(const std::string& adapter, double seconds) {
+  BluezClient client(adapter);
+  int found = 0;
+  for (const BluezClient::Device& device : client.discover(std::chrono::milliseconds(static_cast<int>(seconds * 1000)))) {
+    if (!toio::is_cube_name(device.name)) continue;
+    std::printf("%-20s %s  %d dBm\n", device.name.c_str(), device.address.c_str(), device.rssi);
+    ++found;
+  }
+  if (found == 0) std::printf("no toio cube found in %.0f s (switched on? in range?)\n", seconds);
+  return found > 0 ? 0 : 1;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"ctsfleet-toio-calibrate: fit and check where the grid lies on a toio mat"};
+  CLI::App app{"ctsfleet-toio-calibrate: find cubes, fit and check where the grid lies on a toio mat"};
   app.require_subcommand(1);
   std::string mat_file, out_file, cube, adapter = "hci0", cells = "0,0 1,0 0,1";
   std::vector<std::string> points;
@@ -201,6 +215,10 @@ int main(int argc, char** argv) {
   identify_command->add_option("--mat", mat_file, "mat file")->required();
   identify_command->add_option("--cube", cube, "cube name or address")->required();
   identify_command->add_option("--adapter", adapter)->capture_default_str();
+  double scan_seconds = 5;
+  CLI::App* scan_command = app.add_subcommand("scan", "list the toio cubes in range");
+  scan_command->add_option("--seconds", scan_seconds, "how long to discover")->capture_default_str();
+  scan_command->add_option("--adapter", adapter)->capture_default_str();
   CLI11_PARSE(app, argc, argv);
 
   spdlog::set_level(spdlog::level::warn);  // the commands print what matters
@@ -213,6 +231,7 @@ int main(int argc, char** argv) {
       return fit(mat_file, out_file, points, cube, adapter, cells);
     }
     if (corners_command->parsed()) return corners(mat_file, cube, adapter);
+    if (scan_command->parsed()) return scan(adapter, scan_seconds);
     return identify(mat_file, cube, adapter);
   } catch (const planner_core::InputError& e) {
     spdlog::error("{}", e.what());
@@ -220,5 +239,8 @@ int main(int argc, char** argv) {
   } catch (const std::invalid_argument& e) {
     spdlog::error("{}", e.what());
     return 2;
+  } catch (const BluezError& e) {
+    spdlog::error("{}", e.what());
+    return 1;
   }
 }

@@ -137,6 +137,31 @@ std::optional<std::string> BluezClient::find_device(const std::string& name_or_a
   return std::nullopt;
 }
 
+std::vector<BluezClient::Device> BluezClient::discover(std::chrono::milliseconds duration) {
+  guarded("StartDiscovery", [&] {
+    std::map<std::string, sdbus::Variant> filter{{"Transport", sdbus::Variant(std::string("le"))}};
+    proxy(adapter_path_).callMethod("SetDiscoveryFilter").onInterface(kAdapter).withArguments(filter);
+    proxy(adapter_path_).callMethod("StartDiscovery").onInterface(kAdapter);
+  });
+  const auto deadline = std::chrono::steady_clock::now() + duration;
+  while (std::chrono::steady_clock::now() < deadline) process(std::chrono::milliseconds(100));
+  try {
+    proxy(adapter_path_).callMethod("StopDiscovery").onInterface(kAdapter);
+  } catch (const sdbus::Error&) {
+    // Stopped by someone else meanwhile; the list is still good.
+  }
+  std::vector<Device> devices;
+  for (const auto& [path, interfaces] : managed_objects()) {
+    const auto device = interfaces.find(kDevice);
+    if (device == interfaces.end()) continue;
+    if (property<sdbus::ObjectPath>(device->second, "Adapter").value_or(sdbus::ObjectPath{}) != adapter_path_) continue;
+    devices.push_back({path, property<std::string>(device->second, "Name").value_or(""),
+                       property<std::string>(device->second, "Address").value_or(""),
+                       property<int16_t>(device->second, "RSSI").value_or(0)});
+  }
+  return devices;
+}
+
 void BluezClient::connect(const std::string& device_path, std::chrono::milliseconds timeout) {
   const auto deadline = std::chrono::steady_clock::now() + timeout;
   guarded("Connect " + device_path, [&] {

@@ -1,6 +1,5 @@
 #include "robot_agent/sim_robot.hpp"
 
-#include "fleet_transport/messages.hpp"
 
 namespace robot_agent {
 
@@ -9,7 +8,7 @@ SimRobot::SimRobot(GridCell start, const SimSettings& settings)
       rng_(settings.seed),
       started_(Clock::now()),
       cell_(start),
-      arrived_ms_(fleet_transport::wall_clock_ms()) {}
+      arrived_ms_(wall_clock_ms()) {}
 
 double SimRobot::since_start_s() const { return std::chrono::duration<double>(Clock::now() - started_).count(); }
 
@@ -43,7 +42,7 @@ BackendReport SimRobot::poll() {
   if (target_ && now >= move_ends_) {
     cell_ = *target_;
     target_.reset();
-    arrived_ms_ = fleet_transport::wall_clock_ms();
+    arrived_ms_ = wall_clock_ms();
   }
   BackendReport report;
   report.cell = cell_;

@@ -5,7 +5,6 @@
 #include <cmath>
 #include <numbers>
 
-#include "fleet_transport/messages.hpp"
 #include "robot_agent/bluez_client.hpp"
 
 namespace robot_agent {
@@ -44,7 +43,7 @@ bool ToioRobot::start_move(GridCell target) {
   const std::lock_guard<std::mutex> lock(mutex_);
   if (!fault_.empty() || !have_cell_ || move_) return false;
   if (target == cell_) {  // a wait: nothing to drive
-    arrived_ms_ = fleet_transport::wall_clock_ms();
+    arrived_ms_ = wall_clock_ms();
     return true;
   }
   if (target.x < 0 || target.y < 0 || target.x >= calibration_.grid_width() || target.y >= calibration_.grid_height()) {
@@ -127,7 +126,7 @@ void ToioRobot::set_fault(const std::string& reason, bool sticky) {
 }
 
 void ToioRobot::stand_on(GridCell cell) {
-  if (!have_cell_ || cell_ != cell) arrived_ms_ = fleet_transport::wall_clock_ms();  // found (or put) there now
+  if (!have_cell_ || cell_ != cell) arrived_ms_ = wall_clock_ms();  // found (or put) there now
   cell_ = cell;
   have_cell_ = true;
 }
@@ -153,7 +152,7 @@ void ToioRobot::finish_move(GridCell at) {
   cell_ = at;
   have_cell_ = true;
   move_.reset();
-  arrived_ms_ = fleet_transport::wall_clock_ms();
+  arrived_ms_ = wall_clock_ms();
 }
 
 // ---- BLE thread -------------------------------------------------------------------------------

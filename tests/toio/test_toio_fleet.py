@@ -203,6 +203,11 @@ class ToioFleetTest(unittest.TestCase):
         self.fleet.emulator([("toio-a", (0, 0))])
         fitted = os.path.join(self.fleet.dir, "fitted.yaml")
         env = dict(os.environ, DBUS_SYSTEM_BUS_ADDRESS=self.fleet.bus)
+        # First, find the cube: it is only known to BlueZ after discovery.
+        scan = subprocess.run([f"{BIN}/ctsfleet-toio-calibrate", "scan", "--seconds", "1"], capture_output=True,
+                              text=True, env=env, timeout=60)
+        self.assertEqual(scan.returncode, 0, scan.stdout + scan.stderr)
+        self.assertRegex(scan.stdout, r"toio-a\s+E0:7C:00:00:00:00\s+-55 dBm")
         calibrate = subprocess.Popen([f"{BIN}/ctsfleet-toio-calibrate", "fit", "--mat", MAT, "--out", fitted,
                                       "--cube", "toio-a", "--cells", "0,0 4,0 0,4 4,4"],
                                      stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,

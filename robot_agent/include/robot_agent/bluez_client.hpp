@@ -35,6 +35,12 @@ class BluezClient {
   explicit BluezClient(std::string adapter = "hci0");
   ~BluezClient();
 
+  struct Device {
+    std::string path, name, address;
+    int rssi = 0;  // dBm, 0 when unknown
+  };
+  // Every device the adapter knows after discovering for `duration`.
+  std::vector<Device> discover(std::chrono::milliseconds duration);
   // The object path of a device whose Name/Alias or Address matches, discovering for up to
   // `timeout` when BlueZ does not know it yet; nullopt when not found.
   std::optional<std::string> find_device(const std::string& name_or_address, std::chrono::milliseconds timeout);

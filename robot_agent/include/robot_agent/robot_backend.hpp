@@ -9,6 +9,12 @@
 
 namespace robot_agent {
 
+// Wall-clock milliseconds since the epoch: the time stamp of arrivals, comparable across hosts.
+inline int64_t wall_clock_ms() {
+  return std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::system_clock::now().time_since_epoch())
+      .count();
+}
+
 struct GridCell {
   int x = 0;
   int y = 0;
