@@ -218,113 +218,138 @@ void ToioRobot::on_battery(const toio::Bytes& bytes) {
   if (decoded) battery_percent_ = *decoded.value;
 }
 
-void ToioRobot::serve_connection(BluezClient& client) {
-  const std::string cube = settings_.cube;
+// The D-Bus objects of one connected cube, and what its notifications told us.
+struct ToioRobot::CubeLink {
+  std::string device, id, motor, configuration;
+  std::optional<std::string> battery, light, sound;
+  std::string protocol_version;
+  bool lost = false;  // BlueZ reported the device disconnected
+};
+
+void ToioRobot::open_link(BluezClient& client, CubeLink& link) {
+  const std::string& cube = settings_.cube;
   const auto device = client.find_device(cube, millis(settings_.discovery_timeout_s));
   if (!device) throw BluezError("cube " + cube + " not found by adapter " + settings_.adapter);
-  client.forget(*device);
-  bool link_lost = false;
-  client.on_disconnected(*device, [&link_lost] { link_lost = true; });
-  spdlog::info("toio {}: connecting to {}", cube, *device);
-  client.connect(*device, millis(settings_.connect_timeout_s));
-  const auto found = client.characteristics(*device, toio::kServiceUuid);
-  auto path_of = [&](const char* uuid, const char* what) {
+  link.device = *device;
+  client.forget(link.device);
+  client.on_disconnected(link.device, [&link] { link.lost = true; });
+  spdlog::info("toio {}: connecting to {}", cube, link.device);
+  client.connect(link.device, millis(settings_.connect_timeout_s));
+
+  const auto found = client.characteristics(link.device, toio::kServiceUuid);
+  auto required = [&](const char* uuid, const char* what) {
     const auto it = found.find(uuid);
     if (it == found.end()) throw BluezError("cube " + cube + " has no " + what + " characteristic " + uuid);
     return it->second;
   };
-  const std::string id_path = path_of(toio::kIdUuid, "ID");
-  const std::string motor_path = path_of(toio::kMotorUuid, "motor");
-  const std::string config_path = path_of(toio::kConfigurationUuid, "configuration");
-  const auto battery = found.find(toio::kBatteryUuid);
-  const auto light = found.find(toio::kLightUuid);
-  const auto sound = found.find(toio::kSoundUuid);
+  auto optional = [&](const char* uuid) {
+    const auto it = found.find(uuid);
+    return it == found.end() ? std::nullopt : std::optional<std::string>(it->second);
+  };
+  link.id = required(toio::kIdUuid, "ID");
+  link.motor = required(toio::kMotorUuid, "motor");
+  link.configuration = required(toio::kConfigurationUuid, "configuration");
+  link.battery = optional(toio::kBatteryUuid);
+  link.light = optional(toio::kLightUuid);
+  link.sound = optional(toio::kSoundUuid);
 
-  std::string protocol_version;
-  client.start_notify(config_path, [&](const toio::Bytes& bytes) {
+  client.start_notify(link.configuration, [&link, &cube](const toio::Bytes& bytes) {
     const auto reply = toio::decode_configuration(bytes);
     if (!reply) {
       spdlog::warn("toio {}: ignored configuration reply [{}]: {}", cube, toio::to_hex(bytes), reply.error);
     } else if (reply.value->type == 0x81) {
-      protocol_version = reply.value->version;
+      link.protocol_version = reply.value->version;
     } else if (reply.value->code != 0) {
       spdlog::warn("toio {}: configuration 0x{:02x} refused with code {}", cube, reply.value->type, reply.value->code);
     }
   });
-  client.start_notify(id_path, [this](const toio::Bytes& bytes) { on_id(bytes); });
-  client.start_notify(motor_path, [this](const toio::Bytes& bytes) { on_motor(bytes); });
-  if (battery != found.end()) {
-    client.start_notify(battery->second, [this](const toio::Bytes& bytes) { on_battery(bytes); });
-    on_battery(client.read(battery->second));
+  client.start_notify(link.id, [this](const toio::Bytes& bytes) { on_id(bytes); });
+  client.start_notify(link.motor, [this](const toio::Bytes& bytes) { on_motor(bytes); });
+  if (link.battery) {
+    client.start_notify(*link.battery, [this](const toio::Bytes& bytes) { on_battery(bytes); });
+    on_battery(client.read(*link.battery));
   }
-  client.write(config_path, toio::encode_protocol_version_request(), true);
-  client.write(config_path,
+  client.write(link.configuration, toio::encode_protocol_version_request(), true);
+  client.write(link.configuration,
                toio::encode_id_notification_rate(settings_.id_interval_10ms, toio::IdNotifyCondition::kOnChange), true);
   const auto version_deadline = Clock::now() + std::chrono::seconds(2);
-  while (protocol_version.empty() && Clock::now() < version_deadline && !link_lost) {
+  while (link.protocol_version.empty() && Clock::now() < version_deadline && !link.lost) {
     client.process(std::chrono::milliseconds(20));
   }
-  auto flash_and_beep = [&] {
-    if (light != found.end()) client.write(light->second, toio::encode_light_on(100, 0, 255, 0), false);
-    if (sound != found.end()) client.write(sound->second, toio::encode_beep(72, 15, 255, 1), false);
-  };
-  if (settings_.identify_on_connect) flash_and_beep();
+  if (settings_.identify_on_connect) flash_and_beep(client, link);
   spdlog::info("toio {}: connected (protocol {}), battery {}%", cube,
-               protocol_version.empty() ? "unknown" : protocol_version, battery_percent_);
-  {
-    const std::lock_guard<std::mutex> lock(mutex_);
-    connected_ = true;
-    client_ = &client;
-    if (!fault_sticky_) fault_ = "no position from the cube yet";
+               link.protocol_version.empty() ? "unknown" : link.protocol_version, battery_percent_);
+}
+
+void ToioRobot::flash_and_beep(BluezClient& client, const CubeLink& link) {
+  if (link.light) client.write(*link.light, toio::encode_light_on(100, 0, 255, 0), false);
+  if (link.sound) client.write(*link.sound, toio::encode_beep(72, 15, 255, 1), false);
+}
+
+void ToioRobot::write_move(BluezClient& client, const CubeLink& link, const Move& move) {
+  const Eigen::Vector2d centre = calibration_.cell_centre(move.target);
+  toio::MoveSettings settings;
+  settings.control_id = move.control_id;
+  settings.timeout_s = settings_.move_timeout_s;
+  settings.move_type = toio::MoveType::kRotateAfterMoving;
+  settings.max_speed = settings_.max_speed;
+  settings.speed_change = toio::SpeedChange::kConstant;
+  const toio::MatTarget target{static_cast<uint16_t>(std::lround(centre.x())),
+                               static_cast<uint16_t>(std::lround(centre.y())), 0, toio::RotationType::kNoRotation};
+  client.write(link.motor, toio::encode_move_to_target(settings, target), false);
+}
+
+void ToioRobot::run_link(BluezClient& client, const CubeLink& link) {
+  for (;;) {
+    client.process(std::chrono::milliseconds(100));
+    std::optional<Move> to_write;
+    bool identify_now = false;
+    {
+      const std::lock_guard<std::mutex> lock(mutex_);
+      if (stop_) return;
+      if (link.lost) {
+        set_fault("BLE link to the cube lost", true);
+        return;
+      }
+      start_recovery_if_needed();
+      if (move_ && !move_->written) {
+        move_->written = true;
+        to_write = move_;
+      } else if (move_ && Clock::now() - move_->started > std::chrono::seconds(settings_.move_timeout_s + 2)) {
+        set_fault("move to " + cell_text(move_->target) + " got no answer from the cube", true);
+      }
+      identify_now = identify_requested_;
+      identify_requested_ = false;
+    }
+    if (to_write) write_move(client, link, *to_write);
+    if (identify_now) flash_and_beep(client, link);
   }
-  on_id(client.read(id_path));  // where the cube stands now, without waiting for it to move
-  auto disconnect_cleanup = [&] {
-    const std::lock_guard<std::mutex> lock(mutex_);
-    connected_ = false;
-    client_ = nullptr;
+}
+
+void ToioRobot::serve_connection(BluezClient& client) {
+  CubeLink link;
+  auto leave = [&] {
+    {
+      const std::lock_guard<std::mutex> lock(mutex_);
+      connected_ = false;
+      client_ = nullptr;
+    }
+    if (!link.device.empty()) client.forget(link.device);  // drops the callbacks that refer to `link`
   };
   try {
-    for (;;) {
-      client.process(std::chrono::milliseconds(100));
-      std::optional<Move> to_write;
-      bool identify_now = false;
-      {
-        const std::lock_guard<std::mutex> lock(mutex_);
-        if (stop_) break;
-        if (link_lost) {
-          set_fault("BLE link to the cube lost", true);
-          break;
-        }
-        start_recovery_if_needed();
-        if (move_ && !move_->written) {
-          move_->written = true;
-          to_write = move_;
-        } else if (move_ && Clock::now() - move_->started > std::chrono::seconds(settings_.move_timeout_s + 2)) {
-          set_fault("move to " + cell_text(move_->target) + " got no answer from the cube", true);
-        }
-        identify_now = identify_requested_;
-        identify_requested_ = false;
-      }
-      if (to_write) {
-        const Eigen::Vector2d centre = calibration_.cell_centre(to_write->target);
-        toio::MoveSettings move;
-        move.control_id = to_write->control_id;
-        move.timeout_s = settings_.move_timeout_s;
-        move.move_type = toio::MoveType::kRotateAfterMoving;
-        move.max_speed = settings_.max_speed;
-        move.speed_change = toio::SpeedChange::kConstant;
-        const toio::MatTarget target{static_cast<uint16_t>(std::lround(centre.x())),
-                                     static_cast<uint16_t>(std::lround(centre.y())), 0,
-                                     toio::RotationType::kNoRotation};
-        client.write(motor_path, toio::encode_move_to_target(move, target), false);
-      }
-      if (identify_now) flash_and_beep();
+    open_link(client, link);
+    {
+      const std::lock_guard<std::mutex> lock(mutex_);
+      connected_ = true;
+      client_ = &client;
+      if (!fault_sticky_) fault_ = "no position from the cube yet";
     }
+    on_id(client.read(link.id));  // where the cube stands now, without waiting for it to move
+    run_link(client, link);
   } catch (...) {
-    disconnect_cleanup();
+    leave();
     throw;
   }
-  disconnect_cleanup();
   bool stopping = false;
   {
     const std::lock_guard<std::mutex> lock(mutex_);
@@ -332,13 +357,13 @@ void ToioRobot::serve_connection(BluezClient& client) {
   }
   if (stopping) {
     try {
-      client.write(motor_path, toio::encode_motor_control(0, 0), false);
-      client.disconnect(*device);
+      client.write(link.motor, toio::encode_motor_control(0, 0), false);
+      client.disconnect(link.device);
     } catch (const BluezError&) {
       // Leaving anyway.
     }
   }
-  client.forget(*device);
+  leave();
 }
 
 void ToioRobot::ble_thread() {

@@ -76,8 +76,14 @@ class ToioRobot : public RobotBackend {
     GridCell from, to;
   };
 
+  struct CubeLink;
   void ble_thread();
+  // One connection: open (find, connect, subscribe, configure), run until lost or stopped, leave.
   void serve_connection(BluezClient& client);
+  void open_link(BluezClient& client, CubeLink& link);
+  void run_link(BluezClient& client, const CubeLink& link);
+  void write_move(BluezClient& client, const CubeLink& link, const Move& move);
+  void flash_and_beep(BluezClient& client, const CubeLink& link);
   void on_id(const toio::Bytes& bytes);
   void on_motor(const toio::Bytes& bytes);
   void on_battery(const toio::Bytes& bytes);
