@@ -74,6 +74,7 @@ int main(int argc, char** argv) {
   app.add_option("-j,--threads", threads, "instances run in parallel")->capture_default_str();
   app.add_option("--csv", csv_path, "CSV file to write, one row per (instance, solver)")->capture_default_str();
   app.add_option("--seed", config.seed, "random seed")->capture_default_str();
+  app.add_flag("--swap", config.pibt.swap, "Extended-PIBT with LaCAM3's swap operation (head-on meetings in corridors)");
   CLI11_PARSE(app, argc, argv);
 
   if (!experiment.empty()) {

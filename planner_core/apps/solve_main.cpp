@@ -49,6 +49,7 @@ int main(int argc, char** argv) {
                  "Extended-PIBT gives up after this multiple of the longest single-agent tour")
       ->capture_default_str();
   app.add_option("--max-sequences", config.max_sequences, "anytime: stop after this many joint sequences (0 = none)");
+  app.add_flag("--swap", config.pibt.swap, "Extended-PIBT with LaCAM3's swap operation (head-on meetings in corridors)");
   app.add_flag("-v,--verbose", verbose, "print each improvement as it is found");
   CLI11_PARSE(app, argc, argv);
 

@@ -48,6 +48,55 @@ TEST(ExtendedPibt, ImpossibleSwapInCorridorHitsStepLimit) {
   EXPECT_FALSE(result.failure_reason.empty());
 }
 
+// Seeds (of 20) for which cts-pibt solves `instance`, with or without the swap operation.
+int solved_seeds(const Instance& instance, bool swap) {
+  int solved = 0;
+  for (uint32_t seed = 0; seed < 20; ++seed) {
+    SolverConfig config;
+    config.solver = "cts-pibt";
+    config.seed = seed;
+    config.pibt.swap = swap;
+    const SolveResult result = make_solver(config)->solve(instance, {Deadline::in_seconds(5), {}});
+    if (!result.solved) continue;
+    const ValidationReport report = validate(instance, result.solution);
+    EXPECT_TRUE(report.ok()) << report.summary();
+    ++solved;
+  }
+  return solved;
+}
+
+TEST(ExtendedPibt, SwapLetsAgentsPassInACorridorWithOnePocket) {
+  // Head-on in a one-cell corridor; the only place to pass is the pocket under its middle.
+  const Instance instance = testing::make_instance({".......", "@@@.@@@"}, {{{0, 0}, {6, 0}}, {{6, 0}, {0, 0}}});
+  EXPECT_EQ(solved_seeds(instance, true), 20);
+}
+
+TEST(ExtendedPibt, SwapPlansAreValidAndRotationFreeWhenAsked) {
+  // The swap pulls a second agent along in the same step: every plan must still pass the
+  // validator, and the strict one (no rotations) when plans are for robots.
+  int solved = 0;
+  for (const char* file : {"instances/random-32-32-20-N10-M30-00.yaml", "instances/maze-32-32-2-N50-M60-00.yaml"}) {
+    const Instance instance = load_instance(testing::data_path(file));
+    for (bool forbid_rotations : {false, true}) {
+      for (uint32_t seed = 0; seed < 5; ++seed) {
+        SolverConfig config;
+        config.solver = "cts-pibt";
+        config.seed = seed;
+        config.pibt.swap = true;
+        config.forbid_rotations = forbid_rotations;
+        const SolveResult result = make_solver(config)->solve(instance, {Deadline::in_seconds(5), {}});
+        if (!result.solved) continue;
+        ++solved;
+        ValidationOptions options;
+        options.forbid_rotations = forbid_rotations;
+        const ValidationReport report = validate(instance, result.solution, options);
+        EXPECT_TRUE(report.ok()) << file << " seed " << seed << ": " << report.summary();
+      }
+    }
+  }
+  EXPECT_GE(solved, 10);
+}
+
 TEST(ExtendedPibt, SameSeedSamePlan) {
   const Instance instance = load_instance(testing::data_path("instances/random-32-32-20-N10-M30-00.yaml"));
   const SolveResult first = solve_with(instance, "cts-pibt", 5, 42);

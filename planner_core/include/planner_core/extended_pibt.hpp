@@ -26,6 +26,12 @@ struct PibtConfig {
   // inheritance) waiting to move, which would close a cycle of agents moving in one step. Plans
   // for real robots need this: a rotation cannot be executed one move at a time.
   bool forbid_rotations = false;
+  // The swap operation of LaCAM3's PIBT (Okumura, "Engineering LaCAM*", AAMAS 2024): when two
+  // agents meet head-on in a corridor, the one with priority backs off and pulls the other along
+  // until there is room to pass, instead of both waiting forever. Off by default, so that
+  // cts-pibt stays the paper's baseline and the measured results stay as they are; --swap turns it
+  // on (docs/RESULTS.md, section 5).
+  bool swap = false;
 };
 
 class ExtendedPibt {
@@ -65,6 +71,15 @@ class ExtendedPibt {
   void mark_visits(int agent, Vertex at, int time);
   int64_t remaining_distance(int agent, Vertex at);
   bool plan_move(int agent);  // funcExPIBT of Algorithm 1
+  // Swap operation: the agent to pull along when `agent`, wanting `best`, must back off; kNobody
+  // when no swap is needed or possible.
+  int swap_partner(int agent, Vertex best);
+  bool swap_required(int pusher, int puller, Vertex pusher_at, Vertex puller_at);
+  bool swap_possible(Vertex pusher_at, Vertex puller_at);
+  // Free neighbours of v for a corridor walk: all but `from` and dead ends where an agent sits on
+  // its target; returns their number and one of them in `other`.
+  int passable_neighbours(Vertex v, Vertex from, Vertex& other);
+  int distance_to_target(int agent, Vertex v) { return dist_.of(target_of(agent))[v]; }
 
   const Instance& instance_;
   DistTable& dist_;
