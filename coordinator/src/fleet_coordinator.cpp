@@ -479,7 +479,13 @@ bool FleetCoordinator::step(fleet_transport::Transport& transport) {
     const std::lock_guard<std::mutex> lock(events_mutex_);
     events.swap(events_);
   }
-  for (const Event& event : events) handle(event);
+  for (const Event& event : events) {
+    handle(event);
+    // Match the robot's command channel now, long before its first command.
+    if (event.kind == Event::Kind::kAnnouncement && !event.announcement.leaving) {
+      transport.prepare_commands_for(event.robot_id);
+    }
+  }
   const Clock::time_point now = Clock::now();
   for (auto& [id, robot] : robots_) {
     if (robot.active && seconds_between(robot.last_heard, now) > config_.silence_timeout_s) {

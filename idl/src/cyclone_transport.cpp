@@ -2,6 +2,7 @@
 #include <dds/dds.h>
 
 #include <cstring>
+#include <map>
 #include <mutex>
 #include <stdexcept>
 #include <vector>
@@ -82,12 +83,21 @@ class CycloneTransport : public Transport {
       writer(announcement_writer_, announcement_topic_, registry_qos_);
       writer(state_writer_, state_topic_, state_qos_);
     }
-    if (handlers_.on_state) writer(command_writer_, command_topic_, command_qos_);
+
     if (handlers_.on_announcement || handlers_.on_robot_gone) {
       make_reader(announcement_topic_, registry, &CycloneTransport::announcements_available);
     }
     if (handlers_.on_state) make_reader(state_topic_, state, &CycloneTransport::states_available);
-    if (handlers_.on_command) make_reader(command_topic_, command, &CycloneTransport::commands_available);
+    if (handlers_.on_command) {
+      const std::string partition =
+          commands_for_.empty() ? std::string(kEveryCommandPartition) : command_partition(commands_for_);
+      dds_qos_t* subscriber_qos = dds_create_qos();
+      dds_qset_partition1(subscriber_qos, partition.c_str());
+      const dds_entity_t subscriber = dds_create_subscriber(participant_, subscriber_qos, nullptr);
+      dds_delete_qos(subscriber_qos);
+      check(subscriber, "create command subscriber");
+      make_reader(command_topic_, command, &CycloneTransport::commands_available, subscriber);
+    }
     if (handlers_.on_fleet_status) make_reader(status_topic_, registry, &CycloneTransport::statuses_available);
   }
 
@@ -144,8 +154,10 @@ class CycloneTransport : public Transport {
     wire.target_pose_x = c.target_pose_x;
     wire.target_pose_y = c.target_pose_y;
     wire.deadline_ms = c.deadline_ms;
-    check(dds_write(writer(command_writer_, command_topic_, command_qos_), &wire), "write command");
+    check(dds_write(command_writer(c.robot_id), &wire), "write command");
   }
+
+  void prepare_commands_for(const std::string& robot_id) override { command_writer(robot_id); }
 
   void publish_fleet_status(const FleetStatus& s) override {
     std::vector<fleet_Assignment> rows(s.assignments.size());
@@ -180,10 +192,26 @@ class CycloneTransport : public Transport {
     }
     return slot;
   }
-  void make_reader(dds_entity_t topic, const dds_qos_t* qos, void (*on_data)(dds_entity_t, void*)) {
+  // The command writer of one robot, in that robot's partition (see command_partition).
+  dds_entity_t command_writer(const std::string& robot_id) {
+    const std::lock_guard<std::mutex> lock(writers_mutex_);
+    dds_entity_t& slot = command_writers_[robot_id];
+    if (slot == 0) {
+      dds_qos_t* publisher_qos = dds_create_qos();
+      dds_qset_partition1(publisher_qos, command_partition(robot_id).c_str());
+      const dds_entity_t publisher = dds_create_publisher(participant_, publisher_qos, nullptr);
+      dds_delete_qos(publisher_qos);
+      check(publisher, "create command publisher");
+      slot = dds_create_writer(publisher, command_topic_, command_qos_, nullptr);
+      check(slot, "create command writer");
+    }
+    return slot;
+  }
+  void make_reader(dds_entity_t topic, const dds_qos_t* qos, void (*on_data)(dds_entity_t, void*),
+                   dds_entity_t parent = 0) {
     dds_listener_t* listener = dds_create_listener(this);
     dds_lset_data_available(listener, on_data);
-    const dds_entity_t reader = dds_create_reader(participant_, topic, qos, listener);
+    const dds_entity_t reader = dds_create_reader(parent ? parent : participant_, topic, qos, listener);
     dds_delete_listener(listener);
     check(reader, "create reader");
   }
@@ -268,7 +296,8 @@ class CycloneTransport : public Transport {
   std::string commands_for_;
   dds_entity_t participant_ = 0;
   dds_entity_t announcement_topic_ = 0, state_topic_ = 0, command_topic_ = 0, status_topic_ = 0;
-  dds_entity_t announcement_writer_ = 0, state_writer_ = 0, command_writer_ = 0, status_writer_ = 0;
+  dds_entity_t announcement_writer_ = 0, state_writer_ = 0, status_writer_ = 0;
+  std::map<std::string, dds_entity_t> command_writers_;  // robot id -> writer in its partition
   dds_qos_t *registry_qos_ = nullptr, *state_qos_ = nullptr, *command_qos_ = nullptr;
   std::mutex writers_mutex_;
 };

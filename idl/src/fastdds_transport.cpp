@@ -58,6 +58,16 @@ class TakeAll : public DataReaderListener {
   Deliver deliver_;
 };
 
+// Fast DDS readers and writers keep at most 10 instances by default, and every robot is an
+// instance (the topics are keyed by robot id): a coordinator would hear only 10 robots. Room for
+// a fleet of kMaxRobots, each keeping `depth` samples.
+constexpr int32_t kMaxRobots = 1000;
+void room_for_the_fleet(ResourceLimitsQosPolicy& limits, int32_t depth) {
+  limits.max_instances = kMaxRobots;
+  limits.max_samples_per_instance = depth;
+  limits.max_samples = kMaxRobots * depth;
+}
+
 class FastDdsTransport : public Transport {
  public:
   FastDdsTransport(const TransportConfig& config, Handlers handlers)
@@ -121,6 +131,13 @@ class FastDdsTransport : public Transport {
     command_r.history().kind = KEEP_LAST_HISTORY_QOS;
     command_r.history().depth = 8;
 
+    room_for_the_fleet(registry_w.resource_limits(), 1);
+    room_for_the_fleet(registry_r.resource_limits(), 1);
+    room_for_the_fleet(state_w.resource_limits(), 1);
+    room_for_the_fleet(state_r.resource_limits(), 1);
+    room_for_the_fleet(command_w.resource_limits(), 8);
+    room_for_the_fleet(command_r.resource_limits(), 8);
+
     Topic* announcement = make_topic<fleet::AnnouncementPubSubType>("rt/fleet/announcement");
     Topic* state = make_topic<fleet::RobotStatePubSubType>("rt/fleet/robot_state");
     Topic* command = make_topic<fleet::StepCommandPubSubType>("rt/fleet/step_command");
@@ -136,7 +153,6 @@ class FastDdsTransport : public Transport {
       writer(announcement_writer_, announcement_topic_, registry_w_);
       writer(state_writer_, state_topic_, state_w_);
     }
-    if (handlers_.on_state) writer(command_writer_, command_topic_, command_w_);
 
     if (handlers_.on_announcement || handlers_.on_robot_gone) {
       listen<fleet::Announcement>(announcement, registry_r, [this](const fleet::Announcement& w, const SampleInfo& info) {
@@ -163,6 +179,11 @@ class FastDdsTransport : public Transport {
       });
     }
     if (handlers_.on_command) {
+      SubscriberQos command_subscriber_qos = SUBSCRIBER_QOS_DEFAULT;
+      command_subscriber_qos.partition().push_back(
+          (commands_for_.empty() ? std::string(kEveryCommandPartition) : command_partition(commands_for_)).c_str());
+      command_subscriber_ = participant_->create_subscriber(command_subscriber_qos);
+      if (!command_subscriber_) throw std::runtime_error("Fast DDS: cannot create the command subscriber");
       listen<fleet::StepCommand>(command, command_r, [this](const fleet::StepCommand& w, const SampleInfo& info) {
         if (!info.valid_data) return;
         const std::string id = w.robot_id().to_string();
@@ -236,8 +257,10 @@ class FastDdsTransport : public Transport {
     wire.target_pose_x(c.target_pose_x);
     wire.target_pose_y(c.target_pose_y);
     wire.deadline_ms(c.deadline_ms);
-    writer(command_writer_, command_topic_, command_w_)->write(&wire);
+    command_writer(c.robot_id)->write(&wire);
   }
+
+  void prepare_commands_for(const std::string& robot_id) override { command_writer(robot_id); }
 
   void publish_fleet_status(const FleetStatus& s) override {
     fleet::FleetStatus wire;
@@ -277,10 +300,26 @@ class FastDdsTransport : public Transport {
     return slot;
   }
 
+  // The command writer of one robot, in that robot's partition (see command_partition).
+  DataWriter* command_writer(const std::string& robot_id) {
+    const std::lock_guard<std::mutex> lock(writers_mutex_);
+    DataWriter*& slot = command_writers_[robot_id];
+    if (!slot) {
+      PublisherQos publisher_qos = PUBLISHER_QOS_DEFAULT;
+      publisher_qos.partition().push_back(command_partition(robot_id).c_str());
+      Publisher* publisher = participant_->create_publisher(publisher_qos);
+      if (!publisher) throw std::runtime_error("Fast DDS: cannot create the command publisher of " + robot_id);
+      slot = publisher->create_datawriter(command_topic_, command_w_);
+      if (!slot) throw std::runtime_error("Fast DDS: cannot create the command writer of " + robot_id);
+    }
+    return slot;
+  }
+
   template <typename Wire>
   void listen(Topic* topic, const DataReaderQos& qos, typename TakeAll<Wire>::Deliver deliver) {
     auto listener = std::make_unique<TakeAll<Wire>>(std::move(deliver));
-    DataReader* reader = subscriber_->create_datareader(topic, qos, listener.get());
+    Subscriber* parent = std::is_same_v<Wire, fleet::StepCommand> ? command_subscriber_ : subscriber_;
+    DataReader* reader = parent->create_datareader(topic, qos, listener.get());
     if (!reader) throw std::runtime_error("Fast DDS: cannot create a reader on " + topic->get_name());
     listeners_.push_back(std::move(listener));
     readers_.push_back(reader);
@@ -319,8 +358,9 @@ class FastDdsTransport : public Transport {
   DomainParticipant* participant_ = nullptr;
   Publisher* publisher_ = nullptr;
   Subscriber* subscriber_ = nullptr;
-  DataWriter *announcement_writer_ = nullptr, *state_writer_ = nullptr, *command_writer_ = nullptr,
-             *status_writer_ = nullptr;
+  Subscriber* command_subscriber_ = nullptr;  // in this robot's command partition
+  DataWriter *announcement_writer_ = nullptr, *state_writer_ = nullptr, *status_writer_ = nullptr;
+  std::map<std::string, DataWriter*> command_writers_;  // robot id -> writer in its partition
   Topic *announcement_topic_ = nullptr, *state_topic_ = nullptr, *command_topic_ = nullptr, *status_topic_ = nullptr;
   DataWriterQos registry_w_ = DATAWRITER_QOS_DEFAULT, state_w_ = DATAWRITER_QOS_DEFAULT,
                 command_w_ = DATAWRITER_QOS_DEFAULT;

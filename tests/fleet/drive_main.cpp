@@ -65,6 +65,7 @@ int main(int argc, char** argv) {
     latest.changed.notify_all();
   };
   auto transport = fleet_transport::make_transport(config, handlers);
+  transport->prepare_commands_for(robot);
 
   if (!status_text.empty()) {
     // "ready" = any status but fault (idle or arrived).

@@ -21,6 +21,8 @@ int main(int argc, char** argv) {
   config.domain_id = domain;
   config.loopback_config_dir = dds_dir;
   auto transport = fleet_transport::make_transport(config, {});
+  transport->prepare_commands_for("ghost");
+  transport->prepare_commands_for(victim);
   std::this_thread::sleep_for(std::chrono::seconds(2));  // discovery
   const int64_t later = fleet_transport::wall_clock_ms() + 5000;
   for (int round = 0; round < 3; ++round) {

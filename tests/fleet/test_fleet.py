@@ -31,6 +31,7 @@ TESTS = [
     "test_silent_robot_is_taken_out",
     "test_extra_robot_takes_over_a_lost_role",
     "test_ctrl_c_stops_the_whole_fleet",
+    "test_fastdds_hears_more_than_ten_robots",
 ]
 
 
@@ -312,6 +313,21 @@ class FleetTest(unittest.TestCase):
         too_long = subprocess.run([f"{BIN}/ctsfleet-agent", "--id", "r" * 40], capture_output=True, text=True,
                                   timeout=60)
         self.assertEqual(too_long.returncode, 2)
+
+    def test_fastdds_hears_more_than_ten_robots(self):
+        # Fast DDS readers keep 10 instances by default and every robot is one: without room for
+        # the fleet, an eleventh robot would never be heard.
+        self.fleet.monitor("fastdds")
+        robots = [f"robot{i}" for i in range(14)]
+        for i, robot in enumerate(robots):
+            self.fleet.agent(robot, (i, 0), dds="fastdds")
+        for robot in robots:
+            seen = subprocess.run([f"{BIN}/ctsfleet-test-drive", "--dds", "fastdds", "--domain", str(self.fleet.domain),
+                                   "--dds-config-dir", DDS_DIR, "--robot", robot, "--wait-status", "ready",
+                                   "--timeout", "60"], capture_output=True, text=True, timeout=120)
+            self.assertEqual(seen.returncode, 0, f"{robot} never heard: {seen.stdout}")
+        code, text = self.fleet.monitor_verdict()
+        self.assertIn("robots 14", text)
 
 
 if __name__ == "__main__":

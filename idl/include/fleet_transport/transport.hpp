@@ -49,6 +49,9 @@ class Transport {
   virtual void say_goodbye(const std::string& robot_id) = 0;  // disposes the robot's announcement
   virtual void publish_state(const RobotState& state) = 0;
   virtual void send_command(const StepCommand& command) = 0;
+  // Readies the command channel to a robot ahead of its first command, so that the first command
+  // does not go out before the robot's agent is matched (volatile data would be lost).
+  virtual void prepare_commands_for(const std::string& robot_id) = 0;
   virtual void publish_fleet_status(const FleetStatus& status) = 0;
 };
 
