@@ -345,10 +345,17 @@ void ToioRobot::serve_connection(BluezClient& client) {
       if (!fault_sticky_) fault_ = "no position from the cube yet";
     }
     on_id(client.read(link.id));  // where the cube stands now, without waiting for it to move
-    run_link(client, link);
   } catch (...) {
     leave();
     throw;
+  }
+  try {
+    run_link(client, link);
+  } catch (const BluezError& e) {
+    // A call failed on an open link (the cube went away between BlueZ's signal and our write):
+    // the same as a lost link, and a move under way has failed.
+    const std::lock_guard<std::mutex> lock(mutex_);
+    set_fault(std::string("BLE link to the cube lost (") + e.what() + ")", true);
   }
   bool stopping = false;
   {
