@@ -49,7 +49,8 @@ FleetConfig load_fleet_config(const std::string& path) {
     if (config.quorum < 1) r.fail(robots["quorum"], "robots.quorum", "must be at least 1");
   }
   if (const YAML::Node planner = root["planner"]) {
-    r.only_keys(planner, {"solver", "time_limit_s", "replan_solver", "replan_time_limit_s"}, "planner");
+    r.only_keys(planner, {"solver", "time_limit_s", "replan_solver", "replan_time_limit_s", "pibt_swap"}, "planner");
+    r.read(planner, "pibt_swap", "planner", config.pibt_swap);
     r.read(planner, "solver", "planner", config.solver);
     r.read(planner, "time_limit_s", "planner", config.plan_time_s);
     r.read(planner, "replan_solver", "planner", config.replan_solver);

@@ -316,6 +316,7 @@ bool FleetCoordinator::replan(fleet_transport::Transport& transport) {
   const bool first_plan = epoch_ == 0;
   solver_config.solver = first_plan ? config_.solver : config_.replan_solver;
   solver_config.forbid_rotations = true;  // robots execute one move at a time
+  solver_config.pibt.swap = config_.pibt_swap;
   const auto solver = planner_core::make_solver(solver_config);
   const planner_core::SolveResult result = solver->solve(
       instance, {planner_core::Deadline::in_seconds(first_plan ? config_.plan_time_s : config_.replan_time_s), {}});

@@ -298,6 +298,7 @@ class FleetTest(unittest.TestCase):
             (f"mission: {mission}\ndds:\n  vendor: opensplice\n", "vendor.yaml", "dds.vendor"),
             (f"mission: {mission}\nrobots:\n  quorum: many\n", "quorum.yaml", "robots.quorum"),
             (f"mission: {mission}\nplanner:\n  solver: magic\n", "solver.yaml", "unknown solver 'magic'"),
+            (f"mission: {mission}\nplanner:\n  pibt_swap: maybe\n", "swap.yaml", "planner.pibt_swap"),
             ("mission: nowhere.yaml\n", "missing-mission.yaml", "nowhere.yaml"),
         ]
         for text, name, expected in cases:
