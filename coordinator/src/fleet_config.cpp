@@ -50,11 +50,11 @@ FleetConfig load_fleet_config(const std::string& path) {
   }
   if (const YAML::Node planner = root["planner"]) {
     r.only_keys(planner, {"solver", "time_limit_s", "replan_solver", "replan_time_limit_s", "pibt_swap"}, "planner");
-    r.read(planner, "pibt_swap", "planner", config.pibt_swap);
     r.read(planner, "solver", "planner", config.solver);
     r.read(planner, "time_limit_s", "planner", config.plan_time_s);
     r.read(planner, "replan_solver", "planner", config.replan_solver);
     r.read(planner, "replan_time_limit_s", "planner", config.replan_time_s);
+    r.read(planner, "pibt_swap", "planner", config.pibt_swap);
     const auto known = planner_core::solver_names();
     for (const std::string* name : {&config.solver, &config.replan_solver}) {
       if (std::find(known.begin(), known.end(), *name) == known.end()) {

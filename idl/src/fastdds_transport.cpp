@@ -182,15 +182,15 @@ class FastDdsTransport : public Transport {
       SubscriberQos command_subscriber_qos = SUBSCRIBER_QOS_DEFAULT;
       command_subscriber_qos.partition().push_back(
           (commands_for_.empty() ? std::string(kEveryCommandPartition) : command_partition(commands_for_)).c_str());
-      command_subscriber_ = participant_->create_subscriber(command_subscriber_qos);
-      if (!command_subscriber_) throw std::runtime_error("Fast DDS: cannot create the command subscriber");
+      Subscriber* command_subscriber = participant_->create_subscriber(command_subscriber_qos);
+      if (!command_subscriber) throw std::runtime_error("Fast DDS: cannot create the command subscriber");
       listen<fleet::StepCommand>(command, command_r, [this](const fleet::StepCommand& w, const SampleInfo& info) {
         if (!info.valid_data) return;
         const std::string id = w.robot_id().to_string();
         if (!commands_for_.empty() && commands_for_ != id) return;
         handlers_.on_command({id, w.plan_epoch(), w.action_index(), w.target_x(), w.target_y(), w.target_pose_x(),
                               w.target_pose_y(), w.deadline_ms()});
-      });
+      }, command_subscriber);
     }
     if (handlers_.on_fleet_status) {
       listen<fleet::FleetStatus>(status, registry_r, [this](const fleet::FleetStatus& w, const SampleInfo& info) {
@@ -316,10 +316,10 @@ class FastDdsTransport : public Transport {
   }
 
   template <typename Wire>
-  void listen(Topic* topic, const DataReaderQos& qos, typename TakeAll<Wire>::Deliver deliver) {
+  void listen(Topic* topic, const DataReaderQos& qos, typename TakeAll<Wire>::Deliver deliver,
+              Subscriber* subscriber = nullptr) {
     auto listener = std::make_unique<TakeAll<Wire>>(std::move(deliver));
-    Subscriber* parent = std::is_same_v<Wire, fleet::StepCommand> ? command_subscriber_ : subscriber_;
-    DataReader* reader = parent->create_datareader(topic, qos, listener.get());
+    DataReader* reader = (subscriber ? subscriber : subscriber_)->create_datareader(topic, qos, listener.get());
     if (!reader) throw std::runtime_error("Fast DDS: cannot create a reader on " + topic->get_name());
     listeners_.push_back(std::move(listener));
     readers_.push_back(reader);
@@ -358,7 +358,6 @@ class FastDdsTransport : public Transport {
   DomainParticipant* participant_ = nullptr;
   Publisher* publisher_ = nullptr;
   Subscriber* subscriber_ = nullptr;
-  Subscriber* command_subscriber_ = nullptr;  // in this robot's command partition
   DataWriter *announcement_writer_ = nullptr, *state_writer_ = nullptr, *status_writer_ = nullptr;
   std::map<std::string, DataWriter*> command_writers_;  // robot id -> writer in its partition
   Topic *announcement_topic_ = nullptr, *state_topic_ = nullptr, *command_topic_ = nullptr, *status_topic_ = nullptr;

@@ -89,77 +89,65 @@ BluezClient::ManagedObjects BluezClient::managed_objects() {
   });
 }
 
-std::optional<std::string> BluezClient::find_device(const std::string& name_or_address,
-                                                    std::chrono::milliseconds timeout) {
-  const auto deadline = std::chrono::steady_clock::now() + timeout;
-  const std::string wanted = lower(name_or_address);
-  bool discovering = false;
-  for (;;) {
-    const ManagedObjects objects = managed_objects();
-    if (!objects.count(sdbus::ObjectPath(adapter_path_))) {
-      throw BluezError("no Bluetooth adapter " + adapter_path_ + " in BlueZ");
-    }
-    for (const auto& [path, interfaces] : objects) {
-      const auto device = interfaces.find(kDevice);
-      if (device == interfaces.end()) continue;
-      if (property<sdbus::ObjectPath>(device->second, "Adapter").value_or(sdbus::ObjectPath{}) != adapter_path_) continue;
-      const std::string name = property<std::string>(device->second, "Name").value_or("");
-      const std::string alias = property<std::string>(device->second, "Alias").value_or("");
-      const std::string address = property<std::string>(device->second, "Address").value_or("");
-      if (lower(name) == wanted || lower(alias) == wanted || lower(address) == wanted) {
-        if (discovering) {
-          try {
-            proxy(adapter_path_).callMethod("StopDiscovery").onInterface(kAdapter);
-          } catch (const sdbus::Error&) {
-            // Discovery may have been stopped by another client; nothing to undo.
-          }
-        }
-        return std::string(path);
-      }
-    }
-    if (std::chrono::steady_clock::now() >= deadline) break;
-    if (!discovering) {
-      guarded("StartDiscovery", [&] {
-        std::map<std::string, sdbus::Variant> filter{{"Transport", sdbus::Variant(std::string("le"))}};
-        proxy(adapter_path_).callMethod("SetDiscoveryFilter").onInterface(kAdapter).withArguments(filter);
-        proxy(adapter_path_).callMethod("StartDiscovery").onInterface(kAdapter);
-      });
-      discovering = true;
-    }
-    process(std::chrono::milliseconds(200));
-  }
-  if (discovering) {
-    try {
-      proxy(adapter_path_).callMethod("StopDiscovery").onInterface(kAdapter);
-    } catch (const sdbus::Error&) {
-    }
-  }
-  return std::nullopt;
-}
-
-std::vector<BluezClient::Device> BluezClient::discover(std::chrono::milliseconds duration) {
+void BluezClient::start_discovery() {
   guarded("StartDiscovery", [&] {
     std::map<std::string, sdbus::Variant> filter{{"Transport", sdbus::Variant(std::string("le"))}};
     proxy(adapter_path_).callMethod("SetDiscoveryFilter").onInterface(kAdapter).withArguments(filter);
     proxy(adapter_path_).callMethod("StartDiscovery").onInterface(kAdapter);
   });
-  const auto deadline = std::chrono::steady_clock::now() + duration;
-  while (std::chrono::steady_clock::now() < deadline) process(std::chrono::milliseconds(100));
+}
+
+void BluezClient::stop_discovery() {
   try {
     proxy(adapter_path_).callMethod("StopDiscovery").onInterface(kAdapter);
   } catch (const sdbus::Error&) {
-    // Stopped by someone else meanwhile; the list is still good.
+    // Another client may have stopped it already; nothing to undo.
   }
+}
+
+std::vector<BluezClient::Device> BluezClient::known_devices() {
+  const ManagedObjects objects = managed_objects();
+  if (!objects.count(sdbus::ObjectPath(adapter_path_))) throw BluezError("no Bluetooth adapter " + adapter_path_ + " in BlueZ");
   std::vector<Device> devices;
-  for (const auto& [path, interfaces] : managed_objects()) {
+  for (const auto& [path, interfaces] : objects) {
     const auto device = interfaces.find(kDevice);
     if (device == interfaces.end()) continue;
     if (property<sdbus::ObjectPath>(device->second, "Adapter").value_or(sdbus::ObjectPath{}) != adapter_path_) continue;
     devices.push_back({path, property<std::string>(device->second, "Name").value_or(""),
+                       property<std::string>(device->second, "Alias").value_or(""),
                        property<std::string>(device->second, "Address").value_or(""),
                        property<int16_t>(device->second, "RSSI").value_or(0)});
   }
   return devices;
+}
+
+std::optional<std::string> BluezClient::find_device(const std::string& name_or_address,
+                                                    std::chrono::milliseconds timeout) {
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  const std::string wanted = lower(name_or_address);
+  bool discovering = false;
+  std::optional<std::string> found;
+  while (!found) {
+    for (const Device& device : known_devices()) {
+      if (lower(device.name) == wanted || lower(device.alias) == wanted || lower(device.address) == wanted) {
+        found = device.path;
+      }
+    }
+    if (found || std::chrono::steady_clock::now() >= deadline) break;
+    if (!discovering) start_discovery();
+    discovering = true;
+    process(std::chrono::milliseconds(200));
+  }
+  if (discovering) stop_discovery();
+  return found;
+}
+
+std::vector<BluezClient::Device> BluezClient::discover(std::chrono::milliseconds duration) {
+  start_discovery();
+  const auto deadline = std::chrono::steady_clock::now() + duration;
+  while (std::chrono::steady_clock::now() < deadline) process(std::chrono::milliseconds(100));
+  stop_discovery();
+  return known_devices();
 }
 
 void BluezClient::connect(const std::string& device_path, std::chrono::milliseconds timeout) {

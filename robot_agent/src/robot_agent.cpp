@@ -67,8 +67,9 @@ std::chrono::steady_clock::duration RobotAgent::idle_time() const {
 
 void RobotAgent::step(fleet_transport::Transport& transport, bool reporting) {
   BackendReport report = backend_.poll();
-  bool publish_now = (was_moving_ && !report.moving) || report.fault != was_fault_;  // report changes at once
-  if (report.fault != was_fault_) {
+  // in_fault_ is written only here, so this thread may read it without the lock.
+  bool publish_now = (was_moving_ && !report.moving) || report.fault != in_fault_;  // report changes at once
+  if (report.fault != in_fault_) {
     // The coordinator takes a faulted robot out and replans; nothing of the old plan may move it.
     const std::lock_guard<std::mutex> lock(mutex_);
     in_fault_ = report.fault;
@@ -78,7 +79,6 @@ void RobotAgent::step(fleet_transport::Transport& transport, bool reporting) {
       pending_.reset();
     }
   }
-  was_fault_ = report.fault;
   if (!report.moving && !report.fault) {
     std::optional<StepCommand> command;
     {

@@ -59,7 +59,7 @@ bool ToioRobot::start_move(GridCell target) {
 
 BackendReport ToioRobot::poll() {
   const std::lock_guard<std::mutex> lock(mutex_);
-  if (fault_sticky_ && !move_ && connected_ && lookup_.status == CellLookup::Status::kOnCell &&
+  if (fault_sticky_ && !move_ && link_open() && lookup_.status == CellLookup::Status::kOnCell &&
       Clock::now() - fault_since_ >= millis(settings_.fault_hold_s)) {
     spdlog::info("toio {}: fault cleared, on cell {}", settings_.cube, cell_text(lookup_.cell));
     fault_.clear();
@@ -96,7 +96,7 @@ std::string ToioRobot::fault_reason() const {
 
 bool ToioRobot::connected() const {
   const std::lock_guard<std::mutex> lock(mutex_);
-  return connected_;
+  return link_open();
 }
 
 std::optional<toio::PositionId> ToioRobot::mat_position() const {
@@ -132,7 +132,7 @@ void ToioRobot::stand_on(GridCell cell) {
 }
 
 void ToioRobot::start_recovery_if_needed() {
-  if (!interrupted_ || move_ || !connected_ || !position_) return;
+  if (!interrupted_ || move_ || !link_open() || !position_) return;
   const InterruptedMove interrupted = *interrupted_;
   if (lookup_.status == CellLookup::Status::kOnCell) {
     interrupted_.reset();  // it stopped on a cell (or was put on one): nothing to do
@@ -174,7 +174,7 @@ void ToioRobot::on_id(const toio::Bytes& bytes) {
       return;
     }
     if (lookup_.status == CellLookup::Status::kOnCell) {
-      if (!fault_sticky_ && connected_) {
+      if (!fault_sticky_ && link_open()) {
         if (!fault_.empty()) spdlog::info("toio {}: ready on cell {}", settings_.cube, cell_text(lookup_.cell));
         fault_.clear();
         stand_on(lookup_.cell);
@@ -331,7 +331,6 @@ void ToioRobot::serve_connection(BluezClient& client) {
   auto leave = [&] {
     {
       const std::lock_guard<std::mutex> lock(mutex_);
-      connected_ = false;
       client_ = nullptr;
     }
     if (!link.device.empty()) client.forget(link.device);  // drops the callbacks that refer to `link`
@@ -340,7 +339,6 @@ void ToioRobot::serve_connection(BluezClient& client) {
     open_link(client, link);
     {
       const std::lock_guard<std::mutex> lock(mutex_);
-      connected_ = true;
       client_ = &client;
       if (!fault_sticky_) fault_ = "no position from the cube yet";
     }

@@ -36,7 +36,7 @@ class BluezClient {
   ~BluezClient();
 
   struct Device {
-    std::string path, name, address;
+    std::string path, name, alias, address;
     int rssi = 0;  // dBm, 0 when unknown
   };
   // Every device the adapter knows after discovering for `duration`.
@@ -68,6 +68,9 @@ class BluezClient {
   using ManagedObjects =
       std::map<sdbus::ObjectPath, std::map<std::string, std::map<std::string, sdbus::Variant>>>;
   ManagedObjects managed_objects();
+  std::vector<Device> known_devices();  // BlueZ's devices of this adapter, as of now
+  void start_discovery();               // LE only
+  void stop_discovery();
   sdbus::IProxy& proxy(const std::string& path);
   template <typename F>
   auto guarded(const std::string& what, F&& call) -> decltype(call());

@@ -50,9 +50,8 @@ class RobotAgent {
   int executing_epoch_ = -1;
   int executing_index_ = -1;
   bool was_moving_ = false;
-  bool was_fault_ = false;
-  bool in_fault_ = false;
-  bool has_stood_on_a_cell_ = false;  // guarded by mutex_: commands are refused meanwhile
+  bool in_fault_ = false;  // written by step() under mutex_: commands are refused meanwhile
+  bool has_stood_on_a_cell_ = false;  // until then the robot has no cell to report
   int fault_epoch_ = -1;  // commands of this epoch or older were issued before a fault
   GridCell moving_to_{};
   uint64_t seq_ = 0;

@@ -93,7 +93,8 @@ class ToioRobot : public RobotBackend {
   // After an interrupted move the cube may stand between its two cells, both of which the
   // coordinator keeps clear for it; drive it onto the nearer one (once) so it can rejoin.
   void start_recovery_if_needed();
-  void stand_on(GridCell cell);  // seen standing on a cell while not moving
+  void stand_on(GridCell cell);
+  bool link_open() const { return client_ != nullptr; }  // seen standing on a cell while not moving
 
   const ToioSettings settings_;
   const MatCalibration calibration_;
@@ -101,7 +102,6 @@ class ToioRobot : public RobotBackend {
   mutable std::mutex mutex_;
   std::condition_variable stop_requested_;
   bool stop_ = false;
-  bool connected_ = false;
   bool wake_requested_ = false;
   bool identify_requested_ = false;
   std::optional<toio::PositionId> position_;
@@ -116,7 +116,7 @@ class ToioRobot : public RobotBackend {
   Clock::time_point fault_since_;
   int battery_percent_ = -1;
   int64_t arrived_ms_ = 0;
-  BluezClient* client_ = nullptr;  // set while the BLE thread serves a connection (for wake())
+  BluezClient* client_ = nullptr;  // set while a connection to the cube is open (also for wake())
   std::thread thread_;
 };
 
