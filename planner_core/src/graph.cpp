@@ -31,9 +31,11 @@ Graph::Graph(int width, int height, const std::vector<std::string>& rows)
     const Cell c = cells_[v];
     for (Cell n : {Cell{c.x, c.y - 1}, Cell{c.x + 1, c.y}, Cell{c.x, c.y + 1}, Cell{c.x - 1, c.y}}) {
       const Vertex u = vertex_at(n);
-      if (u != kNoVertex) neighbours_[v].push_back(u);
+      if (u == kNoVertex) continue;
+      Neighbourhood& around = neighbours_[v];
+      if (around.count >= kMaxDegree) throw std::logic_error("grid vertex with more than kMaxDegree neighbours");
+      around.vertices[around.count++] = u;
     }
-    if (neighbours_[v].size() > kMaxDegree) throw std::logic_error("grid vertex with more than kMaxDegree neighbours");
   }
 }
 
@@ -47,8 +49,8 @@ Vertex Graph::vertex_at(Cell cell) const {
 }
 
 bool Graph::adjacent(Vertex a, Vertex b) const {
-  const auto& n = neighbours_[a];
-  return std::find(n.begin(), n.end(), b) != n.end();
+  const auto around = neighbours(a);
+  return std::find(around.begin(), around.end(), b) != around.end();
 }
 
 Graph load_movingai_map(const std::string& path) {

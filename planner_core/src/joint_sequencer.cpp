@@ -2,15 +2,18 @@
 
 namespace planner_core {
 
-JointSequencer::JointSequencer(const Instance& instance, DistTable& dist, const TaskOrderConfig& config) {
+JointSequencer::JointSequencer(const Instance& instance, DistTable& dist, const TaskOrderConfig& config,
+                               const Deadline& deadline) {
   const int n = instance.agent_count();
   int64_t cost = 0;
   for (int a = 0; a < n; ++a) {
+    if (deadline.expired()) return;
     per_agent_.push_back(std::make_unique<KBestOrders>(instance, a, dist, config));
     cost += per_agent_.back()->get(0)->cost;
   }
   steps_.push_back({-1, -1});
   open_.push({cost, 0, 0});
+  ready_ = true;
 }
 
 std::vector<int> JointSequencer::ranks_of(int step) const {
@@ -42,6 +45,7 @@ std::optional<JointSequence> JointSequencer::next() {
 }
 
 int64_t JointSequencer::lower_bound() const {
+  if (!ready_) return 0;
   int64_t bound = 0;
   for (const auto& orders : per_agent_) bound += orders->lower_bound();
   return bound;

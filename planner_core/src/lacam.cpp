@@ -6,6 +6,8 @@
 #include <memory>
 #include <unordered_map>
 
+#include "planner_core/corridor_swap.hpp"
+
 namespace planner_core {
 
 namespace {
@@ -47,26 +49,22 @@ class Search {
         goals_(goals),
         blocked_(blocked),
         n_(static_cast<int>(starts.size())),
+        dist_(dist),
         occupied_now_(graph.vertex_count(), kNobody),
         occupied_next_(graph.vertex_count(), kNobody),
-        constrained_(starts.size(), 0) {
-    goal_distance_.resize(n_);
-    if (blocked.empty()) {
-      for (int i = 0; i < n_; ++i) goal_distance_[i] = &dist.of(goals[i]);
-    } else {
+        constrained_(starts.size(), 0),
+        swap_(graph, occupied_now_, [this](int agent, Vertex v) { return distance_to_goal(agent, v); },
+              [this](int agent) { return goals_[agent]; }) {
+    if (!blocked.empty()) {
       own_distances_.resize(n_);
-      for (int i = 0; i < n_; ++i) {
-        own_distances_[i] = bfs_around_blocked(goals[i]);
-        goal_distance_[i] = &own_distances_[i];
-      }
+      for (int i = 0; i < n_; ++i) own_distances_[i] = bfs_around_blocked(goals[i]);
     }
     HighLevelNode* start = make_node(starts, nullptr);
     open_.push_back(start);
   }
 
-  LacamResult run(const Deadline& deadline) {
+  LacamResult run(const Deadline& deadline, Clock::time_point started) {
     LacamResult result;
-    const Clock::time_point started = Clock::now();
     HighLevelNode* goal_node = nullptr;
     Config next(n_);
     int64_t iterations = 0;
@@ -128,6 +126,10 @@ class Search {
 
   bool is_blocked(Vertex v) const { return !blocked_.empty() && blocked_[v]; }
 
+  int distance_to_goal(int agent, Vertex v) {
+    return own_distances_.empty() ? dist_.get(goals_[agent], v) : own_distances_[agent][v];
+  }
+
   int64_t transition_cost(const Config& from, const Config& to) const {
     int64_t cost = 0;
     for (int i = 0; i < n_; ++i) cost += (from[i] == goals_[i] && to[i] == goals_[i]) ? 0 : 1;
@@ -140,9 +142,10 @@ class Search {
     node->parent = parent;
     node->priority.resize(n_);
     for (int i = 0; i < n_; ++i) {
-      node->h += std::min<int64_t>((*goal_distance_[i])[config[i]], kUnreachable);
+      const int to_goal = distance_to_goal(i, config[i]);
+      node->h += std::min<int64_t>(to_goal, kUnreachable);
       if (!parent) {
-        node->priority[i] = static_cast<float>((*goal_distance_[i])[config[i]]) / static_cast<float>(n_ * 4 + 1);
+        node->priority[i] = static_cast<float>(to_goal) / static_cast<float>(n_ * 4 + 1);
       } else if (config[i] != goals_[i]) {
         node->priority[i] = parent->priority[i] + 1;  // dynamic priorities: grow until the goal is reached
       } else {
@@ -220,16 +223,23 @@ class Search {
     const Config& from = *from_;
     Config& to = *to_;
     const Vertex here = from[agent];
-    std::array<Vertex, kMaxDegree + 1> candidates;
+    Moves candidates;
     int count = 0;
     for (Vertex u : graph_.neighbours(here)) {
       if (!is_blocked(u)) candidates[count++] = u;
     }
     candidates[count++] = here;
     std::shuffle(candidates.begin(), candidates.begin() + count, rng_);
-    const std::vector<int>& to_goal = *goal_distance_[agent];
-    std::stable_sort(candidates.begin(), candidates.begin() + count,
-                     [&](Vertex a, Vertex b) { return to_goal[a] < to_goal[b]; });
+    MoveKeys to_goal{};
+    // Nearest to the goal first; among equals, a cell nobody stands on (fewer agents pushed).
+    for (int k = 0; k < count; ++k) {
+      const Vertex v = candidates[k];
+      to_goal[k] = 2 * distance_to_goal(agent, v) + (occupied_now_[v] != kNobody && v != here ? 1 : 0);
+    }
+    sort_by_key(candidates, to_goal, count);
+    // A head-on meeting in a corridor: back off (worst candidate first) and pull the other along.
+    const int partner = config_.swap ? swap_.partner(agent, here, candidates[0], to) : kNobody;
+    if (partner != kNobody) std::reverse(candidates.begin(), candidates.begin() + count);
     for (int k = 0; k < count; ++k) {
       const Vertex v = candidates[k];
       if (occupied_next_[v] != kNobody) continue;
@@ -238,6 +248,10 @@ class Search {
       to[agent] = v;
       claim(v, agent);
       if (occupant != kNobody && occupant != agent && to[occupant] == kNoVertex && !plan_move(occupant)) continue;
+      if (k == 0 && partner != kNobody && v != here && to[partner] == kNoVertex && occupied_next_[here] == kNobody) {
+        to[partner] = here;  // the partner follows into the cell we leave
+        claim(here, partner);
+      }
       return true;
     }
     // Staying put is impossible when a constrained agent must move here; the claim of the agent
@@ -296,8 +310,8 @@ class Search {
   const Config& goals_;
   const std::vector<char>& blocked_;
   const int n_;
-  std::vector<const std::vector<int>*> goal_distance_;
-  std::vector<std::vector<int>> own_distances_;
+  DistTable& dist_;
+  std::vector<std::vector<int>> own_distances_;  // per agent, around blocked cells (empty when none are)
   std::vector<std::unique_ptr<HighLevelNode>> nodes_;
   std::unordered_map<Config, HighLevelNode*, ConfigHash> explored_;
   std::vector<HighLevelNode*> open_;
@@ -306,6 +320,7 @@ class Search {
   std::vector<char> constrained_;  // agents fixed by the current constraint
   const Config* from_ = nullptr;
   Config* to_ = nullptr;
+  CorridorSwap swap_;  // reads occupied_now_
 };
 
 }  // namespace
@@ -315,8 +330,9 @@ Lacam::Lacam(const Graph& graph, DistTable& dist, const LacamConfig& config, std
 
 LacamResult Lacam::solve(const Config& starts, const Config& goals, const std::vector<char>& blocked,
                          const Deadline& deadline) {
+  const Clock::time_point started = Clock::now();
   Search search(graph_, dist_, config_, rng_, starts, goals, blocked);
-  return search.run(deadline);
+  return search.run(deadline, started);
 }
 
 }  // namespace planner_core

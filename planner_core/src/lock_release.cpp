@@ -16,11 +16,10 @@ LockSet detect_lock(const ExtendedPibt& pibt, DistTable& dist) {
   // path from one to its next target.
   for (int f : finished) {
     const Vertex cell = now[f];
-    const std::vector<int>& from_cell = dist.of(cell);
     for (int u : unfinished) {
       const Vertex target = pibt.target_of(u);
       const int direct = dist.get(target, now[u]);
-      if (graph.adjacent(cell, now[u]) || from_cell[now[u]] + dist.get(target, cell) == direct) {
+      if (graph.adjacent(cell, now[u]) || dist.get(cell, now[u]) + dist.get(target, cell) == direct) {
         lock.agents.push_back(f);
         break;
       }

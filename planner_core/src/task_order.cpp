@@ -20,10 +20,12 @@ TourMatrix::TourMatrix(const Instance& instance, int agent, DistTable& dist)
   points.push_back(instance.goals[agent]);
   const int n = static_cast<int>(points.size());
   d_.resize(static_cast<size_t>(n) * n);
-  for (int to = 0; to < n; ++to) {
-    const std::vector<int>& to_target = dist.of(points[to]);
-    for (int from = 0; from < n; ++from) d_[from * n + to] = to_target[points[from]];
+  // Distances are symmetric: every entry comes from a search from a task or the goal, which the
+  // path planners need anyway, and none from the start.
+  for (int to = 1; to < n; ++to) {
+    for (int from = 0; from < n; ++from) d_[from * n + to] = dist.get(points[to], points[from]);
   }
+  for (int from = 0; from < n; ++from) d_[from * n] = d_[from];
 }
 
 int TourMatrix::path_cost(int from_point, const std::vector<int>& locals) const {

@@ -1,7 +1,15 @@
-// DistTable: shortest-path distances on the grid, one BFS per target, computed on first use and shared.
+// DistTable: shortest-path distances on the grid to target cells, computed lazily (as lacam3's
+// lazy distance table and LaCAM's "lazy BFS"): one breadth-first search per target cell, shared by
+// every agent with that target, run only as far as the queries so far have needed and resumed
+// from its frontier on the next query. Distances are stored in 16 bits when the map has fewer than
+// 65535 cells, so 10,000 targets on a warehouse map fit in well under 1 GB.
 #pragma once
 
+#include <array>
+#include <cstddef>
+#include <cstdint>
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include "planner_core/graph.hpp"
@@ -10,18 +18,67 @@ namespace planner_core {
 
 constexpr int kUnreachable = 1 << 29;
 
+// The moves open to an agent in one step (its neighbours and staying), with a key per move.
+using Moves = std::array<Vertex, kMaxDegree + 1>;
+using MoveKeys = std::array<int, kMaxDegree + 1>;
+
+// Sorts moves[0..count) by key, smallest first, keeping the order of equal keys (so a shuffle
+// before it breaks ties at random).
+inline void sort_by_key(Moves& moves, MoveKeys& keys, int count) {
+  for (int i = 1; i < count; ++i) {
+    for (int j = i; j > 0 && keys[j] < keys[j - 1]; --j) {
+      std::swap(keys[j], keys[j - 1]);
+      std::swap(moves[j], moves[j - 1]);
+    }
+  }
+}
+
 class DistTable {
  public:
   explicit DistTable(const Graph& graph);
 
-  // Distance from `from` to `target` (kUnreachable if disconnected). Not thread-safe:
-  // one table per solver thread.
-  int get(Vertex target, Vertex from) { return of(target)[from]; }
-  const std::vector<int>& of(Vertex target);
+  // Distance from `from` to `target` (kUnreachable if disconnected). A query costs O(1) once the
+  // search from `target` has reached `from`; otherwise it resumes that search until it does.
+  // Not thread-safe: one table per solver thread.
+  int get(Vertex target, Vertex from) {
+    const TargetSearch* search = by_target_[target].get();
+    if (search) {
+      const uint32_t known = narrow_ ? search->narrow[from] : search->wide[from];
+      if (known != unknown()) return static_cast<int>(known);
+    }
+    return resume(target, from);
+  }
+
+  // Targets searched from so far, and the bytes their tables and frontiers hold.
+  int targets_searched() const { return targets_searched_; }
+  size_t memory_bytes() const;
 
  private:
+  struct TargetSearch {
+    std::vector<uint16_t> narrow;  // used when the graph has fewer than 65535 vertices
+    std::vector<uint32_t> wide;
+    std::vector<Vertex> queue;  // queue[head..] is the frontier still to expand
+    size_t head = 0;
+  };
+
+  uint32_t unknown() const { return narrow_ ? 0xFFFFu : 0xFFFFFFFFu; }
+  uint32_t distance_in(const TargetSearch& search, Vertex v) const {
+    return narrow_ ? search.narrow[v] : search.wide[v];
+  }
+  void set_distance(TargetSearch& search, Vertex v, uint32_t d) const {
+    if (narrow_) {
+      search.narrow[v] = static_cast<uint16_t>(d);
+    } else {
+      search.wide[v] = d;
+    }
+  }
+  TargetSearch& start_search(Vertex target);
+  int resume(Vertex target, Vertex from);
+
   const Graph& graph_;
-  std::vector<std::unique_ptr<std::vector<int>>> by_target_;
+  bool narrow_;
+  int targets_searched_ = 0;
+  std::vector<std::unique_ptr<TargetSearch>> by_target_;
 };
 
 }  // namespace planner_core

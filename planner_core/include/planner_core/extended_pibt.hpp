@@ -8,6 +8,7 @@
 #include <random>
 #include <vector>
 
+#include "planner_core/corridor_swap.hpp"
 #include "planner_core/deadline.hpp"
 #include "planner_core/dist_table.hpp"
 #include "planner_core/joint_sequencer.hpp"
@@ -71,15 +72,7 @@ class ExtendedPibt {
   void mark_visits(int agent, Vertex at, int time);
   int64_t remaining_distance(int agent, Vertex at);
   bool plan_move(int agent);  // funcExPIBT of Algorithm 1
-  // Swap operation: the agent to pull along when `agent`, wanting `best`, must back off; kNobody
-  // when no swap is needed or possible.
-  int swap_partner(int agent, Vertex best);
-  bool swap_required(int pusher, int puller, Vertex pusher_at, Vertex puller_at);
-  bool swap_possible(Vertex pusher_at, Vertex puller_at);
-  // Free neighbours of v for a corridor walk: all but `from` and dead ends where an agent sits on
-  // its target; returns their number and one of them in `other`.
-  int passable_neighbours(Vertex v, Vertex from, Vertex& other);
-  int distance_to_target(int agent, Vertex v) { return dist_.of(target_of(agent))[v]; }
+  int distance_to_target(int agent, Vertex v) { return dist_.get(target_of(agent), v); }
 
   const Instance& instance_;
   DistTable& dist_;
@@ -105,6 +98,7 @@ class ExtendedPibt {
   std::vector<char> planning_;  // agents on the current priority-inheritance chain
   std::vector<int> order_;
   std::vector<PriorityKey> priority_;
+  CorridorSwap swap_;  // reads occupied_now_
 };
 
 }  // namespace planner_core

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <array>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -33,7 +34,9 @@ class Graph {
   bool is_free(Cell cell) const { return vertex_at(cell) != kNoVertex; }
   Vertex vertex_at(Cell cell) const;  // kNoVertex when outside or blocked
   Cell cell_of(Vertex v) const { return cells_[v]; }
-  const std::vector<Vertex>& neighbours(Vertex v) const { return neighbours_[v]; }
+  std::span<const Vertex> neighbours(Vertex v) const {
+    return {neighbours_[v].vertices.data(), static_cast<size_t>(neighbours_[v].count)};
+  }
   bool adjacent(Vertex a, Vertex b) const;
 
   // Row strings as read ('.' free, '@' blocked), for drawing.
@@ -46,7 +49,13 @@ class Graph {
   std::vector<std::string> rows_;
   std::vector<Vertex> vertex_of_index_;  // y * width + x -> vertex or kNoVertex
   std::vector<Cell> cells_;
-  std::vector<std::vector<Vertex>> neighbours_;
+  // Each vertex's neighbours in one fixed-size record, so that a breadth-first search reads one
+  // place per vertex (the hot loop of the distance tables).
+  struct Neighbourhood {
+    std::array<Vertex, kMaxDegree> vertices{};
+    int count = 0;
+  };
+  std::vector<Neighbourhood> neighbours_;
 };
 
 // Reads a MovingAI .map file; throws InputError naming the file and line.

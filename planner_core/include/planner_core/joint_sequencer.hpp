@@ -8,6 +8,7 @@
 #include <queue>
 #include <vector>
 
+#include "planner_core/deadline.hpp"
 #include "planner_core/kbest_orders.hpp"
 
 namespace planner_core {
@@ -21,12 +22,18 @@ struct JointSequence {
 
 class JointSequencer {
  public:
-  JointSequencer(const Instance& instance, DistTable& dist, const TaskOrderConfig& config);
+  // Builds every agent's task orders, unless `deadline` passes first (then ready() is false).
+  JointSequencer(const Instance& instance, DistTable& dist, const TaskOrderConfig& config,
+                 const Deadline& deadline = {});
+
+  // False when the deadline passed before every agent's orders were built: next() gives nothing.
+  bool ready() const { return ready_; }
 
   // The next joint sequence, or nullopt when every combination has been produced.
   std::optional<JointSequence> next();
 
-  // Sum over agents of their single-agent lower bounds (exact tours within the exact limit).
+  // Sum over agents of their single-agent lower bounds (exact tours within the exact limit);
+  // 0 when not ready().
   int64_t lower_bound() const;
   int agent_count() const { return static_cast<int>(per_agent_.size()); }
   KBestOrders& orders_of(int agent) { return *per_agent_[agent]; }
@@ -53,6 +60,7 @@ class JointSequencer {
   std::vector<TupleStep> steps_;
   std::priority_queue<Node, std::vector<Node>, CostGreater> open_;
   int produced_ = 0;
+  bool ready_ = false;
 };
 
 }  // namespace planner_core

@@ -19,6 +19,7 @@ namespace planner_core {
 struct LacamConfig {
   bool refine = false;  // LaCAM*: after the first solution keep searching for a cheaper one until the deadline
   bool forbid_rotations = false;  // reject successors in which agents move in a cycle
+  bool swap = false;  // the configuration generator uses LaCAM3's swap operation (see CorridorSwap)
 };
 
 struct LacamResult {
@@ -27,7 +28,7 @@ struct LacamResult {
   int64_t explored = 0;    // configurations generated
   int64_t cost = 0;        // sum of loss of the solution
   bool exhausted = false;  // the whole reachable space was searched (no solution exists when !solved)
-  double first_solution_ms = -1;  // when the first solution was found (LaCAM* goes on after it)
+  double first_solution_ms = -1;  // since solve() was called, when the first solution was found (LaCAM* goes on after it)
 };
 
 class Lacam {

@@ -43,9 +43,11 @@ struct SolveResult {
   int64_t flowtime = 0;
   int makespan = 0;
   int64_t sum_of_loss = 0;
-  int64_t lower_bound = 0;
+  int64_t lower_bound = 0;        // 0 when not computed
+  // All times count from SolveOptions::started, the moment the user's solve began.
   double comp_time_ms = 0;
   double first_solution_ms = -1;  // -1 when nothing was found
+  double preprocessing_ms = 0;    // until the search proper began (instance read, task orders)
   int sequences_tried = 0;
   int pibt_failures = 0;          // runs that hit the step limit (or stalled, for CTS-PLL)
   int lock_releases = 0;          // CTS-PLL: successful lock releases
@@ -59,6 +61,9 @@ struct SolveOptions {
   Deadline deadline;
   // Called with the result so far when the first solution is found and at every improvement.
   std::function<void(const SolveResult&)> on_solution;
+  // When the solve began from the user's point of view (a program sets it before it reads the
+  // instance); the times in SolveResult count from here.
+  Clock::time_point started = Clock::now();
 };
 
 class Solver {
