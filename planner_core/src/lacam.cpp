@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cstdint>
 #include <deque>
 #include <memory>
 #include <unordered_map>
@@ -39,10 +40,12 @@ struct HighLevelNode {
   std::vector<HighLevelNode*> neighbours;  // LaCAM*: known successors, for rewiring
 };
 
-class Search {
+}  // namespace
+
+class LacamSearch::State {
  public:
-  Search(const Graph& graph, DistTable& dist, const LacamConfig& config, std::mt19937& rng, const Config& starts,
-         const Config& goals, const std::vector<char>& blocked)
+  State(const Graph& graph, DistTable& dist, const LacamConfig& config, std::mt19937& rng, const Config& starts,
+        const Config& goals, const std::vector<char>& blocked)
       : graph_(graph),
         config_(config),
         rng_(rng),
@@ -63,20 +66,24 @@ class Search {
     open_.push_back(start);
   }
 
-  LacamResult run(const Deadline& deadline, Clock::time_point started) {
+  // Searches until the deadline, until the whole space has been searched, or until it holds a
+  // solution cheaper than the one it last returned; a later call goes on from there.
+  LacamResult run(const Deadline& deadline) {
     LacamResult result;
-    HighLevelNode* goal_node = nullptr;
     Config next(n_);
-    int64_t iterations = 0;
+    // With many agents an iteration is long enough to look at the clock every time.
+    const int64_t clock_mask = n_ >= 256 ? 0 : 63;
     while (!open_.empty()) {
-      if ((++iterations & 63) == 0 && deadline.expired()) break;
+      if ((++iterations_ & clock_mask) == 0 && deadline.expired()) break;
+      if (goal_node_ && goal_node_->g < reported_cost_) break;
       HighLevelNode* node = open_.back();
-      if (node->config == goals_ && (!goal_node || node->g < goal_node->g)) {
-        if (!goal_node) result.first_solution_ms = elapsed_ms(started);
-        goal_node = node;
+      if (node->config == goals_ && (!goal_node_ || node->g < goal_node_->g)) {
+        if (!goal_node_) first_solution_ms_ = elapsed_ms(started_);
+        goal_node_ = node;
         if (!config_.refine) break;
+        continue;
       }
-      if (goal_node && node->g + node->h >= goal_node->g) {  // LaCAM*: cannot beat the best found
+      if (goal_node_ && node->g + node->h >= goal_node_->g) {  // LaCAM*: cannot beat the best found
         open_.pop_back();
         continue;
       }
@@ -98,11 +105,13 @@ class Search {
       }
     }
     result.explored = static_cast<int64_t>(nodes_.size());
-    result.exhausted = open_.empty() && !goal_node;
-    if (goal_node) {
+    result.exhausted = open_.empty();
+    result.first_solution_ms = first_solution_ms_;
+    if (goal_node_) {
       result.solved = true;
-      result.cost = goal_node->g;
-      for (HighLevelNode* h = goal_node; h; h = h->parent) result.solution.push_back(h->config);
+      result.cost = goal_node_->g;
+      reported_cost_ = goal_node_->g;
+      for (HighLevelNode* h = goal_node_; h; h = h->parent) result.solution.push_back(h->config);
       std::reverse(result.solution.begin(), result.solution.end());
     }
     return result;
@@ -307,9 +316,14 @@ class Search {
   const Graph& graph_;
   LacamConfig config_;
   std::mt19937& rng_;
-  const Config& goals_;
-  const std::vector<char>& blocked_;
+  const Config goals_;
+  const std::vector<char> blocked_;
   const int n_;
+  const Clock::time_point started_ = Clock::now();
+  HighLevelNode* goal_node_ = nullptr;
+  int64_t reported_cost_ = INT64_MAX;  // of the solution run() last returned
+  double first_solution_ms_ = -1;
+  int64_t iterations_ = 0;
   DistTable& dist_;
   std::vector<std::vector<int>> own_distances_;  // per agent, around blocked cells (empty when none are)
   std::vector<std::unique_ptr<HighLevelNode>> nodes_;
@@ -323,16 +337,21 @@ class Search {
   CorridorSwap swap_;  // reads occupied_now_
 };
 
-}  // namespace
+LacamSearch::LacamSearch(const Graph& graph, DistTable& dist, const LacamConfig& config, std::mt19937& rng,
+                         const Config& starts, const Config& goals, const std::vector<char>& blocked)
+    : state_(std::make_unique<State>(graph, dist, config, rng, starts, goals, blocked)) {}
+
+LacamSearch::~LacamSearch() = default;
+
+LacamResult LacamSearch::run(const Deadline& deadline) { return state_->run(deadline); }
 
 Lacam::Lacam(const Graph& graph, DistTable& dist, const LacamConfig& config, std::mt19937& rng)
     : graph_(graph), dist_(dist), config_(config), rng_(rng) {}
 
 LacamResult Lacam::solve(const Config& starts, const Config& goals, const std::vector<char>& blocked,
                          const Deadline& deadline) {
-  const Clock::time_point started = Clock::now();
-  Search search(graph_, dist_, config_, rng_, starts, goals, blocked);
-  return search.run(deadline, started);
+  LacamSearch search(graph_, dist_, config_, rng_, starts, goals, blocked);
+  return search.run(deadline);
 }
 
 }  // namespace planner_core

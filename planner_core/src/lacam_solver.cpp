@@ -1,5 +1,6 @@
 #include "planner_core/lacam_solver.hpp"
 
+#include <algorithm>
 #include <random>
 #include <stdexcept>
 
@@ -7,8 +8,26 @@
 
 namespace planner_core {
 
+namespace {
+
+// LaCAM*'s time between its search and the LNS refiner: the search's share grows while it finds
+// cheaper plans than the refiner's and shrinks while it does not (at scale it never does).
+constexpr double kRefinerSliceS = 1.0;
+constexpr double kFirstSearchSliceS = 0.25;
+constexpr double kMinSearchSliceS = 0.02;
+constexpr double kMaxSearchSliceS = 4.0;
+
+Deadline slice_of(const Deadline& deadline, double seconds) {
+  Deadline slice = Deadline::in_seconds(seconds, deadline.interrupt);
+  slice.at = std::min(slice.at, deadline.at);
+  return slice;
+}
+
+}  // namespace
+
 SolveResult LacamSolver::solve(const Instance& instance, const SolveOptions& options) {
   const Clock::time_point started = options.started;
+  const Deadline& deadline = options.deadline;
   SolveResult result;
   DistTable dist(*instance.graph);
   if (instance.task_count() > 0) {
@@ -17,27 +36,45 @@ SolveResult LacamSolver::solve(const Instance& instance, const SolveOptions& opt
     return result;
   }
   std::mt19937 rng(config_.seed);
-  Lacam lacam(*instance.graph, dist, LacamConfig{refine_, config_.forbid_rotations, config_.pibt.swap}, rng);
+  const std::vector<std::vector<int>> no_tasks(instance.agent_count());
   result.preprocessing_ms = elapsed_ms(started);
-  const LacamResult found = lacam.solve(instance.starts, instance.goals, {}, options.deadline);
+  LacamSearch search(*instance.graph, dist, LacamConfig{refine_, config_.forbid_rotations, config_.pibt.swap}, rng,
+                     instance.starts, instance.goals);
+  LacamResult found = search.run(deadline);
   result.sequences_tried = 1;
-  if (found.solved) {
-    const ValidationReport report = validate(instance, found.solution);
-    if (!report.ok()) throw std::logic_error("LaCAM produced an invalid plan:\n" + report.summary());
-    result.solved = true;
-    result.solution = found.solution;
-    result.orders.assign(instance.agent_count(), {});
-    result.flowtime = report.flowtime;
-    result.makespan = report.makespan;
-    result.sum_of_loss = sum_of_loss(found.solution, instance.goals);
-    result.first_solution_ms = result.preprocessing_ms + found.first_solution_ms;
-    // Alongside the search: the searches from the goals have already reached every start.
-    for (int a = 0; a < instance.agent_count(); ++a) result.lower_bound += dist.get(instance.goals[a], instance.starts[a]);
-    result.improvements.push_back({result.first_solution_ms, result.flowtime, 0});
-    if (options.on_solution) options.on_solution(result);
-  } else {
+  if (!found.solved) {
     result.failure_reason = found.exhausted ? "no solution exists (LaCAM searched every reachable configuration)"
                                             : "deadline reached before LaCAM found a solution";
+    result.comp_time_ms = elapsed_ms(started);
+    return result;
+  }
+  keep_if_better(result, instance, found.solution, no_tasks, 0, started, options, "LaCAM");
+  // Alongside the search: the searches from the goals have already reached every start.
+  for (int a = 0; a < instance.agent_count(); ++a) result.lower_bound += dist.get(instance.goals[a], instance.starts[a]);
+
+  if (refine_) {
+    // LaCAM*: the search goes on for cheaper plans, in slices between LNS refinement of the best
+    // plan so far (as lacam3 runs its refiners beside the search).
+    LnsConfig lns_config = config_.lns;
+    lns_config.search.forbid_following = lns_config.search.forbid_following || config_.forbid_rotations;
+    lns_config.stall_iterations = 0;  // the slice ends it
+    LnsRefiner refiner(instance, dist, lns_config, rng);
+    double search_slice_s = kFirstSearchSliceS;
+    bool search_done = found.exhausted;  // an exhausted LaCAM* search has proved its plan optimal
+    while (!deadline.expired() && result.flowtime > result.lower_bound) {
+      if (!search_done) {
+        found = search.run(slice_of(deadline, search_slice_s));
+        search_done = found.exhausted;
+        const bool cheaper = found.solved && flowtime(found.solution, instance.goals) < result.flowtime;
+        if (cheaper) keep_if_better(result, instance, found.solution, no_tasks, 0, started, options, "LaCAM*");
+        search_slice_s = std::clamp(search_slice_s * (cheaper ? 2.0 : 0.5), kMinSearchSliceS, kMaxSearchSliceS);
+        if (search_done) break;  // optimal
+      }
+      Solution plan = result.solution;
+      const LnsStats stats = refiner.refine(plan, no_tasks, slice_of(deadline, kRefinerSliceS));
+      result.lns_iterations += stats.iterations;
+      keep_if_better(result, instance, plan, no_tasks, 0, started, options, "LaCAM* refiner");
+    }
   }
   result.comp_time_ms = elapsed_ms(started);
   return result;

@@ -159,9 +159,16 @@ LnsStats LnsRefiner::refine(Solution& plan, const std::vector<std::vector<int>>&
     }
     SpaceTimeLimits limits = config_.search;
     limits.horizon = std::min(limits.horizon, makespan + max_tour);
+    limits.deadline = deadline;
+    // The repair is kept only if it costs no more than the paths it replaces, so each agent's
+    // path may be at most what is left of the old cost after the others' shortest tours.
+    int64_t others_shortest = 0;
+    for (int a : group) others_shortest += tour_length_[a];
     new_paths.clear();
     int64_t new_cost = 0;
     for (int a : group) {
+      others_shortest -= tour_length_[a];
+      limits.max_length = static_cast<int>(std::min<int64_t>(old_cost - new_cost - others_shortest, 1 << 29));
       Path path = plan_through_targets(*instance_.graph, dist_, table_, instance_.starts[a], targets_[a], limits);
       if (path.empty()) break;
       new_cost += static_cast<int64_t>(path.size()) - 1;

@@ -201,6 +201,7 @@ std::optional<Solution> complete_by_prioritized_planning(const ExtendedPibt& pib
   SpaceTimeLimits limits;
   limits.horizon = static_cast<int>(plan.size()) + 4 * instance.graph->vertex_count();
   limits.forbid_following = forbid_following;
+  limits.deadline = deadline;
 
   std::vector<int> order = lock.agents;
   for (int attempt = 0; attempt < attempts && !deadline.expired(); ++attempt) {

@@ -44,6 +44,8 @@ Path plan_through_targets(const Graph& graph, DistTable& dist, const PathTable& 
   // Admissible: no plan arrives before the goal's last safe interval opens.
   const auto remaining = [&](Vertex v, int done) { return dist.get(targets[done], v) + suffix[done]; };
   const auto estimate = [&](Vertex v, int t, int done) { return std::max(t + remaining(v, done), earliest_rest); };
+  const int latest_arrival = limits.max_length >= (1 << 30) - start_time ? (1 << 30) : start_time + limits.max_length;
+  if (estimate(start, start_time, advance(start, 0)) > latest_arrival) return {};
 
   std::vector<State> store;
   const auto worse = [&](int a, int b) {
@@ -92,6 +94,7 @@ Path plan_through_targets(const Graph& graph, DistTable& dist, const PathTable& 
       return path;
     }
     if (++expansions > limits.max_expansions) break;
+    if ((expansions & 1023) == 0 && limits.deadline.expired()) break;
     for (Vertex u : graph.neighbours(state.v)) {
       const auto& slots = intervals(u);
       for (int k = 0; k < static_cast<int>(slots.size()); ++k) {
@@ -107,6 +110,7 @@ Path plan_through_targets(const Graph& graph, DistTable& dist, const PathTable& 
         }
         if (t > latest || t > limits.horizon) continue;
         const int done = advance(u, state.done);
+        if (estimate(u, t, done) > latest_arrival) continue;
         if (auto it = best_arrival.find(key(u, k, done)); it != best_arrival.end() && it->second <= t) continue;
         store.push_back({u, k, done, t, estimate(u, t, done), remaining(u, done), index});
         open.push(static_cast<int>(store.size()) - 1);

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <random>
 #include <vector>
 
@@ -27,10 +28,31 @@ struct LacamResult {
   Solution solution;       // solution[0] = starts, back() = goals
   int64_t explored = 0;    // configurations generated
   int64_t cost = 0;        // sum of loss of the solution
-  bool exhausted = false;  // the whole reachable space was searched (no solution exists when !solved)
-  double first_solution_ms = -1;  // since solve() was called, when the first solution was found (LaCAM* goes on after it)
+  bool exhausted = false;  // the whole reachable space was searched: no solution exists when !solved,
+                           // and with LaCAM* the solution is optimal
+  double first_solution_ms = -1;  // since the search was made, when the first solution was found (LaCAM* goes on after it)
 };
 
+// One search, kept between calls so that LaCAM* can be run in slices between other work.
+class LacamSearch {
+ public:
+  LacamSearch(const Graph& graph, DistTable& dist, const LacamConfig& config, std::mt19937& rng, const Config& starts,
+              const Config& goals, const std::vector<char>& blocked = {});
+  ~LacamSearch();
+  LacamSearch(const LacamSearch&) = delete;
+  LacamSearch& operator=(const LacamSearch&) = delete;
+
+  // Searches until the deadline, until the whole space has been searched (exhausted), or until it
+  // holds a solution cheaper than the one it last returned (plain LaCAM: the first); a later call
+  // goes on from there. The result carries the best solution so far.
+  LacamResult run(const Deadline& deadline);
+
+ private:
+  class State;
+  std::unique_ptr<State> state_;
+};
+
+// A one-shot search.
 class Lacam {
  public:
   // `dist` is used for goal distances when nothing is blocked; with blocked cells the search

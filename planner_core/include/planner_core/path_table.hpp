@@ -21,7 +21,7 @@ class PathTable {
   // The agent at v at time t, counting agents resting on their final cell, or kFree.
   int occupant(Vertex v, int t) const;
   // The last time any stored path passes v (-1 if none); a resting agent's arrival counts.
-  int last_visit(Vertex v) const { return static_cast<int>(by_vertex_[v].size()) - 1; }
+  int last_visit(Vertex v) const { return visits_[v].empty() ? -1 : visits_[v].back().t; }
   // The maximal time intervals [first, last] in which v is free (last = kForever for the final one).
   struct Interval {
     int first;
@@ -33,7 +33,13 @@ class PathTable {
   void agents_at(Vertex v, std::vector<int>& out) const;
 
  private:
-  std::vector<std::vector<int>> by_vertex_;  // by_vertex_[v][t] = agent or kFree
+  struct Visit {
+    int t;
+    int agent;
+  };
+  // Per vertex, the stored paths' visits sorted by time: a cell sees few agents, so safe
+  // intervals and look-ups cost O(visits), not O(time horizon).
+  std::vector<std::vector<Visit>> visits_;
   std::vector<int> resting_agent_;           // per vertex: who rests there forever, or kFree
   std::vector<int> resting_from_;
 };

@@ -6,6 +6,7 @@
 
 #include <vector>
 
+#include "planner_core/deadline.hpp"
 #include "planner_core/dist_table.hpp"
 #include "planner_core/path_table.hpp"
 
@@ -16,6 +17,10 @@ struct SpaceTimeLimits {
   int max_expansions = 200000;  // give up beyond this many expanded states
   // Enter a cell only if it was free the step before (no following, hence no rotations).
   bool forbid_following = false;
+  // No path longer than this (steps from start_time to the goal): a repair that cannot beat the
+  // paths it replaces is given up early.
+  int max_length = 1 << 30;
+  Deadline deadline;  // the search gives up when it passes
 };
 
 // The earliest-arrival such path, or an empty path when there is none within the limits.
