@@ -275,10 +275,10 @@ bool FleetCoordinator::replan(fleet_transport::Transport& transport) {
     }
     if (goal == planner_core::kNoVertex) {
       // Extra robots (and robots that cannot reach their goal) rest on the nearest cell nobody needs.
-      const std::vector<int>& from = dist.of(start);
       int best = planner_core::kUnreachable;
       for (Vertex v = 0; v < graph->vertex_count(); ++v) {
-        if (from[v] < best && !goals_taken.count(v)) best = from[v], goal = v;
+        const int from_start = dist.get(start, v);
+        if (from_start < best && !goals_taken.count(v)) best = from_start, goal = v;
       }
       goals_taken.insert(goal);
     }

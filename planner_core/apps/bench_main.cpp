@@ -8,6 +8,7 @@
 #include <iostream>
 #include <thread>
 
+#include "mapf_scale_experiment.hpp"
 #include "paper_experiments.hpp"
 #include "planner_core/benchmark_runner.hpp"
 
@@ -60,7 +61,10 @@ int main(int argc, char** argv) {
   app.add_option("inputs", inputs, "instance files, folders (searched for .yaml) or .txt lists");
   app.add_option("--experiment", experiment,
                  "reproduce the CTS-PLL paper's experiments side by side: dense, sparse, scale or all")
-      ->check(CLI::IsMember({"dense", "sparse", "scale", "all"}));
+      ->check(CLI::IsMember({"dense", "sparse", "scale", "all", "mapf-scale"}));
+  ctsfleet_bench::MapfScaleSettings mapf_scale;
+  app.add_option("--scale-suite", mapf_scale.suite, "experiment mapf-scale: the plain MAPF scale suite folder")
+      ->capture_default_str();
   app.add_option("--benchmarks", experiment_settings.benchmarks, "experiment: benchmark suites folder")
       ->capture_default_str();
   app.add_option("--out-dir", experiment_settings.out_dir, "experiment: where tables, CSV and plots go")
@@ -87,6 +91,13 @@ int main(int argc, char** argv) {
     } else if (sample > 0) {
       experiment_settings.dense_per_setting = experiment_settings.sparse_per_setting = sample;
       experiment_settings.scale_per_setting = sample;
+    }
+    if (experiment == "mapf-scale") {
+      mapf_scale.out_dir = experiment_settings.out_dir;
+      mapf_scale.seconds = experiment_settings.seconds;
+      mapf_scale.seed = config.seed;
+      if (app.count("--solver")) mapf_scale.solvers = solvers;
+      return ctsfleet_bench::run_mapf_scale(mapf_scale);
     }
     return ctsfleet_bench::run_experiments(experiment, experiment_settings);
   }

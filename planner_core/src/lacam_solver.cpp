@@ -37,6 +37,16 @@ SolveResult LacamSolver::solve(const Instance& instance, const SolveOptions& opt
   }
   std::mt19937 rng(config_.seed);
   const std::vector<std::vector<int>> no_tasks(instance.agent_count());
+  // The first node needs every agent's distance to its goal: the searches from the goals run at
+  // least that far. Done here, one agent at a time, so that a short time limit is kept at any size.
+  for (int a = 0; a < instance.agent_count(); ++a) {
+    if (deadline.expired()) {
+      result.failure_reason = "deadline reached while computing distances to the goals";
+      result.preprocessing_ms = result.comp_time_ms = elapsed_ms(started);
+      return result;
+    }
+    dist.get(instance.goals[a], instance.starts[a]);
+  }
   result.preprocessing_ms = elapsed_ms(started);
   LacamSearch search(*instance.graph, dist, LacamConfig{refine_, config_.forbid_rotations, config_.pibt.swap}, rng,
                      instance.starts, instance.goals);

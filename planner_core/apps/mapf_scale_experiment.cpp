@@ -1,0 +1,141 @@
+#include "mapf_scale_experiment.hpp"
+
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+namespace ctsfleet_bench {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Run {
+  std::map<std::string, std::string> summary;  // key=value pairs of ctsfleet-solve's summary line
+  double wall_s = 0;
+  double peak_mb = 0;
+  int exit_code = -1;
+};
+
+// Runs `argv` with its standard output captured; the child's own peak memory comes from wait4.
+Run run_child(const std::vector<std::string>& argv) {
+  Run run;
+  int pipe_fds[2];
+  if (pipe(pipe_fds) != 0) return run;
+  const auto started = std::chrono::steady_clock::now();
+  const pid_t pid = fork();
+  if (pid == 0) {
+    dup2(pipe_fds[1], STDOUT_FILENO);
+    close(pipe_fds[0]);
+    close(pipe_fds[1]);
+    std::vector<char*> args;
+    for (const std::string& arg : argv) args.push_back(const_cast<char*>(arg.c_str()));
+    args.push_back(nullptr);
+    execv(args[0], args.data());
+    _exit(127);
+  }
+  close(pipe_fds[1]);
+  std::string output;
+  std::array<char, 4096> buffer;
+  for (ssize_t got; (got = read(pipe_fds[0], buffer.data(), buffer.size())) > 0;) output.append(buffer.data(), got);
+  close(pipe_fds[0]);
+  int status = 0;
+  rusage usage{};
+  wait4(pid, &status, 0, &usage);
+  run.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  run.peak_mb = static_cast<double>(usage.ru_maxrss) / 1024.0;
+  run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  std::istringstream words(output);
+  for (std::string word; words >> word;) {
+    const size_t eq = word.find('=');
+    if (eq != std::string::npos) run.summary[word.substr(0, eq)] = word.substr(eq + 1);
+  }
+  return run;
+}
+
+double number(const Run& run, const std::string& key) {
+  const auto it = run.summary.find(key);
+  return it == run.summary.end() ? -1 : std::atof(it->second.c_str());
+}
+
+}  // namespace
+
+int run_mapf_scale(const MapfScaleSettings& settings) {
+  const fs::path solve = fs::read_symlink("/proc/self/exe").parent_path() / "ctsfleet-solve";
+  if (!fs::exists(solve)) {
+    std::fprintf(stderr, "error: %s not found (build ctsfleet-solve)\n", solve.c_str());
+    return 2;
+  }
+  std::error_code error;
+  std::vector<fs::path> instances;
+  for (const auto& entry : fs::directory_iterator(settings.suite, error)) {
+    if (entry.path().extension() == ".yaml") instances.push_back(entry.path());
+  }
+  if (error || instances.empty()) {
+    std::fprintf(stderr, "error: %s: no instances (run from the repository root, or give --scale-suite)\n",
+                 settings.suite.c_str());
+    return 2;
+  }
+  // By map, then by size.
+  const auto agents_of = [](const fs::path& p) {
+    const std::string stem = p.stem().string();
+    return std::atoi(stem.substr(stem.rfind("-N") + 2).c_str());
+  };
+  std::sort(instances.begin(), instances.end(), [&](const fs::path& a, const fs::path& b) {
+    const std::string map_a = a.stem().string().substr(0, a.stem().string().rfind("-N"));
+    const std::string map_b = b.stem().string().substr(0, b.stem().string().rfind("-N"));
+    return map_a != map_b ? map_a < map_b : agents_of(a) < agents_of(b);
+  });
+  fs::create_directories(settings.out_dir, error);
+  const fs::path csv_path = fs::path(settings.out_dir) / "mapf-scale.csv";
+  std::ofstream csv(csv_path);
+  if (!csv) {
+    std::fprintf(stderr, "error: %s: cannot write\n", csv_path.c_str());
+    return 2;
+  }
+  csv << "instance,solver,agents,limit_s,solved,first_plan_ms,preprocessing_ms,sum_of_costs,lower_bound,ratio,wall_s,"
+         "overshoot_percent,peak_mb\n";
+  std::ostringstream md;
+  md << "| instance | solver | limit (s) | first plan (ms, from start) | preprocessing (ms) | sum of costs / lower bound"
+        " | wall (s) | over the limit | peak memory (MB) |\n|---|---|---|---|---|---|---|---|---|\n";
+  std::printf("%s", md.str().c_str());
+  const fs::path scratch = fs::temp_directory_path() / ("ctsfleet-mapf-scale-" + std::to_string(getpid()) + ".txt");
+  for (const fs::path& instance : instances) {
+    for (const std::string& solver : settings.solvers) {
+      std::ostringstream limit;
+      limit << settings.seconds;
+      const Run run = run_child({solve.string(), "-i", instance.string(), "--solver", solver, "-t", limit.str(),
+                                 "--swap", "--seed", std::to_string(settings.seed), "-o", scratch.string()});
+      const bool solved = number(run, "solved") == 1;
+      const double over = 100.0 * (run.wall_s - settings.seconds) / settings.seconds;
+      char line[512];
+      std::snprintf(line, sizeof line, "| %s | %s | %g | %s | %.0f | %s | %.2f | %+.1f%% | %.0f |\n",
+                    instance.stem().c_str(), solver.c_str(), settings.seconds,
+                    solved ? std::to_string(static_cast<long>(number(run, "first_ms"))).c_str() : "none",
+                    number(run, "preprocessing_ms"), solved ? run.summary.at("ratio").c_str() : "-", run.wall_s, over,
+                    run.peak_mb);
+      md << line;
+      std::printf("%s", line);
+      std::fflush(stdout);
+      csv << instance.stem().string() << "," << solver << "," << agents_of(instance) << "," << settings.seconds << ","
+          << (solved ? 1 : 0) << "," << number(run, "first_ms") << "," << number(run, "preprocessing_ms") << ","
+          << number(run, "flowtime") << "," << number(run, "lower_bound") << "," << number(run, "ratio") << ","
+          << run.wall_s << "," << over << "," << run.peak_mb << "\n";
+    }
+  }
+  fs::remove(scratch, error);
+  std::ofstream(fs::path(settings.out_dir) / "mapf-scale.md") << md.str();
+  std::printf("written: %s/mapf-scale.{md,csv}\n", settings.out_dir.c_str());
+  return 0;
+}
+
+}  // namespace ctsfleet_bench
