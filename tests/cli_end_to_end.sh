@@ -11,6 +11,8 @@ ctsval="$data/../../../shared/tools/ctsval.py"; [ -f "$ctsval" ] || ctsval="$dat
 grep -q "solved=1" "$work/summary"
 grep -q "^order_0=" "$work/sol.txt"
 grep -q "^comp_time_first_ms=" "$work/sol.txt"
+grep -q "^comp_time_preprocessing_ms=" "$work/sol.txt"
+grep -q "preprocessing_ms=.* peak_memory_mb=" "$work/summary"
 grep -q "<polyline" "$work/sol.svg"
 "$python" "$ctsval" "$work/gen.yaml" "$work/sol.txt"
 
@@ -30,4 +32,14 @@ set -e
 [ "$code" -eq 2 ] || { echo "expected exit 2, got $code"; exit 1; }
 grep -q "nowhere.map" "$work/err"
 [ ! -e "$work/never.txt" ]
+# A time limit that is not a positive, finite number of seconds is an input error.
+for limit in 0 -1 nan inf 1e300; do
+  set +e
+  "$bin/ctsfleet-solve" -i "$work/gen.yaml" -t "$limit" -o "$work/never.txt" 2> "$work/err"
+  code=$?
+  set -e
+  [ "$code" -eq 2 ] || { echo "-t $limit: expected exit 2, got $code"; exit 1; }
+  grep -q -- "-t/--time" "$work/err"
+  [ ! -e "$work/never.txt" ]
+done
 echo "cli end-to-end: all checks passed"

@@ -3,6 +3,7 @@
 #include <sys/resource.h>
 
 #include <atomic>
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <iostream>
@@ -58,8 +59,15 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--max-sequences", config.max_sequences, "anytime: stop after this many joint sequences (0 = none)");
   app.add_flag("--swap", config.pibt.swap, "Extended-PIBT with LaCAM3's swap operation (head-on meetings in corridors)");
+  app.add_option("--lns-neighbourhood", config.lns.neighbourhood_size, "LNS (cts-pll-v3, lacam-star): agents replanned at once")
+      ->check(CLI::Range(1, 1000))
+      ->capture_default_str();
   app.add_flag("-v,--verbose", verbose, "print each improvement as it is found");
   CLI11_PARSE(app, argc, argv);
+  if (!std::isfinite(seconds) || seconds <= 0 || seconds > 1e6) {
+    std::cerr << "error: -t/--time: the time limit must be a number of seconds in (0, 1e6], not " << seconds << "\n";
+    return 2;
+  }
 
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);

@@ -10,7 +10,12 @@ constexpr double kMinimumWeight = 1e-3;  // keeps every operator selectable
 }
 
 LnsRefiner::LnsRefiner(const Instance& instance, DistTable& dist, const LnsConfig& config, std::mt19937& rng)
-    : instance_(instance), dist_(dist), config_(config), rng_(rng), table_(instance.graph->vertex_count()) {
+    : instance_(instance),
+      dist_(dist),
+      config_(config),
+      rng_(rng),
+      table_(instance.graph->vertex_count()),
+      planner_(*instance.graph) {
   weights_.fill(1.0);
 }
 
@@ -117,15 +122,14 @@ std::vector<int> LnsRefiner::pick_neighbourhood(DestroyOperator op) {
   return random_agents({});
 }
 
-LnsStats LnsRefiner::refine(Solution& plan, const std::vector<std::vector<int>>& orders, const Deadline& deadline,
-                            const std::function<void(int64_t)>& on_improvement) {
+void LnsRefiner::load(const Solution& plan, const std::vector<std::vector<int>>& orders) {
   const int n = instance_.agent_count();
   const std::vector<int> arrival = arrival_times(plan, instance_.goals);
   paths_.assign(n, {});
   targets_.assign(n, {});
   tour_length_.assign(n, 0);
   table_ = PathTable(instance_.graph->vertex_count());
-  int max_tour = 0;
+  max_tour_ = 0;
   for (int a = 0; a < n; ++a) {
     for (int t = 0; t <= arrival[a]; ++t) paths_[a].push_back(plan[t][a]);
     for (int task : orders[a]) targets_[a].push_back(instance_.tasks[task].at);
@@ -135,11 +139,26 @@ LnsStats LnsRefiner::refine(Solution& plan, const std::vector<std::vector<int>>&
       tour_length_[a] += dist_.get(target, at);
       at = target;
     }
-    max_tour = std::max(max_tour, tour_length_[a]);
+    max_tour_ = std::max(max_tour_, tour_length_[a]);
     table_.add(a, paths_[a]);
   }
-  int64_t flow = std::accumulate(arrival.begin(), arrival.end(), int64_t{0});
-  int makespan = *std::max_element(arrival.begin(), arrival.end());
+  loaded_plan_ = plan;
+  loaded_orders_ = orders;
+}
+
+LnsStats LnsRefiner::refine(Solution& plan, const std::vector<std::vector<int>>& orders, const Deadline& deadline,
+                            const std::function<void(int64_t)>& on_improvement) {
+  const int n = instance_.agent_count();
+  // Going on from where the last call left this very plan keeps its paths and table (rebuilding
+  // them costs O(agents x makespan), a good part of a short slice at 10,000 agents).
+  if (plan != loaded_plan_ || orders != loaded_orders_) load(plan, orders);
+  const int max_tour = max_tour_;
+  int64_t flow = 0;
+  int makespan = 0;
+  for (const Path& path : paths_) {
+    flow += static_cast<int64_t>(path.size()) - 1;
+    makespan = std::max(makespan, static_cast<int>(path.size()) - 1);
+  }
 
   LnsStats stats;
   std::vector<Path> old_paths, new_paths;
@@ -169,7 +188,7 @@ LnsStats LnsRefiner::refine(Solution& plan, const std::vector<std::vector<int>>&
     for (int a : group) {
       others_shortest -= tour_length_[a];
       limits.max_length = static_cast<int>(std::min<int64_t>(old_cost - new_cost - others_shortest, 1 << 29));
-      Path path = plan_through_targets(*instance_.graph, dist_, table_, instance_.starts[a], targets_[a], limits);
+      Path path = planner_.plan(dist_, table_, instance_.starts[a], targets_[a], limits);
       if (path.empty()) break;
       new_cost += static_cast<int64_t>(path.size()) - 1;
       table_.add(a, path);
@@ -201,6 +220,7 @@ LnsStats LnsRefiner::refine(Solution& plan, const std::vector<std::vector<int>>&
   for (int t = 0; t <= makespan; ++t) {
     for (int a = 0; a < n; ++a) plan[t][a] = paths_[a][std::min<size_t>(t, paths_[a].size() - 1)];
   }
+  loaded_plan_ = plan;
   stats.weights = weights_;
   return stats;
 }

@@ -204,6 +204,7 @@ std::optional<Solution> complete_by_prioritized_planning(const ExtendedPibt& pib
   limits.deadline = deadline;
 
   std::vector<int> order = lock.agents;
+  SafeIntervalPlanner planner(*instance.graph);
   for (int attempt = 0; attempt < attempts && !deadline.expired(); ++attempt) {
     std::shuffle(order.begin(), order.end(), rng);
     PathTable table(instance.graph->vertex_count());
@@ -212,7 +213,7 @@ std::optional<Solution> complete_by_prioritized_planning(const ExtendedPibt& pib
     bool complete = true;
     for (int a : order) {
       table.remove(a, fixed[a]);
-      const Path rest = plan_through_targets(*instance.graph, dist, table, plan[t_hat][a], targets[a], limits, t_hat);
+      const Path rest = planner.plan(dist, table, plan[t_hat][a], targets[a], limits, t_hat);
       if (rest.empty()) {
         complete = false;
         break;

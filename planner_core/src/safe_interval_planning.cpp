@@ -2,27 +2,16 @@
 
 #include <algorithm>
 #include <cstdint>
-#include <queue>
 #include <unordered_map>
 
 namespace planner_core {
 
-namespace {
+SafeIntervalPlanner::SafeIntervalPlanner(const Graph& graph)
+    : graph_(graph), interval_stamp_(graph.vertex_count(), 0), intervals_(graph.vertex_count()) {}
 
-struct State {
-  Vertex v;
-  int interval;  // index into the safe intervals of v
-  int done;      // targets reached, in order
-  int t;         // arrival time
-  int f;
-  int h;         // remaining distance through the targets, for tie-breaking towards the goal
-  int parent;    // index in the node store, -1 for the start
-};
-
-}  // namespace
-
-Path plan_through_targets(const Graph& graph, DistTable& dist, const PathTable& table, Vertex start,
-                          const std::vector<Vertex>& targets, const SpaceTimeLimits& limits, int start_time) {
+Path SafeIntervalPlanner::plan(DistTable& dist, const PathTable& table, Vertex start, const std::vector<Vertex>& targets,
+                               const SpaceTimeLimits& limits, int start_time) {
+  const Graph& graph = graph_;
   const int target_count = static_cast<int>(targets.size());
   const Vertex goal = targets.back();
   std::vector<int> suffix(target_count, 0);  // suffix[k]: from targets[k] through the rest to the goal
@@ -32,11 +21,18 @@ Path plan_through_targets(const Graph& graph, DistTable& dist, const PathTable& 
     return done;
   };
 
-  std::unordered_map<Vertex, std::vector<PathTable::Interval>> intervals_cache;
+  // Safe intervals are read from the table once per call and vertex; the scratch is kept between
+  // calls, and a new stamp makes every entry stale at once.
+  if (++stamp_ == 0) {
+    std::fill(interval_stamp_.begin(), interval_stamp_.end(), 0);
+    stamp_ = 1;
+  }
   const auto intervals = [&](Vertex v) -> const std::vector<PathTable::Interval>& {
-    auto [it, fresh] = intervals_cache.try_emplace(v);
-    if (fresh) table.safe_intervals(v, it->second);
-    return it->second;
+    if (interval_stamp_[v] != stamp_) {
+      interval_stamp_[v] = stamp_;
+      table.safe_intervals(v, intervals_[v]);
+    }
+    return intervals_[v];
   };
   const auto& goal_intervals = intervals(goal);
   if (goal_intervals.empty() || goal_intervals.back().last != PathTable::kForever) return {};
@@ -47,14 +43,21 @@ Path plan_through_targets(const Graph& graph, DistTable& dist, const PathTable& 
   const int latest_arrival = limits.max_length >= (1 << 30) - start_time ? (1 << 30) : start_time + limits.max_length;
   if (estimate(start, start_time, advance(start, 0)) > latest_arrival) return {};
 
-  std::vector<State> store;
+  std::vector<State>& store = store_;
+  store.clear();
   const auto worse = [&](int a, int b) {
     if (store[a].f != store[b].f) return store[a].f > store[b].f;
     if (store[a].h != store[b].h) return store[a].h > store[b].h;
     return store[a].t < store[b].t;
   };
-  std::priority_queue<int, std::vector<int>, decltype(worse)> open(worse);
-  std::unordered_map<uint64_t, int> best_arrival;  // (v, interval, done) -> earliest arrival expanded
+  std::vector<int>& open = open_;  // a binary heap of store indices, best on top
+  open.clear();
+  const auto push = [&](int index) {
+    open.push_back(index);
+    std::push_heap(open.begin(), open.end(), worse);
+  };
+  std::unordered_map<uint64_t, int>& best_arrival = best_arrival_;  // (v, interval, done) -> earliest arrival expanded
+  best_arrival.clear();
   const auto key = [&](Vertex v, int interval, int done) {
     return (static_cast<uint64_t>(v) * 4096 + static_cast<uint64_t>(interval)) * (target_count + 1) + done;
   };
@@ -68,11 +71,12 @@ Path plan_through_targets(const Graph& graph, DistTable& dist, const PathTable& 
   const int start_done = advance(start, 0);
   store.push_back({start, start_interval, start_done, start_time, estimate(start, start_time, start_done),
                    remaining(start, start_done), -1});
-  open.push(0);
+  push(0);
   int expansions = 0;
   while (!open.empty()) {
-    const int index = open.top();
-    open.pop();
+    std::pop_heap(open.begin(), open.end(), worse);
+    const int index = open.back();
+    open.pop_back();
     const State state = store[index];
     const uint64_t state_key = key(state.v, state.interval, state.done);
     if (auto it = best_arrival.find(state_key); it != best_arrival.end() && it->second <= state.t) continue;
@@ -113,11 +117,17 @@ Path plan_through_targets(const Graph& graph, DistTable& dist, const PathTable& 
         if (estimate(u, t, done) > latest_arrival) continue;
         if (auto it = best_arrival.find(key(u, k, done)); it != best_arrival.end() && it->second <= t) continue;
         store.push_back({u, k, done, t, estimate(u, t, done), remaining(u, done), index});
-        open.push(static_cast<int>(store.size()) - 1);
+        push(static_cast<int>(store.size()) - 1);
       }
     }
   }
   return {};
+}
+
+Path plan_through_targets(const Graph& graph, DistTable& dist, const PathTable& table, Vertex start,
+                          const std::vector<Vertex>& targets, const SpaceTimeLimits& limits, int start_time) {
+  SafeIntervalPlanner planner(graph);
+  return planner.plan(dist, table, start, targets, limits, start_time);
 }
 
 }  // namespace planner_core

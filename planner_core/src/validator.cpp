@@ -2,7 +2,7 @@
 
 #include <algorithm>
 #include <sstream>
-#include <unordered_map>
+#include <vector>
 
 namespace planner_core {
 
@@ -41,7 +41,9 @@ ValidationReport validate(const Instance& instance, const Solution& solution, co
   auto& out = report.violations;
   const Graph& graph = *instance.graph;
   const int n = instance.agent_count();
-  const auto cell = [&](Vertex v) { return v == kNoVertex ? std::string("(off map)") : to_string(graph.cell_of(v)); };
+  const int vertex_count = graph.vertex_count();
+  const auto on_map = [&](Vertex v) { return v >= 0 && v < vertex_count; };
+  const auto cell = [&](Vertex v) { return on_map(v) ? to_string(graph.cell_of(v)) : std::string("(off map)"); };
   const auto agent_name = [](int a) { return "agent " + std::to_string(a); };
 
   if (solution.empty()) {
@@ -62,43 +64,45 @@ ValidationReport validate(const Instance& instance, const Solution& solution, co
                      agent_name(a) + " starts at " + cell(solution[0][a]) + ", not " + cell(instance.starts[a])});
     }
   }
-  std::unordered_map<Vertex, int> agent_at;  // reused per timestep
-  std::unordered_map<Vertex, int> agent_before;
+  // Who stands where, by vertex, at this timestep and the one before (the first agent found there
+  // when several are); reset after each step only where it was written.
+  constexpr int kNobody = -1;
+  std::vector<int> agent_at(vertex_count, kNobody), agent_before(vertex_count, kNobody);
   for (size_t step = 0; step < solution.size(); ++step) {
     const int t = static_cast<int>(step);
     const Config& now = solution[step];
-    agent_at.clear();
     for (int a = 0; a < n; ++a) {
-      if (now[a] == kNoVertex) {
+      if (!on_map(now[a])) {
         out.push_back({Kind::kBlockedCell, t, a, -1, "t=" + std::to_string(t) + ": " + agent_name(a) +
                                                          " is outside the map or on a blocked cell"});
         continue;
       }
-      auto [it, fresh] = agent_at.emplace(now[a], a);
-      if (!fresh) {
-        out.push_back({Kind::kVertexConflict, t, it->second, a,
-                       "t=" + std::to_string(t) + ": agents " + std::to_string(it->second) + " and " +
+      int& occupant = agent_at[now[a]];
+      if (occupant == kNobody) {
+        occupant = a;
+      } else {
+        out.push_back({Kind::kVertexConflict, t, occupant, a,
+                       "t=" + std::to_string(t) + ": agents " + std::to_string(occupant) + " and " +
                            std::to_string(a) + " both at " + cell(now[a])});
       }
     }
     if (step == 0) {
-      agent_before = agent_at;
+      std::swap(agent_before, agent_at);
       continue;
     }
     const Config& before = solution[step - 1];
     for (int a = 0; a < n; ++a) {
-      if (before[a] == kNoVertex || now[a] == kNoVertex) continue;
+      if (!on_map(before[a]) || !on_map(now[a])) continue;
       if (before[a] != now[a] && !graph.adjacent(before[a], now[a])) {
         out.push_back({Kind::kJump, t, a, -1,
                        "t=" + std::to_string(t) + ": " + agent_name(a) + " jumps " + cell(before[a]) + " -> " +
                            cell(now[a])});
       }
-      const auto other = agent_before.find(now[a]);
-      if (other != agent_before.end() && other->second != a && a < other->second &&
-          now[other->second] == before[a]) {
-        out.push_back({Kind::kSwapConflict, t, a, other->second,
-                       "t=" + std::to_string(t) + ": agents " + std::to_string(a) + " and " +
-                           std::to_string(other->second) + " swap " + cell(before[a]) + " <-> " + cell(now[a])});
+      const int other = agent_before[now[a]];
+      if (other != kNobody && other != a && a < other && now[other] == before[a]) {
+        out.push_back({Kind::kSwapConflict, t, a, other,
+                       "t=" + std::to_string(t) + ": agents " + std::to_string(a) + " and " + std::to_string(other) +
+                           " swap " + cell(before[a]) + " <-> " + cell(now[a])});
       }
     }
     if (options.forbid_rotations) {
@@ -108,20 +112,23 @@ ValidationReport validate(const Instance& instance, const Solution& solution, co
         int agent = a;
         cycle.assign(1, a);
         for (int hops = 0; hops <= n; ++hops) {
-          if (before[agent] == now[agent] || now[agent] == kNoVertex) break;
-          const auto next = agent_before.find(now[agent]);
-          if (next == agent_before.end()) break;
-          if (next->second == a && hops >= 2 && a == *std::min_element(cycle.begin(), cycle.end())) {
+          if (before[agent] == now[agent] || !on_map(now[agent])) break;
+          const int next = agent_before[now[agent]];
+          if (next == kNobody) break;
+          if (next == a && hops >= 2 && a == *std::min_element(cycle.begin(), cycle.end())) {
             out.push_back({Kind::kRotation, t, a, agent,
                            "t=" + std::to_string(t) + ": agents " + std::to_string(a) + " ... " +
                                std::to_string(agent) + " move in a cycle"});
             break;
           }
-          if (next->second == a) break;  // a swap (reported above), or a cycle reported by its smallest agent
-          agent = next->second;
+          if (next == a) break;  // a swap (reported above), or a cycle reported by its smallest agent
+          agent = next;
           cycle.push_back(agent);
         }
       }
+    }
+    for (Vertex v : before) {
+      if (on_map(v)) agent_before[v] = kNobody;
     }
     std::swap(agent_before, agent_at);
   }

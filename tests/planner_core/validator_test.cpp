@@ -55,6 +55,27 @@ TEST_F(ValidatorTest, BlockedCell) {
   EXPECT_EQ(report.violations.front().time, 1);
 }
 
+TEST_F(ValidatorTest, VertexIdsOffTheMapAreBlockedCellsNotCrashes) {
+  for (Vertex bogus : {-7, instance.graph->vertex_count(), 1 << 30}) {
+    Solution plan = valid_plan();
+    plan[2][1] = bogus;
+    const ValidationReport report = validate(instance, plan);
+    ASSERT_TRUE(report.has(Kind::kBlockedCell)) << bogus;
+    EXPECT_FALSE(report.ok());
+  }
+}
+
+TEST_F(ValidatorTest, ConflictsAreFoundAtEveryStepNotOnlyTheFirst) {
+  // Both agents on one cell at t=2 and again at t=4; the per-step tables must be reset between.
+  Solution plan = valid_plan();
+  plan[2][1] = at(2, 0);
+  plan[4][1] = at(2, 0);
+  const ValidationReport report = validate(instance, plan);
+  int conflicts = 0;
+  for (const Violation& v : report.violations) conflicts += v.kind == Kind::kVertexConflict ? 1 : 0;
+  EXPECT_EQ(conflicts, 2) << report.summary();
+}
+
 TEST_F(ValidatorTest, Jump) {
   Solution plan = valid_plan();
   plan[1][0] = at(2, 0);

@@ -13,6 +13,9 @@ struct Deadline {
   const std::atomic<bool>* interrupt = nullptr;
 
   static Deadline in_seconds(double seconds, const std::atomic<bool>* interrupt = nullptr) {
+    // Beyond this the clock's range would overflow: no limit (programs refuse such limits first).
+    constexpr double kNoLimitBeyondS = 1e9;
+    if (!(seconds < kNoLimitBeyondS)) return {Clock::time_point::max(), interrupt};
     return {Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(seconds)),
             interrupt};
   }

@@ -42,11 +42,14 @@ class LnsRefiner {
   LnsRefiner(const Instance& instance, DistTable& dist, const LnsConfig& config, std::mt19937& rng);
 
   // Improves `plan` (feasible, following `orders`) in place until the deadline; `on_improvement`
-  // gets the new flowtime whenever it drops.
+  // gets the new flowtime whenever it drops. Called again with the plan it returned, it goes on
+  // where it stopped.
   LnsStats refine(Solution& plan, const std::vector<std::vector<int>>& orders, const Deadline& deadline,
                   const std::function<void(int64_t flowtime)>& on_improvement = {});
 
  private:
+  // Sets up paths, targets and the path table for `plan`.
+  void load(const Solution& plan, const std::vector<std::vector<int>>& orders);
   std::vector<int> pick_neighbourhood(DestroyOperator op);
   std::vector<int> random_agents(std::vector<int> chosen);
   std::vector<int> intersection_agents();
@@ -62,7 +65,12 @@ class LnsRefiner {
   std::vector<Path> paths_;
   std::vector<std::vector<Vertex>> targets_;  // per agent: task cells in order, then the goal
   std::vector<int> tour_length_;              // per agent: its order's length, a bound on its arrival
+  int max_tour_ = 0;
   PathTable table_;
+  // The plan and orders the state above describes (what the last refine() call returned).
+  Solution loaded_plan_;
+  std::vector<std::vector<int>> loaded_orders_;
+  SafeIntervalPlanner planner_;
 };
 
 }  // namespace planner_core

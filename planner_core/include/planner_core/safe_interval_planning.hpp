@@ -4,6 +4,8 @@
 // its last safe interval, so it can rest there for good.
 #pragma once
 
+#include <cstdint>
+#include <unordered_map>
 #include <vector>
 
 #include "planner_core/deadline.hpp"
@@ -21,6 +23,34 @@ struct SpaceTimeLimits {
   // paths it replaces is given up early.
   int max_length = 1 << 30;
   Deadline deadline;  // the search gives up when it passes
+};
+
+// Plans one agent at a time, keeping its scratch (safe intervals per cell, the search's nodes)
+// between calls, so that LNS's many small repairs allocate almost nothing.
+class SafeIntervalPlanner {
+ public:
+  explicit SafeIntervalPlanner(const Graph& graph);
+  // As plan_through_targets below.
+  Path plan(DistTable& dist, const PathTable& table, Vertex start, const std::vector<Vertex>& targets,
+            const SpaceTimeLimits& limits, int start_time = 0);
+
+ private:
+  struct State {
+    Vertex v;
+    int interval;  // index into the safe intervals of v
+    int done;      // targets reached, in order
+    int t;         // arrival time
+    int f;
+    int h;         // remaining distance through the targets, for tie-breaking towards the goal
+    int parent;    // index in store_, -1 for the start
+  };
+  const Graph& graph_;
+  uint32_t stamp_ = 0;
+  std::vector<uint32_t> interval_stamp_;  // per vertex: the call whose intervals are in intervals_
+  std::vector<std::vector<PathTable::Interval>> intervals_;
+  std::vector<State> store_;
+  std::vector<int> open_;
+  std::unordered_map<uint64_t, int> best_arrival_;
 };
 
 // The earliest-arrival such path, or an empty path when there is none within the limits.
