@@ -1,5 +1,8 @@
 #include "planner_core/dist_table.hpp"
 
+#include <atomic>
+#include <thread>
+
 namespace planner_core {
 
 namespace {
@@ -25,22 +28,38 @@ DistTable::TargetSearch& DistTable::start_search(Vertex target) {
   return *by_target_[target];
 }
 
+namespace {
+
+// Breadth-first expansion from the frontier queue[head..] until `from` has a distance or the
+// queue runs out; `Distance` is the entry type (16 or 32 bits), `none` its "not reached yet".
+template <class Distance>
+void expand_until(const Graph& graph, std::vector<Distance>& dist, std::vector<Vertex>& queue, size_t& head,
+                  Vertex from, Distance none) {
+  while (dist[from] == none && head < queue.size()) {
+    const Vertex v = queue[head++];
+    const Distance next = static_cast<Distance>(dist[v] + 1);
+    for (Vertex u : graph.neighbours(v)) {
+      if (dist[u] == none) {
+        dist[u] = next;
+        queue.push_back(u);
+      }
+    }
+    if (head >= kCompactAfter && 2 * head >= queue.size()) {
+      queue.erase(queue.begin(), queue.begin() + static_cast<std::ptrdiff_t>(head));
+      head = 0;
+    }
+  }
+}
+
+}  // namespace
+
 int DistTable::resume(Vertex target, Vertex from) {
   TargetSearch& search = by_target_[target] ? *by_target_[target] : start_search(target);
   const uint32_t none = unknown();
-  while (distance_in(search, from) == none && search.head < search.queue.size()) {
-    const Vertex v = search.queue[search.head++];
-    const uint32_t next = distance_in(search, v) + 1;
-    for (Vertex u : graph_.neighbours(v)) {
-      if (distance_in(search, u) == none) {
-        set_distance(search, u, next);
-        search.queue.push_back(u);
-      }
-    }
-    if (search.head >= kCompactAfter && 2 * search.head >= search.queue.size()) {
-      search.queue.erase(search.queue.begin(), search.queue.begin() + static_cast<std::ptrdiff_t>(search.head));
-      search.head = 0;
-    }
+  if (narrow_) {
+    expand_until<uint16_t>(graph_, search.narrow, search.queue, search.head, from, 0xFFFFu);
+  } else {
+    expand_until<uint32_t>(graph_, search.wide, search.queue, search.head, from, 0xFFFFFFFFu);
   }
   if (search.head >= search.queue.size() && !search.queue.empty()) {
     search.queue.clear();  // the search is complete: every vertex left unknown is unreachable
@@ -49,6 +68,46 @@ int DistTable::resume(Vertex target, Vertex from) {
   }
   const uint32_t d = distance_in(search, from);
   return d == none ? kUnreachable : static_cast<int>(d);
+}
+
+DistTable::Row DistTable::row(Vertex target) {
+  TargetSearch& search = by_target_[target] ? *by_target_[target] : start_search(target);
+  Row row;
+  // The arrays are allocated at full size when a search starts and never move.
+  row.narrow_ = narrow_ ? search.narrow.data() : nullptr;
+  row.wide_ = narrow_ ? nullptr : search.wide.data();
+  row.unknown_ = unknown();
+  row.target_ = target;
+  row.table_ = this;
+  return row;
+}
+
+bool DistTable::prepare(const std::vector<Query>& queries, const Deadline& deadline, int threads) {
+  // Per target, the query that reaches farthest is enough: the search stops only once it has
+  // reached `from`, so ask for every `from` of that target in turn on one thread.
+  std::vector<std::vector<Vertex>> from_of(graph_.vertex_count());
+  std::vector<Vertex> targets;
+  for (const Query& query : queries) {
+    if (from_of[query.target].empty()) targets.push_back(query.target);
+    from_of[query.target].push_back(query.from);
+  }
+  std::atomic<size_t> next{0};
+  std::atomic<bool> finished{true};
+  const auto work = [&] {
+    for (size_t k = next++; k < targets.size(); k = next++) {
+      if (deadline.expired()) {
+        finished = false;
+        return;
+      }
+      // Each target is handled by one thread only, so its slot and search are this thread's.
+      for (Vertex from : from_of[targets[k]]) resume(targets[k], from);
+    }
+  };
+  std::vector<std::thread> helpers;
+  for (int t = 1; t < threads; ++t) helpers.emplace_back(work);
+  work();
+  for (std::thread& helper : helpers) helper.join();
+  return finished;
 }
 
 size_t DistTable::memory_bytes() const {

@@ -52,7 +52,6 @@ class LacamSearch::State {
         goals_(goals),
         blocked_(blocked),
         n_(static_cast<int>(starts.size())),
-        dist_(dist),
         occupied_now_(graph.vertex_count(), kNobody),
         occupied_next_(graph.vertex_count(), kNobody),
         constrained_(starts.size(), 0),
@@ -61,6 +60,8 @@ class LacamSearch::State {
     if (!blocked.empty()) {
       own_distances_.resize(n_);
       for (int i = 0; i < n_; ++i) own_distances_[i] = bfs_around_blocked(goals[i]);
+    } else {
+      for (int i = 0; i < n_; ++i) goal_rows_.push_back(dist.row(goals[i]));
     }
     HighLevelNode* start = make_node(starts, nullptr);
     open_.push_back(start);
@@ -136,7 +137,7 @@ class LacamSearch::State {
   bool is_blocked(Vertex v) const { return !blocked_.empty() && blocked_[v]; }
 
   int distance_to_goal(int agent, Vertex v) {
-    return own_distances_.empty() ? dist_.get(goals_[agent], v) : own_distances_[agent][v];
+    return own_distances_.empty() ? goal_rows_[agent].get(v) : own_distances_[agent][v];
   }
 
   int64_t transition_cost(const Config& from, const Config& to) const {
@@ -324,8 +325,8 @@ class LacamSearch::State {
   int64_t reported_cost_ = INT64_MAX;  // of the solution run() last returned
   double first_solution_ms_ = -1;
   int64_t iterations_ = 0;
-  DistTable& dist_;
   std::vector<std::vector<int>> own_distances_;  // per agent, around blocked cells (empty when none are)
+  std::vector<DistTable::Row> goal_rows_;        // per agent, when nothing is blocked
   std::vector<std::unique_ptr<HighLevelNode>> nodes_;
   std::unordered_map<Config, HighLevelNode*, ConfigHash> explored_;
   std::vector<HighLevelNode*> open_;

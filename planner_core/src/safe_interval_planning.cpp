@@ -2,12 +2,15 @@
 
 #include <algorithm>
 #include <cstdint>
-#include <unordered_map>
 
 namespace planner_core {
 
 SafeIntervalPlanner::SafeIntervalPlanner(const Graph& graph)
-    : graph_(graph), interval_stamp_(graph.vertex_count(), 0), intervals_(graph.vertex_count()) {}
+    : graph_(graph),
+      interval_stamp_(graph.vertex_count(), 0),
+      intervals_(graph.vertex_count()),
+      best_stamp_(graph.vertex_count(), 0),
+      best_arrival_(graph.vertex_count()) {}
 
 Path SafeIntervalPlanner::plan(DistTable& dist, const PathTable& table, Vertex start, const std::vector<Vertex>& targets,
                                const SpaceTimeLimits& limits, int start_time) {
@@ -25,6 +28,7 @@ Path SafeIntervalPlanner::plan(DistTable& dist, const PathTable& table, Vertex s
   // calls, and a new stamp makes every entry stale at once.
   if (++stamp_ == 0) {
     std::fill(interval_stamp_.begin(), interval_stamp_.end(), 0);
+    std::fill(best_stamp_.begin(), best_stamp_.end(), 0);
     stamp_ = 1;
   }
   const auto intervals = [&](Vertex v) -> const std::vector<PathTable::Interval>& {
@@ -56,10 +60,19 @@ Path SafeIntervalPlanner::plan(DistTable& dist, const PathTable& table, Vertex s
     open.push_back(index);
     std::push_heap(open.begin(), open.end(), worse);
   };
-  std::unordered_map<uint64_t, int>& best_arrival = best_arrival_;  // (v, interval, done) -> earliest arrival expanded
-  best_arrival.clear();
-  const auto key = [&](Vertex v, int interval, int done) {
-    return (static_cast<uint64_t>(v) * 4096 + static_cast<uint64_t>(interval)) * (target_count + 1) + done;
+  // The earliest arrival expanded per (vertex, interval, targets done): a short list per vertex,
+  // made stale at once by the call's stamp.
+  const auto best_arrival = [&](Vertex v, int interval, int done) -> int& {
+    std::vector<BestArrival>& at = best_arrival_[v];
+    if (best_stamp_[v] != stamp_) {
+      best_stamp_[v] = stamp_;
+      at.clear();
+    }
+    for (BestArrival& entry : at) {
+      if (entry.interval == interval && entry.done == done) return entry.t;
+    }
+    at.push_back({interval, done, PathTable::kForever});
+    return at.back().t;
   };
 
   const auto& start_intervals = intervals(start);
@@ -78,9 +91,9 @@ Path SafeIntervalPlanner::plan(DistTable& dist, const PathTable& table, Vertex s
     const int index = open.back();
     open.pop_back();
     const State state = store[index];
-    const uint64_t state_key = key(state.v, state.interval, state.done);
-    if (auto it = best_arrival.find(state_key); it != best_arrival.end() && it->second <= state.t) continue;
-    best_arrival[state_key] = state.t;
+    int& best = best_arrival(state.v, state.interval, state.done);
+    if (best <= state.t) continue;
+    best = state.t;
     const PathTable::Interval here = intervals(state.v)[state.interval];
     if (state.done == target_count - 1 && state.v == goal && here.last == PathTable::kForever) {
       // Rebuild the path, filling the waits between arrivals.
@@ -106,17 +119,19 @@ Path SafeIntervalPlanner::plan(DistTable& dist, const PathTable& table, Vertex s
         int t = std::max(state.t + 1, slots[k].first + (limits.forbid_following ? 1 : 0));
         if (t > latest) continue;
         if (slots[k].first > (here.last == PathTable::kForever ? PathTable::kForever : here.last + 1)) break;
-        // Swap conflict: someone at u at t-1 moving onto our cell at t.
-        while (t <= latest) {
+        // Swap conflict: someone at u at t-1 moving onto our cell at t. Intervals are maximal, so
+        // u can be occupied at t-1 only when its interval opens at t; one step later it is free.
+        if (t == slots[k].first) {
           const int other = table.occupant(u, t - 1);
-          if (other == PathTable::kFree || table.occupant(state.v, t) != other) break;
-          ++t;
+          if (other != PathTable::kFree && table.occupant(state.v, t) == other) ++t;
         }
         if (t > latest || t > limits.horizon) continue;
         const int done = advance(u, state.done);
-        if (estimate(u, t, done) > latest_arrival) continue;
-        if (auto it = best_arrival.find(key(u, k, done)); it != best_arrival.end() && it->second <= t) continue;
-        store.push_back({u, k, done, t, estimate(u, t, done), remaining(u, done), index});
+        const int to_go = remaining(u, done);
+        const int f = std::max(t + to_go, earliest_rest);
+        if (f > latest_arrival) continue;
+        if (best_arrival(u, k, done) <= t) continue;
+        store.push_back({u, k, done, t, f, to_go, index});
         push(static_cast<int>(store.size()) - 1);
       }
     }

@@ -6,12 +6,14 @@
 #pragma once
 
 #include <array>
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <utility>
 #include <vector>
 
+#include "planner_core/deadline.hpp"
 #include "planner_core/graph.hpp"
 
 namespace planner_core {
@@ -49,6 +51,34 @@ class DistTable {
     return resume(target, from);
   }
 
+  // One target's distances, read straight from its array (one memory access fewer than get(),
+  // for hot loops such as PIBT's); valid as long as the table.
+  class Row {
+   public:
+    int get(Vertex from) const {
+      const uint32_t known = narrow_ ? narrow_[from] : wide_[from];
+      return known != unknown_ ? static_cast<int>(known) : table_->get(target_, from);
+    }
+
+   private:
+    friend class DistTable;
+    const uint16_t* narrow_ = nullptr;
+    const uint32_t* wide_ = nullptr;
+    uint32_t unknown_ = 0;
+    Vertex target_ = kNoVertex;
+    DistTable* table_ = nullptr;
+  };
+  Row row(Vertex target);
+
+  // Runs the searches from each query's target at least as far as its `from`, on `threads`
+  // threads (one target is never shared between threads), stopping when the deadline passes.
+  // Returns false when it did not finish. The table may be read only after it returns.
+  struct Query {
+    Vertex target;
+    Vertex from;
+  };
+  bool prepare(const std::vector<Query>& queries, const Deadline& deadline, int threads);
+
   // Targets searched from so far, and the bytes their tables and frontiers hold.
   int targets_searched() const { return targets_searched_; }
   size_t memory_bytes() const;
@@ -77,7 +107,7 @@ class DistTable {
 
   const Graph& graph_;
   bool narrow_;
-  int targets_searched_ = 0;
+  std::atomic<int> targets_searched_{0};
   std::vector<std::unique_ptr<TargetSearch>> by_target_;
 };
 
