@@ -19,14 +19,21 @@ namespace fs = std::filesystem;
 
 namespace {
 
+struct Improvement {
+  double time_ms;
+  double flowtime;
+};
+
 struct Run {
   std::map<std::string, std::string> summary;  // key=value pairs of ctsfleet-solve's summary line
+  std::vector<Improvement> improvements;       // from its -v lines "  t=...ms flowtime=... (sequence ...)"
   double wall_s = 0;
   double peak_mb = 0;
   int exit_code = -1;
 };
 
-// Runs `argv` with its standard output captured; the child's own peak memory comes from wait4.
+// Runs `argv` with its standard output and error captured; the child's own peak memory comes
+// from wait4.
 Run run_child(const std::vector<std::string>& argv) {
   Run run;
   int pipe_fds[2];
@@ -35,6 +42,7 @@ Run run_child(const std::vector<std::string>& argv) {
   const pid_t pid = fork();
   if (pid == 0) {
     dup2(pipe_fds[1], STDOUT_FILENO);
+    dup2(pipe_fds[1], STDERR_FILENO);
     close(pipe_fds[0]);
     close(pipe_fds[1]);
     std::vector<char*> args;
@@ -54,12 +62,30 @@ Run run_child(const std::vector<std::string>& argv) {
   run.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   run.peak_mb = static_cast<double>(usage.ru_maxrss) / 1024.0;
   run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-  std::istringstream words(output);
-  for (std::string word; words >> word;) {
-    const size_t eq = word.find('=');
-    if (eq != std::string::npos) run.summary[word.substr(0, eq)] = word.substr(eq + 1);
+  std::istringstream lines(output);
+  for (std::string line; std::getline(lines, line);) {
+    double time_ms = 0, flow = 0;
+    if (std::sscanf(line.c_str(), " t=%lfms flowtime=%lf", &time_ms, &flow) == 2) {
+      run.improvements.push_back({time_ms, flow});
+      continue;
+    }
+    if (line.rfind("solver=", 0) != 0) continue;
+    std::istringstream words(line);
+    for (std::string word; words >> word;) {
+      const size_t eq = word.find('=');
+      if (eq != std::string::npos) run.summary[word.substr(0, eq)] = word.substr(eq + 1);
+    }
   }
   return run;
+}
+
+// The best flowtime found by `time_ms`, or -1 before the first plan.
+double flowtime_at(const Run& run, double time_ms) {
+  double best = -1;
+  for (const Improvement& improvement : run.improvements) {
+    if (improvement.time_ms <= time_ms) best = improvement.flowtime;
+  }
+  return best;
 }
 
 double number(const Run& run, const std::string& key) {
@@ -102,11 +128,12 @@ int run_mapf_scale(const MapfScaleSettings& settings) {
     std::fprintf(stderr, "error: %s: cannot write\n", csv_path.c_str());
     return 2;
   }
-  csv << "instance,solver,agents,limit_s,solved,first_plan_ms,preprocessing_ms,sum_of_costs,lower_bound,ratio,wall_s,"
-         "overshoot_percent,peak_mb\n";
+  csv << "instance,solver,agents,limit_s,solved,first_plan_ms,preprocessing_ms,sum_of_costs,lower_bound,ratio,"
+         "ratio_every_10s,wall_s,overshoot_percent,peak_mb\n";
   std::ostringstream md;
   md << "| instance | solver | limit (s) | first plan (ms, from start) | preprocessing (ms) | sum of costs / lower bound"
-        " | wall (s) | over the limit | peak memory (MB) |\n|---|---|---|---|---|---|---|---|---|\n";
+        " at the limit | ... at 10 s, 20 s, ... | wall (s) | over the limit | peak memory (MB) |\n"
+        "|---|---|---|---|---|---|---|---|---|---|\n";
   std::printf("%s", md.str().c_str());
   const fs::path scratch = fs::temp_directory_path() / ("ctsfleet-mapf-scale-" + std::to_string(getpid()) + ".txt");
   for (const fs::path& instance : instances) {
@@ -114,22 +141,32 @@ int run_mapf_scale(const MapfScaleSettings& settings) {
       std::ostringstream limit;
       limit << settings.seconds;
       const Run run = run_child({solve.string(), "-i", instance.string(), "--solver", solver, "-t", limit.str(),
-                                 "--swap", "--seed", std::to_string(settings.seed), "-o", scratch.string()});
+                                 "--swap", "--seed", std::to_string(settings.seed), "-o", scratch.string(), "-v"});
       const bool solved = number(run, "solved") == 1;
       const double over = 100.0 * (run.wall_s - settings.seconds) / settings.seconds;
-      char line[512];
-      std::snprintf(line, sizeof line, "| %s | %s | %g | %s | %.0f | %s | %.2f | %+.1f%% | %.0f |\n",
+      // How the gap to the lower bound closes: the best plan's ratio every 10 s before the limit.
+      std::string trajectory;
+      const double lower_bound = number(run, "lower_bound");
+      for (double at_s = 10; at_s < settings.seconds - 1e-9; at_s += 10) {
+        const double flow = flowtime_at(run, at_s * 1000);
+        char ratio[32];
+        std::snprintf(ratio, sizeof ratio, "%s%.3f", trajectory.empty() ? "" : " ", flow / lower_bound);
+        trajectory += flow > 0 && lower_bound > 0 ? ratio : (trajectory.empty() ? "-" : " -");
+      }
+      if (trajectory.empty()) trajectory = "-";
+      char line[640];
+      std::snprintf(line, sizeof line, "| %s | %s | %g | %s | %.0f | %s | %s | %.2f | %+.1f%% | %.0f |\n",
                     instance.stem().c_str(), solver.c_str(), settings.seconds,
                     solved ? std::to_string(static_cast<long>(number(run, "first_ms"))).c_str() : "none",
-                    number(run, "preprocessing_ms"), solved ? run.summary.at("ratio").c_str() : "-", run.wall_s, over,
-                    run.peak_mb);
+                    number(run, "preprocessing_ms"), solved ? run.summary.at("ratio").c_str() : "-", trajectory.c_str(),
+                    run.wall_s, over, run.peak_mb);
       md << line;
       std::printf("%s", line);
       std::fflush(stdout);
       csv << instance.stem().string() << "," << solver << "," << agents_of(instance) << "," << settings.seconds << ","
           << (solved ? 1 : 0) << "," << number(run, "first_ms") << "," << number(run, "preprocessing_ms") << ","
-          << number(run, "flowtime") << "," << number(run, "lower_bound") << "," << number(run, "ratio") << ","
-          << run.wall_s << "," << over << "," << run.peak_mb << "\n";
+          << number(run, "flowtime") << "," << number(run, "lower_bound") << "," << number(run, "ratio") << ",\""
+          << trajectory << "\"," << run.wall_s << "," << over << "," << run.peak_mb << "\n";
     }
   }
   fs::remove(scratch, error);

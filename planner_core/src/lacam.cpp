@@ -241,10 +241,11 @@ class LacamSearch::State {
     candidates[count++] = here;
     std::shuffle(candidates.begin(), candidates.begin() + count, rng_);
     MoveKeys to_goal{};
-    // Nearest to the goal first; among equals, a cell nobody stands on (fewer agents pushed).
+    // Nearest to the goal first; among equals (with prefer_free_cells) a cell nobody stands on.
     for (int k = 0; k < count; ++k) {
       const Vertex v = candidates[k];
-      to_goal[k] = 2 * distance_to_goal(agent, v) + (occupied_now_[v] != kNobody && v != here ? 1 : 0);
+      const bool pushes_someone = config_.prefer_free_cells && occupied_now_[v] != kNobody && v != here;
+      to_goal[k] = 2 * distance_to_goal(agent, v) + (pushes_someone ? 1 : 0);
     }
     sort_by_key(candidates, to_goal, count);
     // A head-on meeting in a corridor: back off (worst candidate first) and pull the other along.

@@ -50,7 +50,7 @@ SolveResult LacamSolver::solve(const Instance& instance, const SolveOptions& opt
     return result;
   }
   result.preprocessing_ms = elapsed_ms(started);
-  LacamSearch search(*instance.graph, dist, LacamConfig{refine_, config_.forbid_rotations, config_.pibt.swap}, rng,
+  LacamSearch search(*instance.graph, dist, LacamConfig{refine_, config_.forbid_rotations, config_.pibt.swap, true}, rng,
                      instance.starts, instance.goals);
   LacamResult found = search.run(deadline);
   result.sequences_tried = 1;
@@ -73,19 +73,24 @@ SolveResult LacamSolver::solve(const Instance& instance, const SolveOptions& opt
     LnsRefiner refiner(instance, dist, lns_config, rng);
     double search_slice_s = kFirstSearchSliceS;
     bool search_done = found.exhausted;  // an exhausted LaCAM* search has proved its plan optimal
+    // The refiner's own plan: it accepts changes of equal cost too, so it is not always the one
+    // kept in `result`; handing it back lets the refiner go on without rebuilding its tables.
+    Solution refined = result.solution;
     while (!deadline.expired() && result.flowtime > result.lower_bound) {
       if (!search_done) {
         found = search.run(slice_of(deadline, search_slice_s));
         search_done = found.exhausted;
         const bool cheaper = found.solved && flowtime(found.solution, instance.goals) < result.flowtime;
-        if (cheaper) keep_if_better(result, instance, found.solution, no_tasks, 0, started, options, "LaCAM*");
+        if (cheaper) {
+          keep_if_better(result, instance, found.solution, no_tasks, 0, started, options, "LaCAM*");
+          refined = result.solution;
+        }
         search_slice_s = std::clamp(search_slice_s * (cheaper ? 2.0 : 0.5), kMinSearchSliceS, kMaxSearchSliceS);
         if (search_done) break;  // optimal
       }
-      Solution plan = result.solution;
-      const LnsStats stats = refiner.refine(plan, no_tasks, slice_of(deadline, kRefinerSliceS));
+      const LnsStats stats = refiner.refine(refined, no_tasks, slice_of(deadline, kRefinerSliceS));
       result.lns_iterations += stats.iterations;
-      keep_if_better(result, instance, plan, no_tasks, 0, started, options, "LaCAM* refiner");
+      keep_if_better(result, instance, refined, no_tasks, 0, started, options, "LaCAM* refiner");
     }
   }
   result.comp_time_ms = elapsed_ms(started);

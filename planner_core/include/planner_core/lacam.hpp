@@ -21,6 +21,10 @@ struct LacamConfig {
   bool refine = false;  // LaCAM*: after the first solution keep searching for a cheaper one until the deadline
   bool forbid_rotations = false;  // reject successors in which agents move in a cycle
   bool swap = false;  // the configuration generator uses LaCAM3's swap operation (see CorridorSwap)
+  // Among moves equally near the goal, the generator tries a cell nobody stands on first (fewer
+  // agents pushed). On for the plain MAPF solvers; off in CTS-PLL's lock release, whose measured
+  // results predate it.
+  bool prefer_free_cells = false;
 };
 
 struct LacamResult {
