@@ -129,11 +129,11 @@ int run_mapf_scale(const MapfScaleSettings& settings) {
     return 2;
   }
   csv << "instance,solver,agents,limit_s,solved,first_plan_ms,preprocessing_ms,sum_of_costs,lower_bound,ratio,"
-         "ratio_every_10s,wall_s,overshoot_percent,peak_mb\n";
+         "ratio_every_10s,solver_returned_s,wall_s,overshoot_percent,peak_mb\n";
   std::ostringstream md;
   md << "| instance | solver | limit (s) | first plan (ms, from start) | preprocessing (ms) | sum of costs / lower bound"
-        " at the limit | ... at 10 s, 20 s, ... | wall (s) | over the limit | peak memory (MB) |\n"
-        "|---|---|---|---|---|---|---|---|---|---|\n";
+        " at the limit | ... at 10 s, 20 s, ... | solver returned (s) | process wall (s) | wall over the limit |"
+        " peak memory (MB) |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
   std::printf("%s", md.str().c_str());
   const fs::path scratch = fs::temp_directory_path() / ("ctsfleet-mapf-scale-" + std::to_string(getpid()) + ".txt");
   for (const fs::path& instance : instances) {
@@ -155,18 +155,21 @@ int run_mapf_scale(const MapfScaleSettings& settings) {
       }
       if (trajectory.empty()) trajectory = "-";
       char line[640];
-      std::snprintf(line, sizeof line, "| %s | %s | %g | %s | %.0f | %s | %s | %.2f | %+.1f%% | %.0f |\n",
+      // The solver's own return (its comp_time, from the process's start) and the process's whole
+      // life, which adds writing the solution file and freeing memory.
+      const double returned_s = number(run, "comp_time_ms") / 1000;
+      std::snprintf(line, sizeof line, "| %s | %s | %g | %s | %.0f | %s | %s | %.2f | %.2f | %+.1f%% | %.0f |\n",
                     instance.stem().c_str(), solver.c_str(), settings.seconds,
                     solved ? std::to_string(static_cast<long>(number(run, "first_ms"))).c_str() : "none",
                     number(run, "preprocessing_ms"), solved ? run.summary.at("ratio").c_str() : "-", trajectory.c_str(),
-                    run.wall_s, over, run.peak_mb);
+                    returned_s, run.wall_s, over, run.peak_mb);
       md << line;
       std::printf("%s", line);
       std::fflush(stdout);
       csv << instance.stem().string() << "," << solver << "," << agents_of(instance) << "," << settings.seconds << ","
           << (solved ? 1 : 0) << "," << number(run, "first_ms") << "," << number(run, "preprocessing_ms") << ","
           << number(run, "flowtime") << "," << number(run, "lower_bound") << "," << number(run, "ratio") << ",\""
-          << trajectory << "\"," << run.wall_s << "," << over << "," << run.peak_mb << "\n";
+          << trajectory << "\"," << returned_s << "," << run.wall_s << "," << over << "," << run.peak_mb << "\n";
     }
   }
   fs::remove(scratch, error);

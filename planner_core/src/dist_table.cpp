@@ -1,5 +1,6 @@
 #include "planner_core/dist_table.hpp"
 
+#include <algorithm>
 #include <atomic>
 #include <thread>
 
@@ -80,6 +81,10 @@ DistTable::Row DistTable::row(Vertex target) {
   row.target_ = target;
   row.table_ = this;
   return row;
+}
+
+int DistTable::default_threads() {
+  return static_cast<int>(std::clamp(std::thread::hardware_concurrency(), 1u, 8u));
 }
 
 bool DistTable::prepare(const std::vector<Query>& queries, const Deadline& deadline, int threads) {

@@ -182,7 +182,10 @@ ExtendedPibt::Outcome ExtendedPibt::run(const Deadline& deadline) {
     if (step()) return Outcome::kSolved;
     const int time = static_cast<int>(plan_.size()) - 1;
     if (config_.stall_window > 0 && time - best_progress_step_ >= config_.stall_window) return Outcome::kStalled;
-    if ((plan_.size() & 15) == 0 && deadline.expired()) return Outcome::kInterrupted;
+    // With many agents a step is long enough to look at the clock after every one.
+    if ((instance_.agent_count() >= 256 || (plan_.size() & 15) == 0) && deadline.expired()) {
+      return Outcome::kInterrupted;
+    }
   }
   return Outcome::kStepLimit;
 }

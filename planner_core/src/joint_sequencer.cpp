@@ -5,6 +5,20 @@ namespace planner_core {
 JointSequencer::JointSequencer(const Instance& instance, DistTable& dist, const TaskOrderConfig& config,
                                const Deadline& deadline) {
   const int n = instance.agent_count();
+  // Every distance the agents' tour matrices ask for (searches from their tasks and goal to all
+  // their points, see TourMatrix), on all cores first; the orders below then only read them.
+  std::vector<DistTable::Query> tour_legs;
+  for (int a = 0; a < n; ++a) {
+    std::vector<Vertex> points{instance.starts[a]};
+    for (int t : instance.tasks_of_agent[a]) points.push_back(instance.tasks[t].at);
+    points.push_back(instance.goals[a]);
+    for (size_t to = 1; to < points.size(); ++to) {
+      for (size_t from = 0; from < points.size(); ++from) {
+        if (from != to) tour_legs.push_back({points[to], points[from]});
+      }
+    }
+  }
+  if (!dist.prepare(tour_legs, deadline)) return;
   int64_t cost = 0;
   for (int a = 0; a < n; ++a) {
     if (deadline.expired()) return;

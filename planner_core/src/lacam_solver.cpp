@@ -1,7 +1,6 @@
 #include "planner_core/lacam_solver.hpp"
 
 #include <algorithm>
-#include <thread>
 #include <random>
 #include <stdexcept>
 
@@ -17,8 +16,6 @@ constexpr double kRefinerSliceS = 1.0;
 constexpr double kFirstSearchSliceS = 0.25;
 constexpr double kMinSearchSliceS = 0.02;
 constexpr double kMaxSearchSliceS = 4.0;
-
-int preparation_threads() { return static_cast<int>(std::clamp(std::thread::hardware_concurrency(), 1u, 8u)); }
 
 Deadline slice_of(const Deadline& deadline, double seconds) {
   Deadline slice = Deadline::in_seconds(seconds, deadline.interrupt);
@@ -44,7 +41,7 @@ SolveResult LacamSolver::solve(const Instance& instance, const SolveOptions& opt
   // least that far. Done here, on every core, looking at the clock between goals.
   std::vector<DistTable::Query> to_goals;
   for (int a = 0; a < instance.agent_count(); ++a) to_goals.push_back({instance.goals[a], instance.starts[a]});
-  if (!dist.prepare(to_goals, deadline, preparation_threads())) {
+  if (!dist.prepare(to_goals, deadline)) {
     result.failure_reason = "deadline reached while computing distances to the goals";
     result.preprocessing_ms = result.comp_time_ms = elapsed_ms(started);
     return result;

@@ -77,7 +77,8 @@ class DistTable {
     Vertex target;
     Vertex from;
   };
-  bool prepare(const std::vector<Query>& queries, const Deadline& deadline, int threads);
+  bool prepare(const std::vector<Query>& queries, const Deadline& deadline, int threads = default_threads());
+  static int default_threads();  // the machine's cores, at most 8
 
   // Targets searched from so far, and the bytes their tables and frontiers hold.
   int targets_searched() const { return targets_searched_; }
