@@ -47,7 +47,7 @@ SolveResult LacamSolver::solve(const Instance& instance, const SolveOptions& opt
     return result;
   }
   result.preprocessing_ms = elapsed_ms(started);
-  LacamSearch search(*instance.graph, dist, LacamConfig{refine_, config_.forbid_rotations, config_.pibt.swap, true}, rng,
+  LacamSearch search(*instance.graph, dist, LacamConfig{refine_, config_.forbid_rotations, /*swap=*/true, /*prefer_free_cells=*/true}, rng,
                      instance.starts, instance.goals);
   LacamResult found = search.run(deadline);
   result.sequences_tried = 1;

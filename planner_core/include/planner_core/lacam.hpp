@@ -22,8 +22,8 @@ struct LacamConfig {
   bool forbid_rotations = false;  // reject successors in which agents move in a cycle
   bool swap = false;  // the configuration generator uses LaCAM3's swap operation (see CorridorSwap)
   // Among moves equally near the goal, the generator tries a cell nobody stands on first (fewer
-  // agents pushed). On for the plain MAPF solvers; off in CTS-PLL's lock release, whose measured
-  // results predate it.
+  // agents pushed). The plain MAPF solvers turn both this and the swap on (measured together:
+  // docs/RESULTS.md, section 2); CTS-PLL's lock release keeps both off, as measured.
   bool prefer_free_cells = false;
 };
 
