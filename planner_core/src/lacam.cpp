@@ -58,6 +58,7 @@ class LacamSearch::State {
         swap_(graph, occupied_now_, [this](int agent, Vertex v) { return distance_to_goal(agent, v); },
               [this](int agent) { return goals_[agent]; }) {
     if (!blocked.empty()) {
+      config_.swap = false;  // CorridorSwap's corridor walks do not know blocked cells
       own_distances_.resize(n_);
       for (int i = 0; i < n_; ++i) own_distances_[i] = bfs_around_blocked(goals[i]);
     } else {

@@ -20,7 +20,9 @@ namespace planner_core {
 struct LacamConfig {
   bool refine = false;  // LaCAM*: after the first solution keep searching for a cheaper one until the deadline
   bool forbid_rotations = false;  // reject successors in which agents move in a cycle
-  bool swap = false;  // the configuration generator uses LaCAM3's swap operation (see CorridorSwap)
+  // The configuration generator uses LaCAM3's swap operation (see CorridorSwap); ignored when
+  // cells are blocked, since the swap's corridor walks do not know them.
+  bool swap = false;
   // Among moves equally near the goal, the generator tries a cell nobody stands on first (fewer
   // agents pushed). The plain MAPF solvers turn both this and the swap on (measured together:
   // docs/RESULTS.md, section 2); CTS-PLL's lock release keeps both off, as measured.
