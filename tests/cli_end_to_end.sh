@@ -42,4 +42,39 @@ for limit in 0 -1 nan inf 1e300; do
   grep -q -- "-t/--time" "$work/err"
   [ ! -e "$work/never.txt" ]
 done
+# The same for ctsfleet-bench, and a bad option value is exit 2 too (not the parser's own code).
+for args in "-t -1" "-t nan" "--experiment mapf-scale -t inf" "--solver bogus"; do
+  set +e
+  "$bin/ctsfleet-bench" $args "$work/suite" > /dev/null 2> "$work/err"
+  code=$?
+  set -e
+  [ "$code" -eq 2 ] || { echo "ctsfleet-bench $args: expected exit 2, got $code"; exit 1; }
+done
+set +e
+"$bin/ctsfleet-solve" -i "$work/gen.yaml" --lns-neighbourhood 0 -o "$work/never.txt" 2> "$work/err"
+code=$?
+set -e
+[ "$code" -eq 2 ] || { echo "--lns-neighbourhood 0: expected exit 2, got $code"; exit 1; }
+grep -q -- "--lns-neighbourhood" "$work/err"
+
+# The scale experiment on a one-instance suite (200 agents: far from optimal, so the solve runs
+# to its 120 s limit unless stopped): SIGTERM while ctsfleet-solve runs stops both and
+# exits 130 with the table so far.
+mkdir "$work/scale"
+"$bin/ctsfleet-gen" --map "$data/maps/random-32-32-20.map" -N 200 -M 0 --seed 1 -o "$work/scale/random-N200.yaml" >/dev/null
+"$bin/ctsfleet-bench" --experiment mapf-scale --scale-suite "$work/scale" --out-dir "$work/scale-out" -t 120 \
+  > "$work/scale.out" 2>&1 &
+bench_pid=$!
+for _ in $(seq 200); do   # until its ctsfleet-solve runs (20 s at most)
+  pgrep -P "$bench_pid" > /dev/null && break
+  sleep 0.1
+done
+pgrep -P "$bench_pid" > /dev/null || { echo "the experiment never started ctsfleet-solve"; exit 1; }
+kill -TERM "$bench_pid"
+set +e
+wait "$bench_pid"
+code=$?
+set -e
+[ "$code" -eq 130 ] || { echo "interrupted experiment: expected exit 130, got $code"; cat "$work/scale.out"; exit 1; }
+grep -q "interrupted" "$work/scale.out"
 echo "cli end-to-end: all checks passed"

@@ -79,8 +79,16 @@ int main(int argc, char** argv) {
   app.add_option("--csv", csv_path, "CSV file to write, one row per (instance, solver)")->capture_default_str();
   app.add_option("--seed", config.seed, "random seed")->capture_default_str();
   app.add_flag("--swap", config.pibt.swap, "Extended-PIBT with LaCAM3's swap operation (head-on meetings in corridors)");
-  CLI11_PARSE(app, argc, argv);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? 0 : 2;  // --help is 0; every command-line error is an input error, 2
+  }
 
+  if (!is_valid_time_limit(seconds)) {
+    std::cerr << "error: -t/--time: the time limit must be a number of seconds in (0, 1e6], not " << seconds << "\n";
+    return 2;
+  }
   if (!experiment.empty()) {
     experiment_settings.seconds = app.count("--time") ? seconds : (full ? 60 : 10);
     experiment_settings.threads = threads;

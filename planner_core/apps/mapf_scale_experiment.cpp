@@ -1,11 +1,14 @@
 #include "mapf_scale_experiment.hpp"
 
+#include <signal.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <array>
+#include <atomic>
+#include <cerrno>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -18,6 +21,16 @@ namespace ctsfleet_bench {
 namespace fs = std::filesystem;
 
 namespace {
+
+// Ctrl-C or SIGTERM: passed on to the running ctsfleet-solve (which then returns at once with its
+// best plan), and no further instance is started.
+std::atomic<pid_t> g_child{0};
+std::atomic<bool> g_stop{false};
+extern "C" void forward_signal(int signal_number) {
+  g_stop = true;
+  const pid_t child = g_child;
+  if (child > 0) kill(child, signal_number);
+}
 
 struct Improvement {
   double time_ms;
@@ -52,13 +65,23 @@ Run run_child(const std::vector<std::string>& argv) {
     _exit(127);
   }
   close(pipe_fds[1]);
+  g_child = pid;
+  if (g_stop) kill(pid, SIGTERM);  // a signal that came before the child was known
   std::string output;
   std::array<char, 4096> buffer;
-  for (ssize_t got; (got = read(pipe_fds[0], buffer.data(), buffer.size())) > 0;) output.append(buffer.data(), got);
+  for (ssize_t got; (got = read(pipe_fds[0], buffer.data(), buffer.size())) != 0;) {
+    if (got < 0) {
+      if (errno == EINTR) continue;
+      break;
+    }
+    output.append(buffer.data(), got);
+  }
   close(pipe_fds[0]);
   int status = 0;
   rusage usage{};
-  wait4(pid, &status, 0, &usage);
+  while (wait4(pid, &status, 0, &usage) < 0 && errno == EINTR) {
+  }
+  g_child = 0;
   run.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   run.peak_mb = static_cast<double>(usage.ru_maxrss) / 1024.0;
   run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
@@ -135,9 +158,14 @@ int run_mapf_scale(const MapfScaleSettings& settings) {
         " at the limit | ... at 10 s, 20 s, ... | solver returned (s) | process wall (s) | wall over the limit |"
         " peak memory (MB) |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
   std::printf("%s", md.str().c_str());
+  struct sigaction forward {};
+  forward.sa_handler = forward_signal;
+  sigaction(SIGINT, &forward, nullptr);
+  sigaction(SIGTERM, &forward, nullptr);
   const fs::path scratch = fs::temp_directory_path() / ("ctsfleet-mapf-scale-" + std::to_string(getpid()) + ".txt");
   for (const fs::path& instance : instances) {
     for (const std::string& solver : settings.solvers) {
+      if (g_stop) break;
       std::ostringstream limit;
       limit << settings.seconds;
       const Run run = run_child({solve.string(), "-i", instance.string(), "--solver", solver, "-t", limit.str(),
@@ -173,6 +201,11 @@ int run_mapf_scale(const MapfScaleSettings& settings) {
     }
   }
   fs::remove(scratch, error);
+  if (g_stop) {
+    std::fprintf(stderr, "interrupted: the table holds the runs finished so far\n");
+    std::ofstream(fs::path(settings.out_dir) / "mapf-scale.md") << md.str();
+    return 130;
+  }
   std::ofstream(fs::path(settings.out_dir) / "mapf-scale.md") << md.str();
   std::printf("written: %s/mapf-scale.{md,csv}\n", settings.out_dir.c_str());
   return 0;

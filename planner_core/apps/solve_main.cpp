@@ -3,7 +3,6 @@
 #include <sys/resource.h>
 
 #include <atomic>
-#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <iostream>
@@ -63,8 +62,12 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 1000))
       ->capture_default_str();
   app.add_flag("-v,--verbose", verbose, "print each improvement as it is found");
-  CLI11_PARSE(app, argc, argv);
-  if (!std::isfinite(seconds) || seconds <= 0 || seconds > 1e6) {
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? 0 : 2;  // --help is 0; every command-line error is an input error, 2
+  }
+  if (!is_valid_time_limit(seconds)) {
     std::cerr << "error: -t/--time: the time limit must be a number of seconds in (0, 1e6], not " << seconds << "\n";
     return 2;
   }
