@@ -75,9 +75,7 @@ SolveResult CtsPll::solve(const Instance& instance, const SolveOptions& options)
       Solution plan = completed_plan ? std::move(*completed_plan) : pibt.plan();
       keep_if_better(result, instance, plan, sequence->orders, sequence->index, started, options, "CTS-PLL");
       if (variant_ == Variant::kV3) {
-        Deadline budget = Deadline::in_seconds(lns_per_sequence_s, deadline.interrupt);
-        budget.at = std::min(budget.at, deadline.at);
-        const LnsStats stats = lns.refine(plan, sequence->orders, budget, [&](int64_t flow) {
+        const LnsStats stats = lns.refine(plan, sequence->orders, deadline.within(lns_per_sequence_s), [&](int64_t flow) {
           if (result.solved && flow < result.flowtime &&
               (result.improvements.empty() || flow < result.improvements.back().flowtime)) {
             result.improvements.push_back({elapsed_ms(started), flow, sequence->index});

@@ -22,7 +22,11 @@ DistTable::TargetSearch& DistTable::start_search(Vertex target) {
   } else {
     search->wide.assign(graph_.vertex_count(), 0xFFFFFFFFu);
   }
-  set_distance(*search, target, 0);
+  if (narrow_) {
+    search->narrow[target] = 0;
+  } else {
+    search->wide[target] = 0;
+  }
   search->queue.push_back(target);
   ++targets_searched_;
   by_target_[target] = std::move(search);

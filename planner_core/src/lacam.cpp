@@ -80,7 +80,6 @@ class LacamSearch::State {
       if (goal_node_ && goal_node_->g < reported_cost_) break;
       HighLevelNode* node = open_.back();
       if (node->config == goals_ && (!goal_node_ || node->g < goal_node_->g)) {
-        if (!goal_node_) first_solution_ms_ = elapsed_ms(started_);
         goal_node_ = node;
         if (!config_.refine) break;
         continue;
@@ -108,7 +107,6 @@ class LacamSearch::State {
     }
     result.explored = static_cast<int64_t>(nodes_.size());
     result.exhausted = open_.empty();
-    result.first_solution_ms = first_solution_ms_;
     if (goal_node_) {
       result.solved = true;
       result.cost = goal_node_->g;
@@ -322,10 +320,8 @@ class LacamSearch::State {
   const Config goals_;
   const std::vector<char> blocked_;
   const int n_;
-  const Clock::time_point started_ = Clock::now();
   HighLevelNode* goal_node_ = nullptr;
   int64_t reported_cost_ = INT64_MAX;  // of the solution run() last returned
-  double first_solution_ms_ = -1;
   int64_t iterations_ = 0;
   std::vector<std::vector<int>> own_distances_;  // per agent, around blocked cells (empty when none are)
   std::vector<DistTable::Row> goal_rows_;        // per agent, when nothing is blocked

@@ -17,12 +17,6 @@ constexpr double kFirstSearchSliceS = 0.25;
 constexpr double kMinSearchSliceS = 0.02;
 constexpr double kMaxSearchSliceS = 4.0;
 
-Deadline slice_of(const Deadline& deadline, double seconds) {
-  Deadline slice = Deadline::in_seconds(seconds, deadline.interrupt);
-  slice.at = std::min(slice.at, deadline.at);
-  return slice;
-}
-
 }  // namespace
 
 SolveResult LacamSolver::solve(const Instance& instance, const SolveOptions& options) {
@@ -47,8 +41,8 @@ SolveResult LacamSolver::solve(const Instance& instance, const SolveOptions& opt
     return result;
   }
   result.preprocessing_ms = elapsed_ms(started);
-  LacamSearch search(*instance.graph, dist, LacamConfig{refine_, config_.forbid_rotations, /*swap=*/true, /*prefer_free_cells=*/true}, rng,
-                     instance.starts, instance.goals);
+  const LacamConfig lacam_config{refine_, config_.forbid_rotations, /*swap=*/true, /*prefer_free_cells=*/true};
+  LacamSearch search(*instance.graph, dist, lacam_config, rng, instance.starts, instance.goals);
   LacamResult found = search.run(deadline);
   result.sequences_tried = 1;
   if (!found.solved) {
@@ -75,7 +69,7 @@ SolveResult LacamSolver::solve(const Instance& instance, const SolveOptions& opt
     Solution refined = result.solution;
     while (!deadline.expired() && result.flowtime > result.lower_bound) {
       if (!search_done) {
-        found = search.run(slice_of(deadline, search_slice_s));
+        found = search.run(deadline.within(search_slice_s));
         search_done = found.exhausted;
         const bool cheaper = found.solved && flowtime(found.solution, instance.goals) < result.flowtime;
         if (cheaper) {
@@ -85,7 +79,7 @@ SolveResult LacamSolver::solve(const Instance& instance, const SolveOptions& opt
         search_slice_s = std::clamp(search_slice_s * (cheaper ? 2.0 : 0.5), kMinSearchSliceS, kMaxSearchSliceS);
         if (search_done) break;  // optimal
       }
-      const LnsStats stats = refiner.refine(refined, no_tasks, slice_of(deadline, kRefinerSliceS));
+      const LnsStats stats = refiner.refine(refined, no_tasks, deadline.within(kRefinerSliceS));
       result.lns_iterations += stats.iterations;
       keep_if_better(result, instance, refined, no_tasks, 0, started, options, "LaCAM* refiner");
     }

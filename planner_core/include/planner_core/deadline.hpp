@@ -19,6 +19,12 @@ struct Deadline {
     return {Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(seconds)),
             interrupt};
   }
+  // The earlier of this deadline and `seconds` from now, with the same interrupt flag.
+  Deadline within(double seconds) const {
+    Deadline slice = in_seconds(seconds, interrupt);
+    if (at < slice.at) slice.at = at;
+    return slice;
+  }
   bool expired() const {
     return (interrupt && interrupt->load(std::memory_order_relaxed)) || Clock::now() >= at;
   }

@@ -5,12 +5,10 @@
 // 65535 cells, so 10,000 targets on a warehouse map fit in well under 1 GB.
 #pragma once
 
-#include <array>
 #include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
-#include <utility>
 #include <vector>
 
 #include "planner_core/deadline.hpp"
@@ -19,21 +17,6 @@
 namespace planner_core {
 
 constexpr int kUnreachable = 1 << 29;
-
-// The moves open to an agent in one step (its neighbours and staying), with a key per move.
-using Moves = std::array<Vertex, kMaxDegree + 1>;
-using MoveKeys = std::array<int, kMaxDegree + 1>;
-
-// Sorts moves[0..count) by key, smallest first, keeping the order of equal keys (so a shuffle
-// before it breaks ties at random).
-inline void sort_by_key(Moves& moves, MoveKeys& keys, int count) {
-  for (int i = 1; i < count; ++i) {
-    for (int j = i; j > 0 && keys[j] < keys[j - 1]; --j) {
-      std::swap(keys[j], keys[j - 1]);
-      std::swap(moves[j], moves[j - 1]);
-    }
-  }
-}
 
 class DistTable {
  public:
@@ -95,13 +78,6 @@ class DistTable {
   uint32_t unknown() const { return narrow_ ? 0xFFFFu : 0xFFFFFFFFu; }
   uint32_t distance_in(const TargetSearch& search, Vertex v) const {
     return narrow_ ? search.narrow[v] : search.wide[v];
-  }
-  void set_distance(TargetSearch& search, Vertex v, uint32_t d) const {
-    if (narrow_) {
-      search.narrow[v] = static_cast<uint16_t>(d);
-    } else {
-      search.wide[v] = d;
-    }
   }
   TargetSearch& start_search(Vertex target);
   int resume(Vertex target, Vertex from);

@@ -4,6 +4,7 @@
 #include <array>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace planner_core {
@@ -11,6 +12,21 @@ namespace planner_core {
 using Vertex = int;  // dense id of a free cell, 0 .. vertex_count()-1
 constexpr Vertex kNoVertex = -1;
 constexpr int kMaxDegree = 4;  // 4-connected grid: up, down, left, right
+
+// The moves open to an agent in one step (its neighbours and staying), with a key per move.
+using Moves = std::array<Vertex, kMaxDegree + 1>;
+using MoveKeys = std::array<int, kMaxDegree + 1>;
+
+// Sorts moves[0..count) by key, smallest first, keeping the order of equal keys (so a shuffle
+// before it breaks ties at random).
+inline void sort_by_key(Moves& moves, MoveKeys& keys, int count) {
+  for (int i = 1; i < count; ++i) {
+    for (int j = i; j > 0 && keys[j] < keys[j - 1]; --j) {
+      std::swap(keys[j], keys[j - 1]);
+      std::swap(moves[j], moves[j - 1]);
+    }
+  }
+}
 
 struct Cell {
   int x = 0;  // column

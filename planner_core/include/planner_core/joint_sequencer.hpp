@@ -22,18 +22,15 @@ struct JointSequence {
 
 class JointSequencer {
  public:
-  // Builds every agent's task orders, unless `deadline` passes first (then ready() is false).
+  // Builds every agent's task orders; when `deadline` passes first, next() gives nothing.
   JointSequencer(const Instance& instance, DistTable& dist, const TaskOrderConfig& config,
                  const Deadline& deadline = {});
-
-  // False when the deadline passed before every agent's orders were built: next() gives nothing.
-  bool ready() const { return ready_; }
 
   // The next joint sequence, or nullopt when every combination has been produced.
   std::optional<JointSequence> next();
 
   // Sum over agents of their single-agent lower bounds (exact tours within the exact limit);
-  // 0 when not ready().
+  // 0 when the deadline cut the orders short.
   int64_t lower_bound() const;
   int agent_count() const { return static_cast<int>(per_agent_.size()); }
   KBestOrders& orders_of(int agent) { return *per_agent_[agent]; }
@@ -60,7 +57,7 @@ class JointSequencer {
   std::vector<TupleStep> steps_;
   std::priority_queue<Node, std::vector<Node>, CostGreater> open_;
   int produced_ = 0;
-  bool ready_ = false;
+  bool ready_ = false;  // every agent's orders were built
 };
 
 }  // namespace planner_core

@@ -36,7 +36,6 @@ struct LacamResult {
   int64_t cost = 0;        // sum of loss of the solution
   bool exhausted = false;  // the whole reachable space was searched: no solution exists when !solved,
                            // and with LaCAM* the solution is optimal
-  double first_solution_ms = -1;  // since the search was made, when the first solution was found (LaCAM* goes on after it)
 };
 
 // One search, kept between calls so that LaCAM* can be run in slices between other work.
