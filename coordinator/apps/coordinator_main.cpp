@@ -1,10 +1,9 @@
 // ctsfleet-coordinator: plans the mission for the robots that announce themselves and drives
 // them over DDS until every task is done.
-#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
 
 #include <atomic>
-#include <csignal>
 #include <cstdio>
 #include <thread>
 #include <sys/resource.h>
@@ -13,26 +12,23 @@
 #include <algorithm>
 
 #include "coordinator/fleet_config.hpp"
+#include "ctsfleet/program.hpp"
 #include "coordinator/fleet_coordinator.hpp"
 #include "planner_core/input_error.hpp"
 
-namespace {
-std::atomic<bool> g_stop{false};
-extern "C" void on_signal(int) { g_stop.store(true); }
-}  // namespace
-
 int main(int argc, char** argv) {
   using namespace coordinator;
-  CLI::App app{"ctsfleet-coordinator: plan the mission and drive the fleet over DDS"};
+  ctsfleet::Program program("ctsfleet-coordinator", "plan the mission and drive the fleet over DDS");
+  CLI::App& app = program.app();
   std::string config_path, vendor;
   int domain = -1;
-  app.add_option("-c,--config", config_path, "fleet configuration (YAML)")->required();
+  bool json = false;
+  app.add_option("-c,--config", config_path, "fleet configuration (YAML)")->required()->check(CLI::ExistingFile);
   app.add_option("--dds", vendor, "override dds.vendor")->check(CLI::IsMember({"cyclone", "fastdds"}));
-  app.add_option("--domain", domain, "override dds.domain_id");
-  CLI11_PARSE(app, argc, argv);
-  std::signal(SIGINT, on_signal);
-  std::signal(SIGTERM, on_signal);
-  try {
+  app.add_option("--domain", domain, "override dds.domain_id")->check(ctsfleet::dds_domain());
+  app.add_flag("--json", json, "print the mission summary as one JSON object");
+  return program.main(argc, argv, [&] {
+    const std::atomic<bool>& stop = ctsfleet::stop_requested();
     FleetConfig config = load_fleet_config(config_path);
     if (!vendor.empty()) config.dds_vendor = vendor;
     if (domain >= 0) config.domain_id = domain;
@@ -46,15 +42,29 @@ int main(int argc, char** argv) {
     transport_config.lease_s = config.lease_s;
     transport_config.loopback_config_dir = config.dds_config_dir;
     fleet_transport::Handlers handlers;
-    handlers.on_announcement = [&](const fleet_transport::Announcement& a) { coordinator.on_announcement(a); };
+    std::atomic<int> announcements{0};
+    handlers.on_announcement = [&](const fleet_transport::Announcement& a) {
+      ++announcements;
+      coordinator.on_announcement(a);
+    };
     handlers.on_state = [&](const fleet_transport::RobotState& s) { coordinator.on_state(s); };
     handlers.on_robot_gone = [&](const std::string& id, fleet_transport::GoneReason r) { coordinator.on_robot_gone(id, r); };
     auto transport = fleet_transport::make_transport(transport_config, handlers);
 
     const bool tty = isatty(STDERR_FILENO);
-    auto next_progress = std::chrono::steady_clock::now();
-    while (!g_stop.load() && coordinator.step(*transport)) {
+    const auto started = std::chrono::steady_clock::now();
+    auto next_progress = started;
+    bool hinted = false;
+    while (!stop.load() && coordinator.step(*transport)) {
       const auto now = std::chrono::steady_clock::now();
+      if (!hinted && announcements.load() == 0 && now - started > std::chrono::seconds(5)) {
+        hinted = true;
+        spdlog::warn("no robot heard after 5 s on {} domain {} (DDS config {}): an agent must run with --dds {} "
+                     "--domain {} --dds-config-dir {}", config.dds_vendor, config.domain_id,
+                     config.dds_config_dir.empty() ? "the middleware's default" : config.dds_config_dir,
+                     config.dds_vendor, config.domain_id,
+                     config.dds_config_dir.empty() ? "(none)" : config.dds_config_dir);
+      }
       if (now >= next_progress) {
         if (tty) {
           std::fprintf(stderr, "\r%s   ", coordinator.progress_line().c_str());
@@ -67,6 +77,30 @@ int main(int argc, char** argv) {
     }
     if (tty) std::fprintf(stderr, "\n");
     const MissionSummary& s = coordinator.summary();
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);
+    const double cpu = usage.ru_utime.tv_sec + usage.ru_stime.tv_sec + (usage.ru_utime.tv_usec + usage.ru_stime.tv_usec) / 1e6;
+    std::vector<double> round_trips = s.round_trips_ms;
+    std::sort(round_trips.begin(), round_trips.end());
+    const auto quantile = [&](double q) {
+      return round_trips.empty() ? 0.0 : round_trips[std::min(round_trips.size() - 1, static_cast<size_t>(q * round_trips.size()))];
+    };
+    const int exit_code = stop.load() ? ctsfleet::kExitInterrupted : (s.completed ? 0 : 3);
+    if (json) {
+      const nlohmann::json summary = {
+          {"completed", s.completed}, {"tasks_done", s.tasks_done}, {"tasks_total", s.tasks_total},
+          {"seconds", s.seconds}, {"first_plan_makespan", s.first_plan_makespan},
+          {"first_plan_flowtime", s.first_plan_flowtime}, {"sum_of_finish_s", s.sum_of_finish_s},
+          {"replans", s.replans}, {"robots_lost", s.robots_lost}, {"robots_joined", s.robots_joined},
+          {"commands", s.commands_sent}, {"states", s.states_received},
+          {"replan_latencies_s", s.replan_latencies_s}, {"round_trips", round_trips.size()},
+          {"round_trip_p50_ms", quantile(0.5)}, {"round_trip_p99_ms", quantile(0.99)},
+          {"round_trip_max_ms", round_trips.empty() ? 0.0 : round_trips.back()}, {"cpu_s", cpu},
+          {"pending", s.pending}, {"exit_code", exit_code}};
+      std::printf("%s\n", summary.dump().c_str());
+      std::fflush(stdout);
+      return exit_code;
+    }
     std::printf("mission %s: tasks %d/%d, %.1f s, first plan makespan %d steps flowtime %lld, sum of finish times "
                 "%.1f s, replans %d, robots lost %d joined %d, commands %lld, states %lld\n",
                 s.completed ? "completed" : "NOT completed", s.tasks_done, s.tasks_total, s.seconds,
@@ -74,26 +108,13 @@ int main(int argc, char** argv) {
                 s.robots_lost, s.robots_joined, static_cast<long long>(s.commands_sent),
                 static_cast<long long>(s.states_received));
     for (double latency : s.replan_latencies_s) std::printf("replan latency %.3f s\n", latency);
-    if (!s.round_trips_ms.empty()) {
-      std::vector<double> sorted = s.round_trips_ms;
-      std::sort(sorted.begin(), sorted.end());
-      const auto at = [&](double q) { return sorted[std::min(sorted.size() - 1, static_cast<size_t>(q * sorted.size()))]; };
-      std::printf("command round trip: n %zu p50 %.2f ms p99 %.2f ms max %.2f ms\n", sorted.size(), at(0.5), at(0.99),
-                  sorted.back());
+    if (!round_trips.empty()) {
+      std::printf("command round trip: n %zu p50 %.2f ms p99 %.2f ms max %.2f ms\n", round_trips.size(), quantile(0.5),
+                  quantile(0.99), round_trips.back());
     }
-    rusage usage{};
-    getrusage(RUSAGE_SELF, &usage);
-    const double cpu = usage.ru_utime.tv_sec + usage.ru_stime.tv_sec + (usage.ru_utime.tv_usec + usage.ru_stime.tv_usec) / 1e6;
     std::printf("coordinator cpu %.2f s\n", cpu);
     for (const std::string& line : s.pending) std::printf("pending: %s\n", line.c_str());
     std::fflush(stdout);
-    if (g_stop.load()) return 130;
-    return s.completed ? 0 : 3;
-  } catch (const planner_core::InputError& e) {
-    spdlog::error("{}", e.what());
-    return 2;
-  } catch (const std::exception& e) {
-    spdlog::error("{}", e.what());
-    return 1;
-  }
+    return exit_code;
+  });
 }

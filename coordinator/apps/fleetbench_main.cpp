@@ -1,7 +1,7 @@
 // ctsfleet-fleetbench: measures the fleet runtime on one host with N simulated agents (separate
 // processes): command -> state round trip (p50, p99), coordinator CPU, and the replanning latency
 // after one robot is killed (from the loss to the first command of the new plan).
-#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -10,11 +10,13 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <regex>
 #include <sstream>
 #include <thread>
 
 #include "coordinator/child_process.hpp"
+#include "ctsfleet/data_dir.hpp"
+#include "ctsfleet/program.hpp"
+#include "planner_core/input_error.hpp"
 #include "planner_core/instance_generator.hpp"
 
 namespace fs = std::filesystem;
@@ -28,32 +30,58 @@ std::string read_file(const std::string& path) {
   return text.str();
 }
 
-std::string find(const std::string& text, const std::string& pattern) {
-  std::smatch match;
-  return std::regex_search(text, match, std::regex(pattern)) ? match[1].str() : "-";
+// The coordinator's --json summary (its whole stdout); an empty object when it wrote none.
+nlohmann::json read_summary(const std::string& path) {
+  const std::string text = read_file(path);
+  const nlohmann::json summary = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
+  return summary.is_object() ? summary : nlohmann::json::object();
+}
+
+// "12.3" from a JSON number, "-" when absent.
+std::string figure(const nlohmann::json& summary, const std::string& key, double scale = 1, const char* format = "%.2f") {
+  if (!summary.contains(key) || !summary[key].is_number()) return "-";
+  char text[32];
+  std::snprintf(text, sizeof text, format, scale * summary[key].get<double>());
+  return text;
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"ctsfleet-fleetbench: latency, CPU and replanning time of the fleet runtime with N simulated agents"};
-  const fs::path here = fs::canonical("/proc/self/exe").parent_path();
-  const fs::path root = (here / "../..").lexically_normal();
+  ctsfleet::Program program("ctsfleet-fleetbench",
+                            "latency, CPU and replanning time of the fleet runtime with N simulated agents");
+  CLI::App& app = program.app();
+  const fs::path here = ctsfleet::program_dir();
   std::vector<int> sizes{10, 50, 100};
-  std::string map = (root / "config/default/random-64-64-20.map").string(), vendor = "cyclone";
+  std::string map, vendor = "cyclone";
   double step = 0.2, kill_after = 8;
   int domain = 90;
-  app.add_option("-n,--robots", sizes, "fleet sizes to run")->capture_default_str();
-  app.add_option("--map", map, "map of the generated missions")->capture_default_str();
-  app.add_option("--step", step, "seconds per move (0.2 = 5 steps per second)")->capture_default_str();
-  app.add_option("--kill-after", kill_after, "seconds after the start when one robot is killed")->capture_default_str();
-  app.add_option("--dds", vendor)->check(CLI::IsMember({"cyclone", "fastdds"}))->capture_default_str();
-  app.add_option("--domain", domain)->capture_default_str();
-  CLI11_PARSE(app, argc, argv);
-
+  bool json = false;
+  app.add_option("-n,--robots", sizes, "fleet sizes to run")->check(ctsfleet::count_in(2, 1000))->capture_default_str();
+  app.add_option("--map", map, "map of the generated missions (default: config/default/random-64-64-20.map)")
+      ->check(CLI::ExistingFile);
+  app.add_option("--step", step, "seconds per move (0.2 = 5 steps per second)")
+      ->check(ctsfleet::positive_seconds(60))
+      ->capture_default_str();
+  app.add_option("--kill-after", kill_after, "seconds after the start when one robot is killed")
+      ->check(ctsfleet::number_in(0, 3600))
+      ->capture_default_str();
+  app.add_option("--dds", vendor, "DDS implementation")->check(CLI::IsMember({"cyclone", "fastdds"}))->capture_default_str();
+  app.add_option("--domain", domain, "DDS domain of the first fleet size (the next ones count up)")
+      ->check(ctsfleet::count_in(0, 232))
+      ->capture_default_str();
+  app.add_flag("--json", json, "print one JSON object per fleet size instead of the table");
+  return program.main(argc, argv, [&] {
+  if (domain + static_cast<int>(sizes.size()) - 1 > 232) {
+    throw planner_core::InputError("--domain: " + std::to_string(domain) + " + " + std::to_string(sizes.size()) +
+                                   " fleet sizes run past DDS domain 232");
+  }
+  if (map.empty()) map = ctsfleet::data_path("config/default/random-64-64-20.map").string();
+  const std::string dds_config_dir = ctsfleet::data_path("config/dds").string();
+  const std::atomic<bool>& stop = ctsfleet::stop_requested();
   const fs::path work = fs::temp_directory_path() / ("ctsfleet-fleetbench-" + std::to_string(getpid()));
   fs::create_directories(work);
-  std::printf("| robots | mission | round trip p50 (ms) | p99 (ms) | max (ms) | coordinator CPU (%% of one core) | "
+  if (!json) std::printf("| robots | mission | round trip p50 (ms) | p99 (ms) | max (ms) | coordinator CPU (%% of one core) | "
               "replan latency after a loss (ms) |\n|---|---|---|---|---|---|---|\n");
   for (int n : sizes) {
     auto graph = std::make_shared<const planner_core::Graph>(planner_core::load_movingai_map(map));
@@ -64,7 +92,7 @@ int main(int argc, char** argv) {
     std::ofstream(config_file) << "mission: " << mission_file.string() << "\nrobots:\n  quorum: " << n
                                << "\n  wait_timeout_s: 60\nplanner:\n  solver: cts-pll-v2\n  time_limit_s: 5\n"
                                << "  replan_solver: cts-pll-v2\n  replan_time_limit_s: 5\ndds:\n  vendor: " << vendor
-                               << "\n  domain_id: " << domain << "\n  config_dir: " << (root / "config/dds").string()
+                               << "\n  domain_id: " << domain << "\n  config_dir: " << dds_config_dir
                                << "\ntiming:\n  step_s: " << step
                                << "\n  silence_timeout_s: 3\n  mission_timeout_s: 300\n  replacement_timeout_s: 2\n";
     std::vector<pid_t> agents;
@@ -73,40 +101,50 @@ int main(int argc, char** argv) {
       agents.push_back(coordinator::start_child({(here / "ctsfleet-agent").string(), "--id", "robot" + std::to_string(r), "--start",
                               std::to_string(start.x) + "," + std::to_string(start.y), "--dds", vendor, "--domain",
                               std::to_string(domain), "--step", std::to_string(step), "--jitter", "0.1",
-                              "--dds-config-dir", (root / "config/dds").string()},
+                              "--dds-config-dir", dds_config_dir},
                              (work / ("robot" + std::to_string(r) + ".log")).string()));
     }
     const std::string coordinator_log = (work / ("coordinator-" + std::to_string(n) + ".log")).string();
-    const pid_t coordinator_pid = coordinator::start_child({(here / "ctsfleet-coordinator").string(), "--config", config_file.string()},
-                                    coordinator_log);
+    const std::string coordinator_summary = (work / ("coordinator-" + std::to_string(n) + ".json")).string();
+    const pid_t coordinator_pid = coordinator::start_child(
+        {(here / "ctsfleet-coordinator").string(), "--config", config_file.string(), "--json"}, coordinator_log,
+        coordinator_summary);
     // Kill one robot once the mission is under way.
     const auto started = std::chrono::steady_clock::now();
     while (read_file(coordinator_log).find("plan epoch 1") == std::string::npos &&
-           std::chrono::steady_clock::now() - started < std::chrono::seconds(120)) {
+           std::chrono::steady_clock::now() - started < std::chrono::seconds(120) && !stop.load()) {
       std::this_thread::sleep_for(std::chrono::milliseconds(100));
     }
-    std::this_thread::sleep_for(std::chrono::duration<double>(kill_after));
+    const auto kill_time = std::chrono::steady_clock::now() + std::chrono::duration<double>(kill_after);
+    while (std::chrono::steady_clock::now() < kill_time && !stop.load()) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
     kill(agents[0], SIGKILL);
+    if (stop.load()) kill(coordinator_pid, SIGINT);
     int status = 0;
     waitpid(coordinator_pid, &status, 0);
     for (pid_t pid : agents) kill(pid, SIGTERM);
     for (pid_t pid : agents) waitpid(pid, nullptr, 0);
-    const std::string text = read_file(coordinator_log);
-    const std::string seconds = find(text, R"(tasks \d+/\d+, ([0-9.]+) s)");
-    const std::string cpu = find(text, R"(coordinator cpu ([0-9.]+) s)");
-    char cpu_share[32] = "-";
-    if (cpu != "-" && seconds != "-" && std::stod(seconds) > 0) {
-      std::snprintf(cpu_share, sizeof cpu_share, "%.1f", 100 * std::stod(cpu) / std::stod(seconds));
+    if (stop.load()) return ctsfleet::kExitInterrupted;
+    const nlohmann::json summary = read_summary(coordinator_summary);
+    const double seconds = summary.value("seconds", 0.0);
+    std::string cpu_share = "-";
+    if (summary.contains("cpu_s") && seconds > 0) cpu_share = figure(summary, "cpu_s", 100 / seconds, "%.1f");
+    const auto& latencies = summary.value("replan_latencies_s", std::vector<double>{});
+    const std::string replan_ms = latencies.empty() ? "-" : std::to_string(static_cast<int>(1000 * latencies.front()));
+    if (json) {
+      nlohmann::json row = {{"robots", n}, {"summary", summary}, {"logs", work.string()}};
+      std::printf("%s\n", row.dump().c_str());
+    } else {
+      const std::string outcome = summary.empty() ? "no summary" : summary.value("completed", false) ? "completed" : "NOT completed";
+      std::printf("| %d | %s, %s s | %s | %s | %s | %s | %s |\n", n, outcome.c_str(), figure(summary, "seconds", 1, "%.1f").c_str(),
+                  figure(summary, "round_trip_p50_ms").c_str(), figure(summary, "round_trip_p99_ms").c_str(),
+                  figure(summary, "round_trip_max_ms").c_str(), cpu_share.c_str(), replan_ms.c_str());
     }
-    const std::string replan = find(text, R"(replan latency ([0-9.]+) s)");
-    std::printf("| %d | %s, %s s | %s | %s | %s | %s | %s |\n", n,
-                find(text, R"(mission (completed|NOT completed))").c_str(), seconds.c_str(),
-                find(text, R"(p50 ([0-9.]+) ms)").c_str(), find(text, R"(p99 ([0-9.]+) ms)").c_str(),
-                find(text, R"(max ([0-9.]+) ms)").c_str(), cpu_share,
-                replan == "-" ? "-" : std::to_string(static_cast<int>(1000 * std::stod(replan))).c_str());
     std::fflush(stdout);
     ++domain;
   }
-  std::printf("\nlogs: %s\n", work.c_str());
+  if (!json) std::printf("\nlogs: %s\n", work.c_str());
   return 0;
+  });
 }

@@ -1,20 +1,21 @@
 // ctsfleet-monitor: an independent observer. Records every robot state it hears and checks, from
 // the robots' own arrival timestamps, that no two robots ever held the same cell at the same time
-// (which also rules out swaps). Runs until SIGINT/SIGTERM or --duration; exit 0 when safe.
-#include <CLI/CLI.hpp>
+// (which also rules out swaps). Runs until SIGINT/SIGTERM or --duration; exit 0 when safe, 1 on
+// a collision, 4 when it heard no robot at all (a check that saw nothing has not passed).
 #include <spdlog/spdlog.h>
 
 #include <atomic>
-#include <csignal>
 #include <map>
 #include <mutex>
 #include <thread>
 
+#include "ctsfleet/data_dir.hpp"
+#include "ctsfleet/program.hpp"
 #include "fleet_transport/transport.hpp"
 
 namespace {
-std::atomic<bool> g_stop{false};
-extern "C" void on_signal(int) { g_stop.store(true); }
+
+constexpr int kExitHeardNothing = 4;
 
 struct Visit {
   int x, y;
@@ -24,17 +25,21 @@ struct Visit {
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"ctsfleet-monitor: check that robots never share a cell, from their reported states"};
+  ctsfleet::Program program("ctsfleet-monitor", "check that robots never share a cell, from their reported states");
+  CLI::App& app = program.app();
   std::string vendor = "cyclone", dds_dir;
   int domain = 0;
   double duration = 0;
-  app.add_option("--dds", vendor, "DDS implementation")->check(CLI::IsMember({"cyclone", "fastdds"}));
-  app.add_option("--domain", domain, "DDS domain id");
-  app.add_option("--dds-config-dir", dds_dir, "folder with the loopback DDS XML files");
-  app.add_option("--duration", duration, "stop after this many seconds (0 = until a signal)");
-  CLI11_PARSE(app, argc, argv);
-  std::signal(SIGINT, on_signal);
-  std::signal(SIGTERM, on_signal);
+  app.add_option("--dds", vendor, "DDS implementation")->check(CLI::IsMember({"cyclone", "fastdds"}))->capture_default_str();
+  app.add_option("--domain", domain, "DDS domain id")->check(ctsfleet::dds_domain())->capture_default_str();
+  app.add_option("--dds-config-dir", dds_dir, "folder with the loopback DDS XML files (default: the shipped config/dds)")
+      ->check(CLI::ExistingDirectory);
+  app.add_option("--duration", duration, "stop after this many seconds (0 = until a signal)")
+      ->check(ctsfleet::number_in(0, 1e6))
+      ->capture_default_str();
+  return program.main(argc, argv, [&] {
+  const std::atomic<bool>& g_stop = ctsfleet::stop_requested();
+  if (dds_dir.empty()) dds_dir = ctsfleet::data_path("config/dds").string();
 
   std::mutex mutex;
   std::map<std::string, std::vector<Visit>> visits;
@@ -93,5 +98,11 @@ int main(int argc, char** argv) {
   std::printf("monitor: robots %zu, states %lld, cell visits %lld, overlaps %d, gaps %lld\n", visits.size(),
               static_cast<long long>(states), static_cast<long long>(cell_visits), overlaps,
               static_cast<long long>(gaps));
+  if (visits.empty()) {
+    std::fprintf(stderr, "ctsfleet-monitor: heard no robot on %s domain %d with DDS config %s: nothing was checked\n",
+                 vendor.c_str(), domain, dds_dir.c_str());
+    return kExitHeardNothing;
+  }
   return overlaps == 0 ? 0 : 1;
+  });
 }

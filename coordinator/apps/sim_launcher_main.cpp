@@ -3,14 +3,12 @@
 // With --backend toio-emulated the agents drive emulated toio cubes through their real BLE code
 // path: a private dbus-daemon, ctsfleet-toio-emulator as BlueZ, agents with --backend toio.
 // Exits 0 only when the mission completed; Ctrl-C stops everything cleanly.
-#include <CLI/CLI.hpp>
 #include <signal.h>
 #include <spdlog/spdlog.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <atomic>
-#include <csignal>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -22,6 +20,8 @@
 
 #include "coordinator/child_process.hpp"
 #include "coordinator/fleet_config.hpp"
+#include "ctsfleet/data_dir.hpp"
+#include "ctsfleet/program.hpp"
 #include "planner_core/input_error.hpp"
 #include "planner_core/instance.hpp"
 #include "robot_agent/mat_calibration.hpp"
@@ -29,8 +29,7 @@
 namespace {
 
 namespace fs = std::filesystem;
-std::atomic<bool> g_stop{false};
-extern "C" void on_signal(int) { g_stop.store(true); }
+const std::atomic<bool>& g_stop = ctsfleet::stop_requested();
 
 // Waits until `done` holds, polling; false after `timeout`.
 template <typename Condition>
@@ -67,35 +66,41 @@ std::string start_private_bus(const fs::path& log_dir, std::vector<pid_t>& helpe
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"ctsfleet-sim: a coordinator and N simulated robot agents as separate processes"};
-  const fs::path here = fs::canonical("/proc/self/exe").parent_path();
-  std::string config_path;
-  std::string mat_path = (here / "../../config/mats/toio-collection-ring.yaml").lexically_normal().string();
+  ctsfleet::Program program("ctsfleet-sim", "a coordinator and N simulated robot agents as separate processes");
+  CLI::App& app = program.app();
+  const fs::path here = ctsfleet::program_dir();
+  std::string config_path, mat_path;
+  bool json = false;
   std::string vendor, agent_vendor, backend = "sim", log_dir = "out/sim-logs";
   int robots = 8, domain = -1;
   double step = 0.1, jitter = 0.2;
   unsigned seed = 1;
-  app.add_option("--robots", robots, "number of robot agents")->capture_default_str();
+  app.add_option("--robots", robots, "number of robot agents (at most the mission map's free cells)")
+      ->check(ctsfleet::count_in(1, 10'000))
+      ->capture_default_str();
   app.add_option("-c,--config", config_path,
-                 "fleet configuration (default: config/fleet.yaml, or config/toio/fleet.yaml for toio-emulated)");
-  app.add_option("--mat", mat_path, "toio-emulated: mat file placing the grid on the mat")->capture_default_str();
+                 "fleet configuration (default: config/fleet.yaml, or config/toio/fleet.yaml for toio-emulated)")
+      ->check(CLI::ExistingFile);
+  app.add_option("--mat", mat_path, "toio-emulated: mat file placing the grid on the mat (default: "
+                                    "config/mats/toio-collection-ring.yaml)")
+      ->check(CLI::ExistingFile);
   app.add_option("--dds", vendor, "DDS for every process (default: the config's)")
       ->check(CLI::IsMember({"cyclone", "fastdds"}));
   app.add_option("--agent-dds", agent_vendor, "DDS for the agents only (cross-vendor runs)")
       ->check(CLI::IsMember({"cyclone", "fastdds"}));
   app.add_option("--backend", backend, "robot backend")->check(CLI::IsMember({"sim", "toio-emulated"}))->capture_default_str();
-  app.add_option("--domain", domain, "DDS domain id (default: the config's)");
-  app.add_option("--step", step, "sim: seconds per move")->capture_default_str();
-  app.add_option("--jitter", jitter, "sim: each move takes step * (1 + U[0, jitter])")->capture_default_str();
+  app.add_option("--domain", domain, "DDS domain id (default: the config's)")->check(ctsfleet::dds_domain());
+  app.add_option("--step", step, "sim: seconds per move")->check(ctsfleet::positive_seconds(3600))->capture_default_str();
+  app.add_option("--jitter", jitter, "sim: each move takes step * (1 + U[0, jitter])")
+      ->check(ctsfleet::number_in(0, 10))
+      ->capture_default_str();
   app.add_option("--seed", seed, "sim: random seed of the first agent")->capture_default_str();
-  app.add_option("--log-dir", log_dir, "where the agents' logs go")->capture_default_str();
-  CLI11_PARSE(app, argc, argv);
-  std::signal(SIGINT, on_signal);
-  std::signal(SIGTERM, on_signal);
+  app.add_option("--log-dir", log_dir, "where the agents' logs go")->check(ctsfleet::writable_folder())->capture_default_str();
+  app.add_flag("--json", json, "the coordinator prints its mission summary as one JSON object");
+  return program.main(argc, argv, [&]() -> int {
   const bool toio = backend == "toio-emulated";
-  if (config_path.empty()) {
-    config_path = (here / (toio ? "../../config/toio/fleet.yaml" : "../../config/fleet.yaml")).lexically_normal().string();
-  }
+  if (config_path.empty()) config_path = ctsfleet::data_path(toio ? "config/toio/fleet.yaml" : "config/fleet.yaml").string();
+  if (mat_path.empty()) mat_path = ctsfleet::data_path("config/mats/toio-collection-ring.yaml").string();
   std::vector<pid_t> helpers;  // dbus-daemon and emulator, stopped last
   auto stop_helpers = [&helpers] {
     for (auto it = helpers.rbegin(); it != helpers.rend(); ++it) kill(*it, SIGTERM);
@@ -116,6 +121,12 @@ int main(int argc, char** argv) {
     std::set<planner_core::Vertex> used(mission.starts.begin(), mission.starts.end());
     used.insert(mission.goals.begin(), mission.goals.end());
     for (int r = 0; r < robots && r < mission.agent_count(); ++r) starts.push_back(mission.graph->cell_of(mission.starts[r]));
+    const int free_cells = mission.graph->vertex_count() - static_cast<int>(used.size());
+    if (robots > mission.agent_count() + free_cells) {
+      throw planner_core::InputError("--robots: " + std::to_string(robots) + " robots do not fit on " + config.mission +
+                                     ": " + std::to_string(mission.agent_count()) + " role starts and " +
+                                     std::to_string(free_cells) + " other free cells");
+    }
     std::mt19937 rng(seed);
     while (static_cast<int>(starts.size()) < robots) {
       const planner_core::Vertex v = std::uniform_int_distribution<int>(0, mission.graph->vertex_count() - 1)(rng);
@@ -163,9 +174,10 @@ int main(int argc, char** argv) {
       if (toio) args.insert(args.end(), {"--cube", "toio-" + std::to_string(r), "--mat", mat_path});
       agents.push_back(coordinator::start_child(args, log_dir + "/robot" + std::to_string(r) + ".log"));
     }
-    const pid_t coordinator_pid = coordinator::start_child({(here / "ctsfleet-coordinator").string(), "--config", config_path, "--dds",
-                                     vendor, "--domain", std::to_string(domain)},
-                                    "");
+    std::vector<std::string> coordinator_args = {(here / "ctsfleet-coordinator").string(), "--config", config_path,
+                                                 "--dds", vendor, "--domain", std::to_string(domain)};
+    if (json) coordinator_args.push_back("--json");
+    const pid_t coordinator_pid = coordinator::start_child(coordinator_args, "");
     spdlog::info("started {} agents ({}) and the coordinator ({}) on domain {}; agent logs in {}", robots,
                  agent_vendor, vendor, domain, log_dir);
     int status = 0;
@@ -187,17 +199,13 @@ int main(int argc, char** argv) {
     for (pid_t pid : agents) kill(pid, SIGTERM);
     for (pid_t pid : agents) waitpid(pid, nullptr, 0);
     stop_helpers();
-    if (g_stop.load()) return 130;
+    if (g_stop.load()) return ctsfleet::kExitInterrupted;
     const int code = WIFEXITED(status) ? WEXITSTATUS(status) : 1;
     spdlog::info("coordinator exited with {}", code);
     return code;
-  } catch (const planner_core::InputError& e) {
+  } catch (...) {
     stop_helpers();
-    spdlog::error("{}", e.what());
-    return 2;
-  } catch (const std::exception& e) {
-    stop_helpers();
-    spdlog::error("{}", e.what());
-    return 1;
+    throw;
   }
+  });
 }

@@ -9,11 +9,29 @@
 #include "planner_core/solver.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <sstream>
 
 namespace coordinator {
 
 namespace fs = std::filesystem;
 using planner_core::InputError;
+
+namespace {
+
+// Fails unless `value` (read from section.key) is finite and within [low, high] (low excluded
+// when `low_open`).
+void check_range(const planner_core::YamlContext& r, const YAML::Node& section, const std::string& field,
+                 double value, double low, double high, bool low_open) {
+  const bool ok = std::isfinite(value) && (low_open ? value > low : value >= low) && value <= high;
+  if (ok) return;
+  std::ostringstream range;
+  range << (low_open ? "(" : "[") << low << ", " << high << "]";
+  const std::string key = field.substr(field.find('.') + 1);
+  r.fail(section[key] ? section[key] : section, field, "must be a number in " + range.str());
+}
+
+}  // namespace
 
 
 FleetConfig load_fleet_config(const std::string& path) {
@@ -46,7 +64,8 @@ FleetConfig load_fleet_config(const std::string& path) {
     }
     r.read(robots, "quorum", "robots", config.quorum);
     r.read(robots, "wait_timeout_s", "robots", config.wait_timeout_s);
-    if (config.quorum < 1) r.fail(robots["quorum"], "robots.quorum", "must be at least 1");
+    check_range(r, robots, "robots.quorum", config.quorum, 1, 100000, false);
+    check_range(r, robots, "robots.wait_timeout_s", config.wait_timeout_s, 0, 1e6, true);
   }
   if (const YAML::Node planner = root["planner"]) {
     r.only_keys(planner, {"solver", "time_limit_s", "replan_solver", "replan_time_limit_s", "pibt_swap"}, "planner");
@@ -55,6 +74,8 @@ FleetConfig load_fleet_config(const std::string& path) {
     r.read(planner, "replan_solver", "planner", config.replan_solver);
     r.read(planner, "replan_time_limit_s", "planner", config.replan_time_s);
     r.read(planner, "pibt_swap", "planner", config.pibt_swap);
+    check_range(r, planner, "planner.time_limit_s", config.plan_time_s, 0, planner_core::kMaxTimeLimitS, true);
+    check_range(r, planner, "planner.replan_time_limit_s", config.replan_time_s, 0, planner_core::kMaxTimeLimitS, true);
     const auto known = planner_core::solver_names();
     for (const std::string* name : {&config.solver, &config.replan_solver}) {
       if (std::find(known.begin(), known.end(), *name) == known.end()) {
@@ -70,6 +91,11 @@ FleetConfig load_fleet_config(const std::string& path) {
     std::string dir;
     r.read(dds, "config_dir", "dds", dir);
     if (!dir.empty()) config.dds_config_dir = fs::path(dir).is_relative() ? (fs::path(path).parent_path() / dir).lexically_normal().string() : dir;
+    check_range(r, dds, "dds.domain_id", config.domain_id, 0, 232, false);
+    check_range(r, dds, "dds.lease_s", config.lease_s, 0, 3600, true);
+    if (!config.dds_config_dir.empty() && !fs::is_directory(config.dds_config_dir)) {
+      r.fail(dds["config_dir"], "dds.config_dir", "'" + config.dds_config_dir + "' is not a folder");
+    }
     if (config.dds_vendor != "cyclone" && config.dds_vendor != "fastdds") {
       r.fail(dds["vendor"], "dds.vendor", "expected cyclone or fastdds");
     }
@@ -81,6 +107,11 @@ FleetConfig load_fleet_config(const std::string& path) {
     r.read(timing, "mission_timeout_s", "timing", config.mission_timeout_s);
     r.read(timing, "replan_settle_s", "timing", config.replan_settle_s);
     r.read(timing, "replacement_timeout_s", "timing", config.replacement_timeout_s);
+    check_range(r, timing, "timing.step_s", config.step_s, 0, 3600, true);
+    check_range(r, timing, "timing.silence_timeout_s", config.silence_timeout_s, 0, 3600, true);
+    check_range(r, timing, "timing.mission_timeout_s", config.mission_timeout_s, 0, 1e6, true);
+    check_range(r, timing, "timing.replan_settle_s", config.replan_settle_s, 0, 3600, false);
+    check_range(r, timing, "timing.replacement_timeout_s", config.replacement_timeout_s, 0, 3600, false);
   }
   return config;
 }

@@ -1,6 +1,7 @@
 // ctsfleet-bench: runs solvers over instance folders or lists, writes a CSV and prints a summary
 // per (map, N, M) setting.
-#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+#include <unistd.h>
 
 #include <cstdio>
 #include <filesystem>
@@ -8,9 +9,12 @@
 #include <iostream>
 #include <thread>
 
+#include "ctsfleet/data_dir.hpp"
+#include "ctsfleet/program.hpp"
 #include "mapf_scale_experiment.hpp"
 #include "paper_experiments.hpp"
 #include "planner_core/benchmark_runner.hpp"
+#include "planner_core/input_error.hpp"
 
 namespace fs = std::filesystem;
 
@@ -36,7 +40,9 @@ std::vector<std::string> collect_instances(const std::vector<std::string>& input
   return files;
 }
 
+// A progress bar on stderr, only when stderr is a terminal.
 void draw_progress(int done, int total) {
+  if (!isatty(STDERR_FILENO)) return;
   const int width = 40;
   const int filled = total > 0 ? width * done / total : width;
   std::fprintf(stderr, "\r[%s%s] %d/%d", std::string(filled, '#').c_str(), std::string(width - filled, '.').c_str(),
@@ -48,7 +54,8 @@ void draw_progress(int done, int total) {
 
 int main(int argc, char** argv) {
   using namespace planner_core;
-  CLI::App app{"ctsfleet-bench: run solvers over benchmark instances and summarise per (map, N, M)"};
+  ctsfleet::Program program("ctsfleet-bench", "run solvers over benchmark instances and summarise per (map, N, M)");
+  CLI::App& app = program.app();
   std::vector<std::string> inputs, solvers{"cts-pibt"};
   std::string csv_path = "bench.csv";
   double seconds = 10;
@@ -56,40 +63,46 @@ int main(int argc, char** argv) {
   int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   SolverConfig config;
   std::string experiment;
-  bool full = false;
+  bool full = false, json = false;
   ctsfleet_bench::ExperimentSettings experiment_settings;
-  app.add_option("inputs", inputs, "instance files, folders (searched for .yaml) or .txt lists");
+  app.add_option("inputs", inputs, "instance files, folders (searched for .yaml) or .txt lists")->check(CLI::ExistingPath);
   app.add_option("--experiment", experiment,
                  "reproduce the CTS-PLL paper's experiments side by side: dense, sparse, scale or all")
       ->check(CLI::IsMember({"dense", "sparse", "scale", "all", "mapf-scale"}));
   ctsfleet_bench::MapfScaleSettings mapf_scale;
-  app.add_option("--scale-suite", mapf_scale.suite, "experiment mapf-scale: the plain MAPF scale suite folder")
-      ->capture_default_str();
-  app.add_option("--benchmarks", experiment_settings.benchmarks, "experiment: benchmark suites folder")
-      ->capture_default_str();
+  app.add_option("--scale-suite", mapf_scale.suite,
+                 "experiment mapf-scale: the plain MAPF scale suite folder (default: the installed benchmarks/mapf-scale)")
+      ->check(CLI::ExistingDirectory);
+  app.add_option("--benchmarks", experiment_settings.benchmarks,
+                 "experiment: benchmark suites folder (default: the installed benchmarks/)")
+      ->check(CLI::ExistingDirectory);
   app.add_option("--out-dir", experiment_settings.out_dir, "experiment: where tables, CSV and plots go")
+      ->check(ctsfleet::writable_folder())
       ->capture_default_str();
   app.add_flag("--full", full, "experiment: every instance of the suites and 60 s per run");
   app.add_option("--solver", solvers, "solver variants to compare (repeatable)")
       ->check(CLI::IsMember(solver_names()))
       ->capture_default_str();
-  app.add_option("-t,--time", seconds, "time limit per instance in seconds")->capture_default_str();
-  app.add_option("--sample", sample, "at most K instances per (map, N, M) setting (0 = all)")->capture_default_str();
-  app.add_option("-j,--threads", threads, "instances run in parallel")->capture_default_str();
-  app.add_option("--csv", csv_path, "CSV file to write, one row per (instance, solver)")->capture_default_str();
+  app.add_option("-t,--time", seconds, "time limit per instance in seconds")
+      ->check(ctsfleet::positive_seconds(kMaxTimeLimitS))
+      ->capture_default_str();
+  app.add_option("--sample", sample, "at most K instances per (map, N, M) setting (0 = all)")
+      ->check(ctsfleet::count_in(0, 1'000'000))
+      ->capture_default_str();
+  app.add_option("-j,--threads", threads, "instances run in parallel")->check(ctsfleet::count_in(1, 256))->capture_default_str();
+  app.add_option("--csv", csv_path, "CSV file to write, one row per (instance, solver)")
+      ->check(ctsfleet::writable_file())
+      ->capture_default_str();
+  app.add_flag("--json", json, "print the summary tables as one JSON object");
   app.add_option("--seed", config.seed, "random seed")->capture_default_str();
   app.add_flag("--swap", config.pibt.swap, "Extended-PIBT with LaCAM3's swap operation (head-on meetings in corridors)");
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    return app.exit(e) == 0 ? 0 : 2;  // --help is 0; every command-line error is an input error, 2
-  }
-
-  if (!is_valid_time_limit(seconds)) {
-    std::cerr << "error: -t/--time: the time limit must be a number of seconds in (0, 1e6], not " << seconds << "\n";
-    return 2;
-  }
+  return program.main(argc, argv, [&] {
   if (!experiment.empty()) {
+    if (std::string unwritable = ctsfleet::writable_folder()(experiment_settings.out_dir); !unwritable.empty()) {
+      throw InputError("--out-dir: " + unwritable);
+    }
+    if (experiment_settings.benchmarks.empty()) experiment_settings.benchmarks = ctsfleet::data_path("benchmarks").string();
+    if (mapf_scale.suite.empty()) mapf_scale.suite = ctsfleet::data_path("benchmarks/mapf-scale").string();
     experiment_settings.seconds = app.count("--time") ? seconds : (full ? 60 : 10);
     experiment_settings.threads = threads;
     experiment_settings.seed = config.seed;
@@ -109,21 +122,12 @@ int main(int argc, char** argv) {
     }
     return ctsfleet_bench::run_experiments(experiment, experiment_settings);
   }
-  if (inputs.empty()) {
-    std::cerr << "error: give instance files or folders, or --experiment\n";
-    return 2;
-  }
-
+  if (inputs.empty()) throw InputError("give instance files or folders, or --experiment");
   const std::vector<std::string> files = sample_per_setting(collect_instances(inputs), sample);
-  if (files.empty()) {
-    std::cerr << "error: no instances found in the inputs\n";
-    return 2;
-  }
+  if (files.empty()) throw InputError("no instances (.yaml) found in the inputs");
   std::ofstream csv(csv_path);
-  if (!csv) {
-    std::cerr << "error: " << csv_path << ": cannot write\n";
-    return 2;
-  }
+  if (!csv) throw InputError("--csv: " + csv_path + ": cannot write");
+  nlohmann::json summary_json = nlohmann::json::object();
   csv << csv_header() << "\n";
   int errors = 0;
   for (const std::string& solver : solvers) {
@@ -140,6 +144,15 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "%s: %s\n", row.file.c_str(), row.error.c_str());
       }
     }
+    if (json) {
+      nlohmann::json& settings = summary_json[solver] = nlohmann::json::array();
+      for (const BenchmarkSummary& s : summarise(rows)) {
+        settings.push_back({{"map", s.map}, {"agents", s.agents}, {"tasks", s.tasks}, {"instances", s.instances},
+                            {"solved", s.solved}, {"median_first_ms", s.median_first_ms},
+                            {"mean_flowtime", s.mean_flowtime}, {"mean_ratio", s.mean_ratio}});
+      }
+      continue;
+    }
     std::printf("\n%s (time limit %.1f s)\n", solver.c_str(), seconds);
     std::printf("| map | N | M | instances | success | median first (ms) | mean flowtime | mean flowtime/LB |\n");
     std::printf("|---|---|---|---|---|---|---|---|\n");
@@ -148,6 +161,11 @@ int main(int argc, char** argv) {
                   s.instances, 100.0 * s.solved / s.instances, s.median_first_ms, s.mean_flowtime, s.mean_ratio);
     }
   }
-  std::printf("\nrows written to %s\n", csv_path.c_str());
+  if (json) {
+    std::printf("%s\n", nlohmann::json{{"time_limit_s", seconds}, {"csv", csv_path}, {"solvers", summary_json}}.dump().c_str());
+  } else {
+    std::printf("\nrows written to %s\n", csv_path.c_str());
+  }
   return errors > 0 ? 1 : 0;
+  });
 }

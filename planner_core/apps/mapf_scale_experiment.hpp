@@ -11,7 +11,7 @@
 namespace ctsfleet_bench {
 
 struct MapfScaleSettings {
-  std::string suite = "benchmarks/mapf-scale";
+  std::string suite;  // default: the data folder's benchmarks/mapf-scale
   std::string out_dir = "docs/results";
   std::vector<std::string> solvers = {"lacam-star"};
   double seconds = 10;

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "planner_core/benchmark_runner.hpp"
+#include "planner_core/input_error.hpp"
 #include "svg_chart.hpp"
 
 namespace ctsfleet_bench {
@@ -24,6 +25,8 @@ struct SolverRun {
 
 std::vector<std::string> yaml_files(const std::string& dir) {
   std::vector<std::string> files;
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) throw InputError(dir + ": no such benchmark suite folder (see --benchmarks)");
   for (const auto& entry : fs::directory_iterator(dir)) {
     if (entry.path().extension() == ".yaml") files.push_back(entry.path().string());
   }
@@ -76,7 +79,10 @@ std::map<std::tuple<std::string, int, int>, std::vector<std::string>> by_setting
   return groups;
 }
 
-void write_file(const fs::path& path, const std::string& text) { std::ofstream(path) << text; }
+void write_file(const fs::path& path, const std::string& text) {
+  std::ofstream out(path);
+  if (!(out << text)) throw std::runtime_error(path.string() + ": cannot write");
+}
 
 // Flowtime over time of two anytime solvers on one instance.
 std::string anytime_plot(const std::string& file, double seconds, unsigned seed) {
@@ -261,6 +267,7 @@ int scale(const ExperimentSettings& settings, std::ostringstream& md, std::ofstr
 int run_experiments(const std::string& which, const ExperimentSettings& settings) {
   fs::create_directories(settings.out_dir);
   std::ofstream csv(fs::path(settings.out_dir) / (which + ".csv"));
+  if (!csv) throw InputError("--out-dir: cannot write " + (fs::path(settings.out_dir) / (which + ".csv")).string());
   csv << csv_header() << "\n";
   std::ostringstream md;
   int code = 0;

@@ -1,4 +1,4 @@
-// The CTS-PLL paper's experiments reproduced on ../shared/benchmarks with the project's own
+// The CTS-PLL paper's experiments reproduced on benchmarks/ (dense, sparse, scale) with the project's own
 // solvers side by side: dense (success and flowtime), sparse (success, time, flowtime), scale
 // (time to first solution), and the plots. Writes markdown, CSV and SVG into an output folder.
 #pragma once
@@ -8,7 +8,7 @@
 namespace ctsfleet_bench {
 
 struct ExperimentSettings {
-  std::string benchmarks = "../shared/benchmarks";
+  std::string benchmarks;  // default: the data folder's benchmarks/
   std::string out_dir = "docs/results";
   double seconds = 10;        // per instance and solver (scale: 30)
   int dense_per_setting = 10;

@@ -1,31 +1,66 @@
 // ctsfleet-seqbench: measures task sequencing: Held-Karp time per task count (to choose the
 // exact limit) and the time for K-best joint sequences on benchmark instances.
-#include <CLI/CLI.hpp>
 
 #include <cstdio>
 #include <random>
 
+#include "ctsfleet/program.hpp"
 #include "planner_core/deadline.hpp"
+#include "planner_core/input_error.hpp"
 #include "planner_core/joint_sequencer.hpp"
+
+namespace {
+
+// The free cells of the map's largest 4-connected piece.
+std::vector<planner_core::Vertex> largest_connected_piece(const planner_core::Graph& graph) {
+  using planner_core::Vertex;
+  std::vector<int> piece_of(graph.vertex_count(), -1);
+  std::vector<Vertex> best;
+  for (Vertex root = 0; root < graph.vertex_count(); ++root) {
+    if (piece_of[root] != -1) continue;
+    std::vector<Vertex> piece{root};
+    piece_of[root] = root;
+    for (size_t i = 0; i < piece.size(); ++i) {
+      for (Vertex next : graph.neighbours(piece[i])) {
+        if (piece_of[next] == -1) {
+          piece_of[next] = root;
+          piece.push_back(next);
+        }
+      }
+    }
+    if (piece.size() > best.size()) best = std::move(piece);
+  }
+  return best;
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   using namespace planner_core;
-  CLI::App app{"ctsfleet-seqbench: timing of Held-Karp ordering and K-best joint sequencing"};
+  ctsfleet::Program program("ctsfleet-seqbench", "timing of Held-Karp ordering and K-best joint sequencing");
+  CLI::App& app = program.app();
   std::string map_path, instance_path;
   int sequences = 1000;
-  app.add_option("--map", map_path, "map for the Held-Karp sweep")->required();
-  app.add_option("--instance", instance_path, "instance for the K-best joint timing");
-  app.add_option("-k,--sequences", sequences, "joint sequences to generate")->capture_default_str();
-  CLI11_PARSE(app, argc, argv);
-
+  constexpr int kMostTasks = 20;
+  app.add_option("--map", map_path, "map for the Held-Karp sweep")->required()->check(CLI::ExistingFile);
+  app.add_option("--instance", instance_path, "instance for the K-best joint timing")->check(CLI::ExistingFile);
+  app.add_option("-k,--sequences", sequences, "joint sequences to generate")
+      ->check(ctsfleet::count_in(1, 10'000'000))
+      ->capture_default_str();
+  return program.main(argc, argv, [&] {
   auto graph = std::make_shared<const Graph>(load_movingai_map(map_path));
+  // The sweep draws a start, a goal and up to kMostTasks tasks from one connected piece of the map.
+  std::vector<Vertex> piece = largest_connected_piece(*graph);
+  if (static_cast<int>(piece.size()) < kMostTasks + 2) {
+    throw InputError(map_path + ": the sweep needs " + std::to_string(kMostTasks + 2) +
+                     " connected free cells, the largest connected piece has " + std::to_string(piece.size()));
+  }
   std::mt19937 rng(1);
   std::printf("| tasks | Held-Karp best order (ms) | heuristic best order (ms) | heuristic / exact cost |\n|---|---|---|---|\n");
-  for (int m = 8; m <= 20; ++m) {
+  for (int m = 8; m <= kMostTasks; ++m) {
     Instance instance;
     instance.graph = graph;
-    std::vector<Vertex> cells(graph->vertex_count());
-    for (Vertex v = 0; v < graph->vertex_count(); ++v) cells[v] = v;
+    std::vector<Vertex> cells = piece;
     std::shuffle(cells.begin(), cells.end(), rng);
     instance.starts = {cells[0]};
     instance.goals = {cells[1]};
@@ -64,4 +99,5 @@ int main(int argc, char** argv) {
                 static_cast<long long>(last_cost));
   }
   return 0;
+  });
 }

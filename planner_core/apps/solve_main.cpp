@@ -1,22 +1,18 @@
 // ctsfleet-solve: solves one CTS-MAPF instance (or MovingAI .scen) and writes a validated solution.
-#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 #include <sys/resource.h>
 
-#include <atomic>
-#include <csignal>
 #include <cstdio>
 #include <iostream>
 #include <sstream>
 
+#include "ctsfleet/program.hpp"
 #include "planner_core/input_error.hpp"
 #include "planner_core/solver.hpp"
 #include "planner_core/svg_writer.hpp"
 #include "planner_core/validator.hpp"
 
 namespace {
-
-std::atomic<bool> g_interrupted{false};
-extern "C" void on_signal(int) { g_interrupted.store(true); }
 
 // The most memory this process has held so far.
 double peak_memory_mb() {
@@ -31,53 +27,64 @@ std::string join(const std::vector<int>& values) {
   return out;
 }
 
+// "(x,y),(x,y)," as lacam writes its starts= and goals= lines.
+std::string cells_text(const planner_core::Graph& graph, const std::vector<planner_core::Vertex>& vertices) {
+  std::string out;
+  for (planner_core::Vertex v : vertices) {
+    const planner_core::Cell c = graph.cell_of(v);
+    out += "(" + std::to_string(c.x) + "," + std::to_string(c.y) + "),";
+  }
+  return out;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   using namespace planner_core;
-  CLI::App app{"ctsfleet-solve: plan collision-free paths for agents that must visit their tasks and end on their goals"};
-  std::string instance_path, out_path = "solution.txt", svg_path;
+  ctsfleet::Program program("ctsfleet-solve",
+                            "plan collision-free paths for agents that must visit their tasks and end on their goals");
+  CLI::App& app = program.app();
+  std::string instance_path, out_path = "solution.txt", svg_path, map;
   int scen_agents = 0;
   double seconds = 10;
-  bool verbose = false;
+  bool verbose = false, json = false;
   SolverConfig config;
-  app.add_option("-i,--instance", instance_path, "instance: CTS-MAPF .yaml or MovingAI .scen")->required();
-  app.add_option("-N,--agents", scen_agents, "number of agents taken from a .scen (first N rows)");
-  app.add_option("-t,--time", seconds, "time limit in seconds")->capture_default_str();
-  app.add_option("-o,--output", out_path, "solution file to write")->capture_default_str();
+  app.add_option("-i,--instance", instance_path, "instance: CTS-MAPF .yaml or MovingAI .scen")
+      ->required()
+      ->check(CLI::ExistingFile);
+  app.add_option("-N,--agents", scen_agents, "number of agents taken from a .scen (first N rows; default all)")
+      ->check(ctsfleet::count_in(1, 10'000'000));
+  app.add_option("--map", map, ".scen only: the map file, or a folder to look for the map the .scen names")
+      ->check(CLI::ExistingPath);
+  app.add_option("-t,--time", seconds, "time limit in seconds")
+      ->check(ctsfleet::positive_seconds(kMaxTimeLimitS))
+      ->capture_default_str();
+  app.add_option("-o,--output", out_path, "solution file to write")->check(ctsfleet::writable_file())->capture_default_str();
   app.add_option("--solver", config.solver, "solver variant")
       ->check(CLI::IsMember(solver_names()))
       ->capture_default_str();
   app.add_option("--seed", config.seed, "random seed")->capture_default_str();
-  app.add_option("--svg", svg_path, "also draw the plan as an SVG picture");
+  app.add_option("--svg", svg_path, "also draw the plan as an SVG picture")->check(ctsfleet::writable_file());
   app.add_option("--exact-task-limit", config.task_order.exact_task_limit,
                  "Held-Karp task ordering up to this many tasks per agent")
+      ->check(ctsfleet::count_in(0, 16))
       ->capture_default_str();
   app.add_option("--step-limit-factor", config.pibt.step_limit_factor,
                  "Extended-PIBT gives up after this multiple of the longest single-agent tour")
+      ->check(ctsfleet::number_in(1, 1000))
       ->capture_default_str();
-  app.add_option("--max-sequences", config.max_sequences, "anytime: stop after this many joint sequences (0 = none)");
+  app.add_option("--max-sequences", config.max_sequences, "anytime: stop after this many joint sequences (0 = none)")
+      ->check(ctsfleet::count_in(0, 1'000'000'000));
   app.add_flag("--swap", config.pibt.swap, "Extended-PIBT with LaCAM3's swap operation (head-on meetings in corridors)");
   app.add_option("--lns-neighbourhood", config.lns.neighbourhood_size, "LNS (cts-pll-v3, lacam-star): agents replanned at once")
       ->check(CLI::Range(1, 1000))
       ->capture_default_str();
-  app.add_flag("-v,--verbose", verbose, "print each improvement as it is found");
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    return app.exit(e) == 0 ? 0 : 2;  // --help is 0; every command-line error is an input error, 2
-  }
-  if (!is_valid_time_limit(seconds)) {
-    std::cerr << "error: -t/--time: the time limit must be a number of seconds in (0, 1e6], not " << seconds << "\n";
-    return 2;
-  }
-
-  std::signal(SIGINT, on_signal);
-  std::signal(SIGTERM, on_signal);
-  try {
+  app.add_flag("-v,--verbose", verbose, "print each improvement as it is found (on stderr)");
+  app.add_flag("--json", json, "print the summary as one JSON object instead of key=value words");
+  return program.main(argc, argv, [&] {
     // The time limit and every reported time count from here, before the instance is read.
-    SolveOptions options{Deadline::in_seconds(seconds, &g_interrupted), {}, Clock::now()};
-    const Instance instance = load_instance(instance_path, scen_agents);
+    SolveOptions options{Deadline::in_seconds(seconds, &ctsfleet::stop_requested()), {}, Clock::now()};
+    const Instance instance = load_instance(instance_path, scen_agents, map);
     if (verbose) {
       options.on_solution = [](const SolveResult& r) {
         const Improvement& last = r.improvements.back();
@@ -106,11 +113,17 @@ int main(int argc, char** argv) {
         return 3;
       }
       put("flowtime", report.flowtime);
+      put("soc", report.flowtime);  // lacam's name for the same sum
       put("makespan", report.makespan);
       put("sum_of_loss", result.sum_of_loss);
       file.solution = result.solution;
     }
     put("lower_bound", result.lower_bound);
+    put("soc_lb", result.lower_bound);
+    put("map_file", instance.graph->name + ".map");
+    put("starts", cells_text(*instance.graph, instance.starts));
+    put("goals", cells_text(*instance.graph, instance.goals));
+    put("comp_time", static_cast<int64_t>(result.comp_time_ms));
     put("comp_time_ms", static_cast<int64_t>(result.comp_time_ms));
     put("comp_time_first_ms", static_cast<int64_t>(result.first_solution_ms));
     put("comp_time_preprocessing_ms", static_cast<int64_t>(result.preprocessing_ms));
@@ -122,6 +135,20 @@ int main(int argc, char** argv) {
     write_solution(out_path, *instance.graph, file);
     if (!svg_path.empty()) write_svg(svg_path, instance, result.solution);
 
+    if (json) {
+      const nlohmann::json summary = {
+          {"solver", config.solver}, {"solved", result.solved}, {"agents", instance.agent_count()},
+          {"tasks", instance.task_count()}, {"flowtime", result.flowtime}, {"makespan", result.makespan},
+          {"lower_bound", result.lower_bound},
+          {"ratio", result.lower_bound > 0 && result.solved ? static_cast<double>(result.flowtime) / result.lower_bound
+                                                            : 0.0},
+          {"comp_time_ms", result.comp_time_ms}, {"first_ms", result.first_solution_ms},
+          {"preprocessing_ms", result.preprocessing_ms}, {"peak_memory_mb", peak_memory_mb()},
+          {"sequences", result.sequences_tried}, {"releases", result.lock_releases},
+          {"lns_iterations", result.lns_iterations}, {"output", out_path},
+          {"failure", result.solved ? "" : result.failure_reason}};
+      std::printf("%s\n", summary.dump().c_str());
+    } else {
     std::printf("solver=%s solved=%d agents=%d tasks=%d flowtime=%lld makespan=%d lower_bound=%lld ratio=%.3f "
                 "comp_time_ms=%.0f first_ms=%.1f preprocessing_ms=%.1f peak_memory_mb=%.0f sequences=%d releases=%d "
                 "lns_iterations=%d output=%s\n",
@@ -131,10 +158,8 @@ int main(int argc, char** argv) {
                 result.comp_time_ms, result.first_solution_ms, result.preprocessing_ms, peak_memory_mb(),
                 result.sequences_tried, result.lock_releases,
                 result.lns_iterations, out_path.c_str());
+    }
     if (!result.solved) std::fprintf(stderr, "not solved: %s\n", result.failure_reason.c_str());
     return result.solved ? 0 : 1;
-  } catch (const InputError& e) {
-    std::cerr << "error: " << e.what() << "\n";
-    return 2;
-  }
+  });
 }

@@ -33,6 +33,20 @@ Vertex free_vertex(const Graph& graph, Cell cell, const YamlContext& ctx, const 
   return v;
 }
 
+// The map a .scen row names: `map` itself when it is a file; else beside the .scen, then in the
+// folder `map`.
+std::string scen_map_path(const std::string& where, const std::string& map_name, const std::string& scen_path,
+                          const std::string& map) {
+  std::error_code ec;
+  if (!map.empty() && fs::is_regular_file(map, ec)) return map;
+  const fs::path beside = fs::path(scen_path).parent_path() / map_name;
+  if (fs::exists(beside, ec)) return beside.string();
+  if (!map.empty() && fs::exists(fs::path(map) / map_name, ec)) return (fs::path(map) / map_name).string();
+  throw InputError(where + ": map '" + map_name + "' is not beside the .scen" +
+                   (map.empty() ? std::string(" (give it with --map FILE or --map FOLDER)")
+                                : " nor in '" + map + "'"));
+}
+
 }  // namespace
 
 Instance load_instance_yaml(const std::string& path) {
@@ -99,7 +113,7 @@ Instance load_instance_yaml(const std::string& path) {
   return instance;
 }
 
-Instance load_scen(const std::string& path, int agent_count, const std::string& map_dir) {
+Instance load_scen(const std::string& path, int agent_count, const std::string& map) {
   std::ifstream in(path);
   if (!in) throw InputError(path + ": cannot open scenario file");
   Instance instance;
@@ -118,11 +132,7 @@ Instance load_scen(const std::string& path, int agent_count, const std::string& 
     if (!(fields >> bucket >> map_name >> w >> h >> sx >> sy >> gx >> gy)) {
       throw InputError(where + ": expected 'bucket map width height sx sy gx gy length'");
     }
-    if (!instance.graph) {
-      fs::path map_path = fs::path(path).parent_path() / map_name;
-      if (!fs::exists(map_path) && !map_dir.empty()) map_path = fs::path(map_dir) / map_name;
-      instance.graph = std::make_shared<const Graph>(load_movingai_map(map_path.string()));
-    }
+    if (!instance.graph) instance.graph = std::make_shared<const Graph>(load_movingai_map(scen_map_path(where, map_name, path, map)));
     const Vertex s = instance.graph->vertex_at({sx, sy});
     const Vertex g = instance.graph->vertex_at({gx, gy});
     if (s == kNoVertex) throw InputError(where + ": start " + to_string({sx, sy}) + " is outside the map or blocked");
@@ -142,9 +152,10 @@ Instance load_scen(const std::string& path, int agent_count, const std::string& 
   return instance;
 }
 
-Instance load_instance(const std::string& path, int scen_agent_count) {
+Instance load_instance(const std::string& path, int scen_agent_count, const std::string& map) {
   const std::string ext = fs::path(path).extension().string();
-  if (ext == ".scen") return load_scen(path, scen_agent_count);
+  if (ext == ".scen") return load_scen(path, scen_agent_count, map);
+  if (!map.empty()) throw InputError(path + ": --map is for .scen files; a .yaml instance names its own map");
   if (ext == ".yaml" || ext == ".yml") return load_instance_yaml(path);
   throw InputError(path + ": unknown instance type (expected .yaml, .yml or .scen)");
 }
@@ -188,22 +199,29 @@ void check_reachability(const Instance& instance) {
 }
 
 std::string instance_to_yaml(const Instance& instance, const std::string& map_reference, const std::string& comment) {
-  std::ostringstream out;
-  if (!comment.empty()) out << "# " << comment << "\n";
-  out << "map: " << map_reference << "\nagents:\n";
   const Graph& graph = *instance.graph;
+  const auto put_cell = [](YAML::Emitter& out, Cell cell) {
+    out << YAML::Flow << YAML::BeginSeq << cell.x << cell.y << YAML::EndSeq;
+  };
+  YAML::Emitter out;
+  if (!comment.empty()) out << YAML::Comment(comment) << YAML::Newline;
+  out << YAML::BeginMap << YAML::Key << "map" << YAML::Value << map_reference;
+  out << YAML::Key << "agents" << YAML::Value << YAML::BeginSeq;
   for (int a = 0; a < instance.agent_count(); ++a) {
-    const Cell s = graph.cell_of(instance.starts[a]), g = graph.cell_of(instance.goals[a]);
-    out << "  - {start: [" << s.x << ", " << s.y << "], goal: [" << g.x << ", " << g.y << "]}\n";
+    out << YAML::Flow << YAML::BeginMap << YAML::Key << "start" << YAML::Value;
+    put_cell(out, graph.cell_of(instance.starts[a]));
+    out << YAML::Key << "goal" << YAML::Value;
+    put_cell(out, graph.cell_of(instance.goals[a]));
+    out << YAML::EndMap;
   }
-  out << (instance.tasks.empty() ? "tasks: []\n" : "tasks:\n");
+  out << YAML::EndSeq << YAML::Key << "tasks" << YAML::Value << YAML::BeginSeq;
   for (const Task& task : instance.tasks) {
-    const Cell c = graph.cell_of(task.at);
-    out << "  - {at: [" << c.x << ", " << c.y << "], agents: [";
-    for (size_t i = 0; i < task.agents.size(); ++i) out << (i ? ", " : "") << task.agents[i];
-    out << "]}\n";
+    out << YAML::Flow << YAML::BeginMap << YAML::Key << "at" << YAML::Value;
+    put_cell(out, graph.cell_of(task.at));
+    out << YAML::Key << "agents" << YAML::Value << YAML::Flow << task.agents << YAML::EndMap;
   }
-  return out.str();
+  out << YAML::EndSeq << YAML::EndMap;
+  return std::string(out.c_str()) + "\n";
 }
 
 }  // namespace planner_core

@@ -1,26 +1,22 @@
 // ctsfleet-agent: one robot's process. Bridges the fleet's step commands to a simulated robot or
 // to a toio cube over BLE (BlueZ on the system D-Bus) and reports the robot's state.
-#include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
 
 #include <atomic>
-#include <csignal>
 #include <cstdlib>
 #include <thread>
 
+#include "ctsfleet/data_dir.hpp"
+#include "ctsfleet/program.hpp"
 #include "planner_core/input_error.hpp"
 #include "robot_agent/robot_agent.hpp"
 #include "robot_agent/sim_robot.hpp"
 #include "robot_agent/toio_robot.hpp"
 
-namespace {
-std::atomic<bool> g_stop{false};
-extern "C" void on_signal(int) { g_stop.store(true); }
-}  // namespace
-
 int main(int argc, char** argv) {
   using namespace robot_agent;
-  CLI::App app{"ctsfleet-agent: one robot of the fleet (simulated robot or toio cube)"};
+  ctsfleet::Program program("ctsfleet-agent", "one robot of the fleet (simulated robot or toio cube)");
+  CLI::App& app = program.app();
   AgentSettings settings;
   SimSettings sim;
   ToioSettings toio;
@@ -33,58 +29,61 @@ int main(int argc, char** argv) {
   app.add_option("--backend", backend_name, "robot backend")->check(CLI::IsMember({"sim", "toio"}))->capture_default_str();
   app.add_option("--start", start_text, "starting cell x,y (sim)")->capture_default_str();
   app.add_option("--dds", vendor, "DDS implementation")->check(CLI::IsMember({"cyclone", "fastdds"}))->capture_default_str();
-  app.add_option("--domain", domain, "DDS domain id")->capture_default_str();
-  app.add_option("--lease", lease, "liveliness lease in seconds")->capture_default_str();
-  app.add_option("--dds-config-dir", dds_dir, "folder with the loopback DDS XML files");
-  app.add_option("--state-rate", settings.state_rate_hz, "state messages per second")->capture_default_str();
-  app.add_option("--step", sim.step_s, "sim: seconds per move")->capture_default_str();
-  app.add_option("--jitter", sim.jitter, "sim: each move takes step * (1 + U[0, jitter])")->capture_default_str();
-  app.add_option("--delay-probability", sim.delay_probability, "sim: chance of an extra delay per move");
-  app.add_option("--delay", sim.delay_s, "sim: length of that delay in seconds");
-  app.add_option("--stall-at", sim.stall_at_s, "sim fault: stall this many seconds after start");
-  app.add_option("--stall-for", sim.stall_for_s, "sim fault: stall duration in seconds");
-  app.add_option("--silent-at", sim.silent_at_s, "sim fault: stop reporting state after this many seconds");
-  app.add_option("--crash-at", sim.crash_at_s, "sim fault: abort the process after this many seconds");
+  app.add_option("--domain", domain, "DDS domain id")->check(ctsfleet::dds_domain())->capture_default_str();
+  app.add_option("--lease", lease, "liveliness lease in seconds")->check(ctsfleet::positive_seconds(3600))->capture_default_str();
+  app.add_option("--dds-config-dir", dds_dir,
+                 "folder with the loopback DDS XML files (default: the shipped config/dds, as the coordinator's config)")
+      ->check(CLI::ExistingDirectory);
+  app.add_option("--state-rate", settings.state_rate_hz, "state messages per second")
+      ->check(ctsfleet::number_in(0.1, 1000))
+      ->capture_default_str();
+  app.add_option("--step", sim.step_s, "sim: seconds per move")->check(ctsfleet::positive_seconds(3600))->capture_default_str();
+  app.add_option("--jitter", sim.jitter, "sim: each move takes step * (1 + U[0, jitter])")
+      ->check(ctsfleet::number_in(0, 10))
+      ->capture_default_str();
+  app.add_option("--delay-probability", sim.delay_probability, "sim: chance of an extra delay per move")
+      ->check(ctsfleet::number_in(0, 1));
+  app.add_option("--delay", sim.delay_s, "sim: length of that delay in seconds")->check(ctsfleet::number_in(0, 3600));
+  app.add_option("--stall-at", sim.stall_at_s, "sim fault: stall this many seconds after start")
+      ->check(ctsfleet::number_in(0, 1e6));
+  app.add_option("--stall-for", sim.stall_for_s, "sim fault: stall duration in seconds")->check(ctsfleet::number_in(0, 1e6));
+  app.add_option("--silent-at", sim.silent_at_s, "sim fault: stop reporting state after this many seconds")
+      ->check(ctsfleet::number_in(0, 1e6));
+  app.add_option("--crash-at", sim.crash_at_s, "sim fault: abort the process after this many seconds")
+      ->check(ctsfleet::number_in(0, 1e6));
   app.add_option("--seed", sim.seed, "sim: random seed");
   app.add_option("--cube", toio.cube, "toio: the cube's advertised name (toio-XXX) or Bluetooth address");
-  app.add_option("--mat", mat_file, "toio: mat file (config/mats/*.yaml) placing the grid on the mat");
+  app.add_option("--mat", mat_file, "toio: mat file (config/mats/*.yaml) placing the grid on the mat")
+      ->check(CLI::ExistingFile);
   app.add_option("--adapter", toio.adapter, "toio: Bluetooth adapter")->capture_default_str();
   app.add_option("--max-speed", max_speed, "toio: speed of a move, 10-255")->capture_default_str()
       ->check(CLI::Range(10, 255));
   app.add_option("--move-timeout", move_timeout_s, "toio: seconds before a move counts as failed")
       ->capture_default_str()->check(CLI::Range(1, 30));
-  CLI11_PARSE(app, argc, argv);
-
+  return program.main(argc, argv, [&] {
+  const std::atomic<bool>& g_stop = ctsfleet::stop_requested();
+  using planner_core::InputError;
   if (settings.robot_id.empty() || settings.robot_id.size() > fleet_transport::kMaxRobotIdLength) {
-    spdlog::error("--id must have 1 to {} characters", fleet_transport::kMaxRobotIdLength);
-    return 2;
+    throw InputError("--id: must have 1 to " + std::to_string(fleet_transport::kMaxRobotIdLength) + " characters");
   }
   GridCell start;
-  if (std::sscanf(start_text.c_str(), "%d,%d", &start.x, &start.y) != 2) {
-    spdlog::error("--start must be x,y, got '{}'", start_text);
-    return 2;
+  char trailing = 0;
+  if (std::sscanf(start_text.c_str(), "%d,%d%c", &start.x, &start.y, &trailing) != 2 || start.x < 0 || start.y < 0 ||
+      start.x > 100000 || start.y > 100000) {
+    throw InputError("--start: must be x,y with x and y in [0, 100000], not '" + start_text + "'");
   }
-  std::signal(SIGINT, on_signal);
-  std::signal(SIGTERM, on_signal);
+  if (dds_dir.empty()) dds_dir = ctsfleet::data_path("config/dds").string();
   std::unique_ptr<RobotBackend> backend;
   SimRobot* sim_robot = nullptr;
-  try {
-    if (backend_name == "toio") {
-      toio.max_speed = static_cast<uint8_t>(max_speed);
-      toio.move_timeout_s = static_cast<uint8_t>(move_timeout_s);
-      if (toio.cube.empty() || mat_file.empty()) {
-        spdlog::error("--backend toio needs --cube and --mat");
-        return 2;
-      }
-      backend = std::make_unique<ToioRobot>(toio, MatCalibration::load(mat_file));
-    } else {
-      auto robot = std::make_unique<SimRobot>(start, sim);
-      sim_robot = robot.get();
-      backend = std::move(robot);
-    }
-  } catch (const planner_core::InputError& e) {
-    spdlog::error("{}", e.what());
-    return 2;
+  if (backend_name == "toio") {
+    toio.max_speed = static_cast<uint8_t>(max_speed);
+    toio.move_timeout_s = static_cast<uint8_t>(move_timeout_s);
+    if (toio.cube.empty() || mat_file.empty()) throw InputError("--backend toio needs --cube and --mat");
+    backend = std::make_unique<ToioRobot>(toio, MatCalibration::load(mat_file));
+  } else {
+    auto robot = std::make_unique<SimRobot>(start, sim);
+    sim_robot = robot.get();
+    backend = std::move(robot);
   }
   auto reporting = [sim_robot] { return sim_robot == nullptr || sim_robot->reporting_enabled(); };
   try {
@@ -126,4 +125,5 @@ int main(int argc, char** argv) {
     spdlog::error("{}: {}", settings.robot_id, e.what());
     return 1;
   }
+  });
 }

@@ -6,7 +6,6 @@
 //            cell centre it stops (exit 1 when one is beyond the mat file's tolerance);
 //   identify blinks and beeps a cube so a person can tell which one it is;
 //   scan     lists the toio cubes in range (name, address, signal strength).
-#include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
 
 #include <cstdio>
@@ -14,6 +13,7 @@
 #include <sstream>
 #include <thread>
 
+#include "ctsfleet/program.hpp"
 #include "planner_core/input_error.hpp"
 #include "robot_agent/bluez_client.hpp"
 #include "robot_agent/mat_calibration.hpp"
@@ -28,7 +28,7 @@ template <typename Condition>
 bool wait_until(Condition done, double timeout_s) {
   const auto deadline = Clock::now() + std::chrono::duration<double>(timeout_s);
   while (!done()) {
-    if (Clock::now() > deadline) return false;
+    if (Clock::now() > deadline || ctsfleet::stop_requested().load()) return false;
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
   return true;
@@ -36,7 +36,7 @@ bool wait_until(Condition done, double timeout_s) {
 
 GridCell parse_cell(const std::string& text) {
   GridCell cell;
-  if (std::sscanf(text.c_str(), "%d,%d", &cell.x, &cell.y) != 2) throw std::invalid_argument("'" + text + "' is not x,y");
+  if (std::sscanf(text.c_str(), "%d,%d", &cell.x, &cell.y) != 2) throw planner_core::InputError("'" + text + "' is not x,y");
   return cell;
 }
 
@@ -45,7 +45,7 @@ CalibrationPoint parse_point(const std::string& text) {
   CalibrationPoint point;
   double mx = 0, my = 0;
   if (std::sscanf(text.c_str(), "%d,%d=%lf,%lf", &point.cell.x, &point.cell.y, &mx, &my) != 4) {
-    throw std::invalid_argument("--point '" + text + "' must be X,Y=MAT_X,MAT_Y");
+    throw planner_core::InputError("--point '" + text + "' must be X,Y=MAT_X,MAT_Y");
   }
   point.mat = {mx, my};
   return point;
@@ -193,54 +193,47 @@ int scan(const std::string& adapter, double seconds) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"ctsfleet-toio-calibrate: find cubes, fit and check where the grid lies on a toio mat"};
+  ctsfleet::Program program("ctsfleet-toio-calibrate", "find cubes, fit and check where the grid lies on a toio mat");
+  CLI::App& app = program.app();
   app.require_subcommand(1);
   std::string mat_file, out_file, cube, adapter = "hci0", cells = "0,0 1,0 0,1";
   std::vector<std::string> points;
 
   CLI::App* fit_command = app.add_subcommand("fit", "fit the grid from a cube placed on known cells, write a mat file");
-  fit_command->add_option("--mat", mat_file, "mat file with the mat's area and grid size (and a first guess)")->required();
-  fit_command->add_option("-o,--out", out_file, "mat file to write")->required();
+  fit_command->add_option("--mat", mat_file, "mat file with the mat's area and grid size (and a first guess)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  fit_command->add_option("-o,--out", out_file, "mat file to write")->required()->check(ctsfleet::writable_file());
   fit_command->add_option("--cube", cube, "measure with this cube (name or address), placed by hand cell by cell");
   fit_command->add_option("--cells", cells, "cells to measure with --cube, \"x,y x,y x,y ...\"")->capture_default_str();
   fit_command->add_option("--point", points, "a measured point X,Y=MAT_X,MAT_Y instead of a cube (repeat)");
   fit_command->add_option("--adapter", adapter)->capture_default_str();
 
   CLI::App* corners_command = app.add_subcommand("corners", "drive a cube to the grid's four corners and check");
-  corners_command->add_option("--mat", mat_file, "mat file to check")->required();
+  corners_command->add_option("--mat", mat_file, "mat file to check")->required()->check(CLI::ExistingFile);
   corners_command->add_option("--cube", cube, "cube name or address")->required();
   corners_command->add_option("--adapter", adapter)->capture_default_str();
 
   CLI::App* identify_command = app.add_subcommand("identify", "blink and beep a cube");
-  identify_command->add_option("--mat", mat_file, "mat file")->required();
+  identify_command->add_option("--mat", mat_file, "mat file")->required()->check(CLI::ExistingFile);
   identify_command->add_option("--cube", cube, "cube name or address")->required();
   identify_command->add_option("--adapter", adapter)->capture_default_str();
   double scan_seconds = 5;
   CLI::App* scan_command = app.add_subcommand("scan", "list the toio cubes in range");
-  scan_command->add_option("--seconds", scan_seconds, "how long to discover")->capture_default_str();
+  scan_command->add_option("--seconds", scan_seconds, "how long to discover")
+      ->check(ctsfleet::positive_seconds(600))
+      ->capture_default_str();
   scan_command->add_option("--adapter", adapter)->capture_default_str();
-  CLI11_PARSE(app, argc, argv);
-
-  spdlog::set_level(spdlog::level::warn);  // the commands print what matters
-  try {
+  return program.main(argc, argv, [&] {
+    if (!app.get_option("--log-level")->count()) spdlog::set_level(spdlog::level::warn);  // the commands print what matters
     if (fit_command->parsed()) {
       if (cube.empty() && points.size() < 3) {
-        spdlog::error("fit needs --cube or at least three --point measurements");
-        return 2;
+        throw planner_core::InputError("fit needs --cube or at least three --point measurements");
       }
       return fit(mat_file, out_file, points, cube, adapter, cells);
     }
     if (corners_command->parsed()) return corners(mat_file, cube, adapter);
     if (scan_command->parsed()) return scan(adapter, scan_seconds);
     return identify(mat_file, cube, adapter);
-  } catch (const planner_core::InputError& e) {
-    spdlog::error("{}", e.what());
-    return 2;
-  } catch (const std::invalid_argument& e) {
-    spdlog::error("{}", e.what());
-    return 2;
-  } catch (const BluezError& e) {
-    spdlog::error("{}", e.what());
-    return 1;
-  }
+  });
 }

@@ -9,7 +9,9 @@
 namespace coordinator {
 
 // Starts args[0] with args; stdout and stderr go to `log_file` (or stay as they are when it is
-// empty). Throws std::runtime_error when the program cannot be started.
-pid_t start_child(const std::vector<std::string>& args, const std::string& log_file);
+// empty); when `results_file` is given, stdout (the program's results) goes there instead.
+// Throws std::runtime_error when the program cannot be started.
+pid_t start_child(const std::vector<std::string>& args, const std::string& log_file,
+                  const std::string& results_file = "");
 
 }  // namespace coordinator

@@ -34,17 +34,18 @@ struct Instance {
 Instance load_instance_yaml(const std::string& path);
 
 // MovingAI .scen: the first `agent_count` rows as an instance with no tasks.
-// The map is looked up beside the .scen file, then in `map_dir` when given.
-Instance load_scen(const std::string& path, int agent_count, const std::string& map_dir = "");
+// `map` may name the map file itself; otherwise the map the rows name is looked up beside the
+// .scen file, then in the folder `map` when given. agent_count <= 0 takes every row.
+Instance load_scen(const std::string& path, int agent_count, const std::string& map = "");
 
-// Loads by extension: .yaml/.yml or .scen.
-Instance load_instance(const std::string& path, int scen_agent_count = 0);
+// Loads by extension: .yaml/.yml or .scen (`map` as for load_scen; only for .scen).
+Instance load_instance(const std::string& path, int scen_agent_count = 0, const std::string& map = "");
 
 // Checks that every agent's start, tasks and goal are in one connected piece of the
 // map (so a single-agent tour exists); throws InputError naming agent and task.
 void check_reachability(const Instance& instance);
 
-// Writes an instance as FORMATS.md YAML; `map_reference` is written verbatim as `map:`.
+// Writes an instance as FORMATS.md YAML (quoted where YAML needs it); `map_reference` is the `map:` value.
 std::string instance_to_yaml(const Instance& instance, const std::string& map_reference,
                              const std::string& comment = "");
 

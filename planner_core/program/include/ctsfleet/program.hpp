@@ -1,0 +1,69 @@
+// What every ctsfleet program shares at its edges: --version and --log-level, logs on stderr,
+// one rule for input errors (one line naming the option, file or field; exit 2), and Ctrl-C or
+// SIGTERM asking the program to stop.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+#include <atomic>
+#include <functional>
+#include <optional>
+#include <string>
+
+namespace ctsfleet {
+
+// Exit codes shared by every program.
+inline constexpr int kExitInputError = 2;
+inline constexpr int kExitInterrupted = 130;
+
+// "0.1.0" plus `git describe` when built from a git checkout, e.g. "0.1.0 (git 4f2c1e9-dirty)".
+std::string version_text();
+
+struct CommonOptions {
+  std::string log_level = "info";
+};
+
+// A CLI::App that already has --version and --log-level (trace, debug, info, warn, error, off).
+class Program {
+ public:
+  Program(std::string name, const std::string& description);
+  CLI::App& app() { return app_; }
+  const std::string& name() const { return name_; }
+
+  // Parses the command line. Returns an exit code when the program must end now: 0 after
+  // --help or --version, 2 after a command-line error (one line on stderr naming the option).
+  std::optional<int> parse(int argc, char** argv);
+
+  // Runs `body` with logs on stderr (level from SPDLOG_LEVEL, then --log-level) and SIGINT/SIGTERM
+  // setting stop_requested(). An InputError ends it with exit 2, any other exception with exit 1,
+  // each as one line "NAME: error: ..." on stderr; nothing escapes as an abort.
+  int run(const std::function<int()>& body);
+
+  // Shorthand for main(): parse, then run.
+  int main(int argc, char** argv, const std::function<int()>& body);
+
+ private:
+  std::string name_;
+  CLI::App app_;
+  CommonOptions common_;
+};
+
+// True once SIGINT or SIGTERM arrived (after Program::run installed the handlers).
+std::atomic<bool>& stop_requested();
+
+// Sends logs to stderr at `level` (after SPDLOG_LEVEL); results stay alone on stdout.
+void setup_logging(const std::string& level);
+
+// Validators with messages that give the accepted range. Doubles: finite and within [low, high];
+// integers: within [low, high] (CLI11 already refuses words and out-of-type values).
+CLI::Validator number_in(double low, double high);
+CLI::Validator positive_seconds(double high = 1e6);
+CLI::Validator count_in(long long low, long long high);
+// DDS domain ids: 0..232 (the RTPS port formula's limit).
+CLI::Validator dds_domain();
+// An output file whose folder exists and is writable (or can be created), and which is not a folder.
+CLI::Validator writable_file();
+// An output folder that is, or can become, a writable folder.
+CLI::Validator writable_folder();
+
+}  // namespace ctsfleet

@@ -1,0 +1,190 @@
+#include "ctsfleet/program.hpp"
+
+#include <spdlog/cfg/env.h>
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/spdlog.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+#include <sstream>
+
+#include "ctsfleet/version.hpp"
+#include "planner_core/input_error.hpp"
+
+namespace ctsfleet {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+extern "C" void on_stop_signal(int) { stop_requested().store(true); }
+
+const std::vector<std::string> kLogLevels = {"trace", "debug", "info", "warn", "error", "off"};
+
+std::string first_line(const std::string& text) { return text.substr(0, text.find('\n')); }
+
+std::string number_text(double value) {
+  std::ostringstream out;
+  out << value;
+  return out.str();
+}
+
+// True if `path` names a folder that exists and this process may write into.
+bool writable_folder_exists(const fs::path& folder) {
+  std::error_code ec;
+  return fs::is_directory(folder, ec) && access(folder.c_str(), W_OK | X_OK) == 0;
+}
+
+// The nearest existing ancestor of `path` (path itself when it exists).
+fs::path nearest_existing(fs::path path) {
+  std::error_code ec;
+  path = fs::absolute(path, ec);
+  while (!path.empty() && !fs::exists(path, ec)) {
+    if (path == path.parent_path()) break;
+    path = path.parent_path();
+  }
+  return path;
+}
+
+}  // namespace
+
+std::string version_text() {
+  std::string text = kVersion;
+  if (std::string(kGitDescribe).size() > 0) text += std::string(" (git ") + kGitDescribe + ")";
+  return text;
+}
+
+std::atomic<bool>& stop_requested() {
+  static std::atomic<bool> requested{false};
+  return requested;
+}
+
+void setup_logging(const std::string& level) {
+  auto logger = spdlog::stderr_color_mt("ctsfleet");
+  spdlog::set_default_logger(logger);
+  spdlog::set_level(spdlog::level::info);
+  spdlog::cfg::load_env_levels();  // SPDLOG_LEVEL=debug, or SPDLOG_LEVEL=off
+  if (!level.empty() && level != "info") spdlog::set_level(spdlog::level::from_str(level));
+}
+
+Program::Program(std::string name, const std::string& description)
+    : name_(std::move(name)), app_(name_ + ": " + description, name_) {
+  app_.set_version_flag("--version", name_ + " " + version_text());
+  app_.add_option("--log-level", common_.log_level, "log detail on stderr (SPDLOG_LEVEL works too)")
+      ->check(CLI::IsMember(kLogLevels))
+      ->capture_default_str();
+}
+
+std::optional<int> Program::parse(int argc, char** argv) {
+  try {
+    app_.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app_.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app_.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app_.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::fprintf(stderr, "%s: error: %s (see --help)\n", name_.c_str(), first_line(e.what()).c_str());
+    return kExitInputError;
+  }
+  return std::nullopt;
+}
+
+int Program::run(const std::function<int()>& body) {
+  try {
+    setup_logging(common_.log_level);
+    std::signal(SIGINT, on_stop_signal);
+    std::signal(SIGTERM, on_stop_signal);
+    std::signal(SIGPIPE, SIG_IGN);
+    return body();
+  } catch (const planner_core::InputError& e) {
+    std::fprintf(stderr, "%s: error: %s\n", name_.c_str(), first_line(e.what()).c_str());
+    return kExitInputError;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "%s: error: %s\n", name_.c_str(), first_line(e.what()).c_str());
+    return 1;
+  }
+}
+
+int Program::main(int argc, char** argv, const std::function<int()>& body) {
+  if (const auto exit_code = parse(argc, argv)) return *exit_code;
+  return run(body);
+}
+
+CLI::Validator number_in(double low, double high) {
+  const std::string range = "a number in [" + number_text(low) + ", " + number_text(high) + "]";
+  return CLI::Validator(
+      [low, high, range](std::string& input) -> std::string {
+        double value = 0;
+        if (!CLI::detail::lexical_cast(input, value) || !std::isfinite(value) || value < low || value > high) {
+          return "must be " + range + ", not '" + input + "'";
+        }
+        return {};
+      },
+      range);
+}
+
+CLI::Validator positive_seconds(double high) {
+  const std::string range = "seconds in (0, " + number_text(high) + "]";
+  return CLI::Validator(
+      [high, range](std::string& input) -> std::string {
+        double value = 0;
+        if (!CLI::detail::lexical_cast(input, value) || !std::isfinite(value) || value <= 0 || value > high) {
+          return "must be " + range + ", not '" + input + "'";
+        }
+        return {};
+      },
+      range);
+}
+
+CLI::Validator count_in(long long low, long long high) {
+  const std::string range = "an integer in [" + std::to_string(low) + ", " + std::to_string(high) + "]";
+  return CLI::Validator(
+      [low, high, range](std::string& input) -> std::string {
+        long long value = 0;
+        if (!CLI::detail::lexical_cast(input, value) || value < low || value > high) {
+          return "must be " + range + ", not '" + input + "'";
+        }
+        return {};
+      },
+      range);
+}
+
+CLI::Validator dds_domain() { return count_in(0, 232); }
+
+CLI::Validator writable_file() {
+  return CLI::Validator(
+      [](std::string& input) -> std::string {
+        if (input.empty()) return "an empty path is not a file";
+        std::error_code ec;
+        const fs::path path(input);
+        if (fs::is_directory(path, ec)) return "'" + input + "' is a folder, not a file";
+        if (fs::exists(path, ec)) {
+          return access(path.c_str(), W_OK) == 0 ? std::string{} : "'" + input + "' is not writable";
+        }
+        const fs::path existing = nearest_existing(path.has_parent_path() ? path.parent_path() : fs::path("."));
+        if (!writable_folder_exists(existing)) return "cannot write '" + input + "': " + existing.string() + " is not a writable folder";
+        return {};
+      },
+      "FILE (writable)");
+}
+
+CLI::Validator writable_folder() {
+  return CLI::Validator(
+      [](std::string& input) -> std::string {
+        if (input.empty()) return "an empty path is not a folder";
+        std::error_code ec;
+        const fs::path path(input);
+        if (fs::exists(path, ec) && !fs::is_directory(path, ec)) return "'" + input + "' is a file, not a folder";
+        const fs::path existing = nearest_existing(path);
+        if (!writable_folder_exists(existing)) return "cannot write into '" + input + "': " + existing.string() + " is not a writable folder";
+        return {};
+      },
+      "FOLDER (writable)");
+}
+
+}  // namespace ctsfleet
