@@ -120,12 +120,22 @@ int main(int argc, char** argv) {
       std::this_thread::sleep_for(std::chrono::milliseconds(50));
     }
     kill(agents[0], SIGKILL);
-    if (stop.load()) kill(coordinator_pid, SIGINT);
+    // Wait for the mission; Ctrl-C or SIGTERM is passed on to the coordinator.
     int status = 0;
-    waitpid(coordinator_pid, &status, 0);
+    bool forwarded = false;
+    while (waitpid(coordinator_pid, &status, WNOHANG) == 0) {
+      if (stop.load() && !forwarded) {
+        kill(coordinator_pid, SIGINT);
+        forwarded = true;
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
     for (pid_t pid : agents) kill(pid, SIGTERM);
     for (pid_t pid : agents) waitpid(pid, nullptr, 0);
-    if (stop.load()) return ctsfleet::kExitInterrupted;
+    if (stop.load()) {
+      std::fprintf(stderr, "interrupted: logs in %s\n", work.c_str());
+      return ctsfleet::kExitInterrupted;
+    }
     const nlohmann::json summary = read_summary(coordinator_summary);
     const double seconds = summary.value("seconds", 0.0);
     std::string cpu_share = "-";

@@ -1,5 +1,8 @@
 #include "mapf_scale_experiment.hpp"
 
+#include "planner_core/benchmark_runner.hpp"
+
+#include <nlohmann/json.hpp>
 #include <signal.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
@@ -38,15 +41,15 @@ struct Improvement {
 };
 
 struct Run {
-  std::map<std::string, std::string> summary;  // key=value pairs of ctsfleet-solve's summary line
-  std::vector<Improvement> improvements;       // from its -v lines "  t=...ms flowtime=... (sequence ...)"
+  nlohmann::json summary = nlohmann::json::object();  // ctsfleet-solve --json's summary
+  std::vector<Improvement> improvements;              // its "improvements" list
   double wall_s = 0;
   double peak_mb = 0;
   int exit_code = -1;
 };
 
-// Runs `argv` with its standard output and error captured; the child's own peak memory comes
-// from wait4.
+// Runs `argv` with its standard output (ctsfleet-solve's JSON summary) captured; its log stays on
+// stderr. The child's own peak memory comes from wait4.
 Run run_child(const std::vector<std::string>& argv) {
   Run run;
   int pipe_fds[2];
@@ -55,7 +58,6 @@ Run run_child(const std::vector<std::string>& argv) {
   const pid_t pid = fork();
   if (pid == 0) {
     dup2(pipe_fds[1], STDOUT_FILENO);
-    dup2(pipe_fds[1], STDERR_FILENO);
     close(pipe_fds[0]);
     close(pipe_fds[1]);
     std::vector<char*> args;
@@ -85,19 +87,10 @@ Run run_child(const std::vector<std::string>& argv) {
   run.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   run.peak_mb = static_cast<double>(usage.ru_maxrss) / 1024.0;
   run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-  std::istringstream lines(output);
-  for (std::string line; std::getline(lines, line);) {
-    double time_ms = 0, flow = 0;
-    if (std::sscanf(line.c_str(), " t=%lfms flowtime=%lf", &time_ms, &flow) == 2) {
-      run.improvements.push_back({time_ms, flow});
-      continue;
-    }
-    if (line.rfind("solver=", 0) != 0) continue;
-    std::istringstream words(line);
-    for (std::string word; words >> word;) {
-      const size_t eq = word.find('=');
-      if (eq != std::string::npos) run.summary[word.substr(0, eq)] = word.substr(eq + 1);
-    }
+  run.summary = nlohmann::json::parse(output, nullptr, /*allow_exceptions=*/false);
+  if (!run.summary.is_object()) run.summary = nlohmann::json::object();
+  for (const nlohmann::json& improvement : run.summary.value("improvements", nlohmann::json::array())) {
+    run.improvements.push_back({improvement.value("time_ms", 0.0), improvement.value("flowtime", 0.0)});
   }
   return run;
 }
@@ -113,7 +106,9 @@ double flowtime_at(const Run& run, double time_ms) {
 
 double number(const Run& run, const std::string& key) {
   const auto it = run.summary.find(key);
-  return it == run.summary.end() ? -1 : std::atof(it->second.c_str());
+  if (it == run.summary.end()) return -1;
+  if (it->is_boolean()) return it->get<bool>() ? 1 : 0;
+  return it->is_number() ? it->get<double>() : -1;
 }
 
 }  // namespace
@@ -169,7 +164,7 @@ int run_mapf_scale(const MapfScaleSettings& settings) {
       std::ostringstream limit;
       limit << settings.seconds;
       const Run run = run_child({solve.string(), "-i", instance.string(), "--solver", solver, "-t", limit.str(),
-                                 "--swap", "--seed", std::to_string(settings.seed), "-o", scratch.string(), "-v"});
+                                 "--swap", "--seed", std::to_string(settings.seed), "-o", scratch.string(), "--json"});
       const bool solved = number(run, "solved") == 1;
       const double over = 100.0 * (run.wall_s - settings.seconds) / settings.seconds;
       // How the gap to the lower bound closes: the best plan's ratio every 10 s before the limit.
@@ -186,15 +181,17 @@ int run_mapf_scale(const MapfScaleSettings& settings) {
       // The solver's own return (its comp_time, from the process's start) and the process's whole
       // life, which adds writing the solution file and freeing memory.
       const double returned_s = number(run, "comp_time_ms") / 1000;
+      char ratio_text[32];
+      std::snprintf(ratio_text, sizeof ratio_text, "%.3f", number(run, "ratio"));
       std::snprintf(line, sizeof line, "| %s | %s | %g | %s | %.0f | %s | %s | %.2f | %.2f | %+.1f%% | %.0f |\n",
                     instance.stem().c_str(), solver.c_str(), settings.seconds,
                     solved ? std::to_string(static_cast<long>(number(run, "first_ms"))).c_str() : "none",
-                    number(run, "preprocessing_ms"), solved ? run.summary.at("ratio").c_str() : "-", trajectory.c_str(),
+                    number(run, "preprocessing_ms"), solved ? ratio_text : "-", trajectory.c_str(),
                     returned_s, run.wall_s, over, run.peak_mb);
       md << line;
       std::printf("%s", line);
       std::fflush(stdout);
-      csv << instance.stem().string() << "," << solver << "," << agents_of(instance) << "," << settings.seconds << ","
+      csv << planner_core::csv_field(instance.stem().string()) << "," << solver << "," << agents_of(instance) << "," << settings.seconds << ","
           << (solved ? 1 : 0) << "," << number(run, "first_ms") << "," << number(run, "preprocessing_ms") << ","
           << number(run, "flowtime") << "," << number(run, "lower_bound") << "," << number(run, "ratio") << ",\""
           << trajectory << "\"," << returned_s << "," << run.wall_s << "," << over << "," << run.peak_mb << "\n";

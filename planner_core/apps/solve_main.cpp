@@ -136,6 +136,10 @@ int main(int argc, char** argv) {
     if (!svg_path.empty()) write_svg(svg_path, instance, result.solution);
 
     if (json) {
+      nlohmann::json improvements = nlohmann::json::array();
+      for (const Improvement& improvement : result.improvements) {
+        improvements.push_back({{"time_ms", improvement.time_ms}, {"flowtime", improvement.flowtime}});
+      }
       const nlohmann::json summary = {
           {"solver", config.solver}, {"solved", result.solved}, {"agents", instance.agent_count()},
           {"tasks", instance.task_count()}, {"flowtime", result.flowtime}, {"makespan", result.makespan},
@@ -146,7 +150,7 @@ int main(int argc, char** argv) {
           {"preprocessing_ms", result.preprocessing_ms}, {"peak_memory_mb", peak_memory_mb()},
           {"sequences", result.sequences_tried}, {"releases", result.lock_releases},
           {"lns_iterations", result.lns_iterations}, {"output", out_path},
-          {"failure", result.solved ? "" : result.failure_reason}};
+          {"failure", result.solved ? "" : result.failure_reason}, {"improvements", improvements}};
       std::printf("%s\n", summary.dump().c_str());
     } else {
     std::printf("solver=%s solved=%d agents=%d tasks=%d flowtime=%lld makespan=%d lower_bound=%lld ratio=%.3f "

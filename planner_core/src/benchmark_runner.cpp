@@ -131,14 +131,21 @@ std::string csv_header() {
          "sequences,error";
 }
 
+std::string csv_field(const std::string& text) {
+  if (text.find_first_of(",\"\r\n") == std::string::npos) return text;
+  std::string quoted = "\"";
+  for (char c : text) {
+    if (c == '"') quoted += '"';
+    quoted += c;
+  }
+  return quoted + "\"";
+}
+
 std::string to_csv(const BenchmarkRow& row, const std::string& solver) {
-  std::string error = row.error;
-  std::replace(error.begin(), error.end(), ',', ';');
-  std::replace(error.begin(), error.end(), '\n', ' ');
   std::ostringstream out;
-  out << row.file << "," << solver << "," << row.map << "," << row.agents << "," << row.tasks << ","
+  out << csv_field(row.file) << "," << csv_field(solver) << "," << csv_field(row.map) << "," << row.agents << "," << row.tasks << ","
       << (row.solved ? 1 : 0) << "," << row.comp_time_ms << "," << row.first_solution_ms << "," << row.flowtime
-      << "," << row.makespan << "," << row.lower_bound << "," << row.ratio << "," << row.sequences << "," << error;
+      << "," << row.makespan << "," << row.lower_bound << "," << row.ratio << "," << row.sequences << "," << csv_field(row.error);
   return out.str();
 }
 

@@ -310,7 +310,7 @@ class FleetTest(unittest.TestCase):
         agent = subprocess.run([f"{BIN}/ctsfleet-agent", "--id", "x", "--start", "nonsense"],
                                capture_output=True, text=True, timeout=60)
         self.assertEqual(agent.returncode, 2)
-        self.assertIn("--start must be x,y", agent.stdout + agent.stderr)
+        self.assertIn("--start: must be x,y", agent.stdout + agent.stderr)
         too_long = subprocess.run([f"{BIN}/ctsfleet-agent", "--id", "r" * 40], capture_output=True, text=True,
                                   timeout=60)
         self.assertEqual(too_long.returncode, 2)

@@ -50,4 +50,7 @@ std::vector<BenchmarkSummary> summarise(const std::vector<BenchmarkRow>& rows);
 std::string csv_header();
 std::string to_csv(const BenchmarkRow& row, const std::string& solver);
 
+// One CSV field per RFC 4180: quoted (with quotes doubled) when it holds a comma, quote or line break.
+std::string csv_field(const std::string& text);
+
 }  // namespace planner_core

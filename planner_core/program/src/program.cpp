@@ -3,7 +3,11 @@
 #include <spdlog/cfg/env.h>
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
+#include <fcntl.h>
 #include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
 
 #include <cmath>
 #include <csignal>
@@ -30,23 +34,6 @@ std::string number_text(double value) {
   std::ostringstream out;
   out << value;
   return out.str();
-}
-
-// True if `path` names a folder that exists and this process may write into.
-bool writable_folder_exists(const fs::path& folder) {
-  std::error_code ec;
-  return fs::is_directory(folder, ec) && access(folder.c_str(), W_OK | X_OK) == 0;
-}
-
-// The nearest existing ancestor of `path` (path itself when it exists).
-fs::path nearest_existing(fs::path path) {
-  std::error_code ec;
-  path = fs::absolute(path, ec);
-  while (!path.empty() && !fs::exists(path, ec)) {
-    if (path == path.parent_path()) break;
-    path = path.parent_path();
-  }
-  return path;
 }
 
 }  // namespace
@@ -163,11 +150,12 @@ CLI::Validator writable_file() {
         std::error_code ec;
         const fs::path path(input);
         if (fs::is_directory(path, ec)) return "'" + input + "' is a folder, not a file";
-        if (fs::exists(path, ec)) {
-          return access(path.c_str(), W_OK) == 0 ? std::string{} : "'" + input + "' is not writable";
-        }
-        const fs::path existing = nearest_existing(path.has_parent_path() ? path.parent_path() : fs::path("."));
-        if (!writable_folder_exists(existing)) return "cannot write '" + input + "': " + existing.string() + " is not a writable folder";
+        // Probe by opening: permissions alone do not tell (root, read-only or virtual file systems).
+        const bool existed = fs::exists(path, ec);
+        const int fd = open(path.c_str(), O_WRONLY | O_CREAT | O_CLOEXEC, 0644);
+        if (fd < 0) return "cannot write '" + input + "': " + std::strerror(errno);
+        close(fd);
+        if (!existed) fs::remove(path, ec);
         return {};
       },
       "FILE (writable)");
@@ -180,8 +168,13 @@ CLI::Validator writable_folder() {
         std::error_code ec;
         const fs::path path(input);
         if (fs::exists(path, ec) && !fs::is_directory(path, ec)) return "'" + input + "' is a file, not a folder";
-        const fs::path existing = nearest_existing(path);
-        if (!writable_folder_exists(existing)) return "cannot write into '" + input + "': " + existing.string() + " is not a writable folder";
+        fs::create_directories(path, ec);  // the program would make it anyway
+        if (ec) return "cannot create the folder '" + input + "': " + ec.message();
+        const fs::path probe = path / (".ctsfleet-write-probe-" + std::to_string(getpid()));
+        const int fd = open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
+        if (fd < 0) return "cannot write into '" + input + "': " + std::strerror(errno);
+        close(fd);
+        fs::remove(probe, ec);
         return {};
       },
       "FOLDER (writable)");

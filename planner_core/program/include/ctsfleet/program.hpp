@@ -61,9 +61,9 @@ CLI::Validator positive_seconds(double high = 1e6);
 CLI::Validator count_in(long long low, long long high);
 // DDS domain ids: 0..232 (the RTPS port formula's limit).
 CLI::Validator dds_domain();
-// An output file whose folder exists and is writable (or can be created), and which is not a folder.
+// An output file that can be opened for writing (probed: created and removed again when new); not a folder.
 CLI::Validator writable_file();
-// An output folder that is, or can become, a writable folder.
+// An output folder, created if missing, that a file can be written into (probed).
 CLI::Validator writable_folder();
 
 }  // namespace ctsfleet

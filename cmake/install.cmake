@@ -1,0 +1,66 @@
+# Installation: programs in bin/, their data in share/ctsfleet/ (found relative to bin/, see
+# ctsfleet/data_dir.hpp), man pages from --help (help2man), planner_core as a CMake package
+# (find_package(ctsfleet) -> ctsfleet::planner_core), and a Debian package (cpack -G DEB).
+include(CMakePackageConfigHelpers)
+
+set(CTSFLEET_PROGRAMS
+  ctsfleet-solve ctsfleet-gen ctsfleet-bench ctsfleet-seqbench
+  ctsfleet-coordinator ctsfleet-sim ctsfleet-monitor ctsfleet-fleetbench
+  ctsfleet-agent ctsfleet-toio-emulator ctsfleet-toio-calibrate)
+install(TARGETS ${CTSFLEET_PROGRAMS} RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+
+set(CTSFLEET_DATA_DESTINATION ${CMAKE_INSTALL_DATADIR}/ctsfleet)
+install(DIRECTORY config benchmarks DESTINATION ${CTSFLEET_DATA_DESTINATION})
+install(FILES README.md CHANGELOG.md DESTINATION ${CMAKE_INSTALL_DOCDIR})
+install(DIRECTORY docs/ DESTINATION ${CMAKE_INSTALL_DOCDIR} PATTERN "results" EXCLUDE)
+install(FILES LICENSE DESTINATION ${CMAKE_INSTALL_DOCDIR} RENAME copyright)
+
+# Man pages, generated from each program's --help and --version.
+find_program(HELP2MAN help2man)
+if(HELP2MAN)
+  set(man_pages)
+  foreach(program ${CTSFLEET_PROGRAMS})
+    set(page ${CMAKE_BINARY_DIR}/man/${program}.1)
+    add_custom_command(OUTPUT ${page}.gz
+      COMMAND ${CMAKE_COMMAND} -E make_directory ${CMAKE_BINARY_DIR}/man
+      COMMAND ${HELP2MAN} --no-info --no-discard-stderr --section=1 --output=${page} $<TARGET_FILE:${program}>
+      COMMAND gzip -9nf ${page}
+      DEPENDS ${program}
+      COMMENT "man page ${program}.1")
+    list(APPEND man_pages ${page}.gz)
+  endforeach()
+  add_custom_target(man_pages ALL DEPENDS ${man_pages})
+  install(FILES ${man_pages} DESTINATION ${CMAKE_INSTALL_MANDIR}/man1)
+else()
+  message(STATUS "help2man not found: no man pages")
+endif()
+
+# planner_core for other CMake projects.
+install(TARGETS planner_core EXPORT ctsfleetTargets ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
+install(DIRECTORY planner_core/include/planner_core DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+set(CTSFLEET_CMAKE_DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/ctsfleet)
+install(EXPORT ctsfleetTargets NAMESPACE ctsfleet:: DESTINATION ${CTSFLEET_CMAKE_DESTINATION})
+configure_package_config_file(cmake/ctsfleetConfig.cmake.in ${CMAKE_BINARY_DIR}/ctsfleetConfig.cmake
+  INSTALL_DESTINATION ${CTSFLEET_CMAKE_DESTINATION})
+write_basic_package_version_file(${CMAKE_BINARY_DIR}/ctsfleetConfigVersion.cmake COMPATIBILITY SameMinorVersion)
+install(FILES ${CMAKE_BINARY_DIR}/ctsfleetConfig.cmake ${CMAKE_BINARY_DIR}/ctsfleetConfigVersion.cmake
+  DESTINATION ${CTSFLEET_CMAKE_DESTINATION})
+
+# Debian package: dependencies from shlibdeps, files under /usr.
+set(CPACK_PACKAGE_NAME ctsfleet)
+set(CPACK_PACKAGE_VENDOR "ctsfleet developers")
+set(CPACK_PACKAGE_CONTACT "ctsfleet developers <ctsfleet@example.org>")
+set(CPACK_PACKAGE_DESCRIPTION_SUMMARY "robot fleet planner (CTS-MAPF) and DDS fleet runtime")
+set(CPACK_PACKAGE_DESCRIPTION "ctsfleet plans collision-free paths for robots that must visit tasks
+and end on their goals (CTS-PLL, LaCAM, LNS), and runs the plan on a fleet of
+simulated robots or toio cubes over DDS (Cyclone DDS or Fast DDS).")
+set(CPACK_RESOURCE_FILE_LICENSE ${PROJECT_SOURCE_DIR}/LICENSE)
+set(CPACK_PACKAGING_INSTALL_PREFIX /usr)
+set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
+set(CPACK_DEBIAN_PACKAGE_SECTION science)
+set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
+set(CPACK_DEBIAN_PACKAGE_RECOMMENDS "dbus-daemon")
+set(CPACK_DEBIAN_PACKAGE_CONTROL_STRICT_PERMISSION ON)
+set(CPACK_STRIP_FILES ON)
+set(CPACK_SOURCE_IGNORE_FILES "/build/;/\\\\.git/;/out/")
+include(CPack)

@@ -1,0 +1,294 @@
+#!/usr/bin/env python3
+"""Command-line catalogue: every shipped program, every option its --help lists, run with the bad
+values that fit the option's type, under a timeout. For each case:
+
+  - the program ends by itself, or ends within 2 s of SIGTERM (no hang);
+  - it is never killed by a signal (no abort, no segfault) and never exits 128+;
+  - an exit 2 comes with a line "PROGRAM: error: ..." on stderr naming the option or file;
+  - a value no option can mean (nan, inf, 1e300, a word for a number, a missing value, an integer
+    beyond 64 bits) is refused with exit 2.
+
+Then the named cases: the failures users met before (each must exit 2 with a message, or, for the
+monitor on a silent domain, exit non-zero). Prints a summary line with the number of cases.
+
+Usage: cli_catalogue.py BIN_DIR SOURCE_DIR WORK_DIR
+"""
+import concurrent.futures
+import os
+import re
+import signal
+import subprocess
+import sys
+import time
+
+BIN, ROOT, WORK = (os.path.abspath(arg) for arg in sys.argv[1:4])
+os.makedirs(WORK, exist_ok=True)
+DATA = os.path.join(ROOT, "tests/data")
+INSTANCE = os.path.join(DATA, "instances/random-32-32-20-N10-M30-00.yaml")
+MAP = os.path.join(DATA, "maps/random-32-32-20.map")
+MAT = os.path.join(ROOT, "config/mats/toio-simple.yaml")
+EMPTY_FILE = os.path.join(WORK, "empty.txt")
+open(EMPTY_FILE, "w").close()
+FIVE_CELL_MAP = os.path.join(WORK, "five-cells.map")
+with open(FIVE_CELL_MAP, "w") as f:
+    f.write("type octile\nheight 1\nwidth 5\nmap\n.....\n")
+DOMAIN_BASE = 150  # catalogue runs use DDS domains 150..199, away from the other tests
+
+# A valid command line per program: it either finishes quickly or runs until SIGTERM.
+def base_args(program, domain):
+    out = lambda name: os.path.join(WORK, f"{program}-{domain}-{name}")
+    return {
+        "ctsfleet-solve": ["-i", INSTANCE, "-t", "0.3", "-o", out("solution.txt")],
+        "ctsfleet-gen": ["--map", MAP, "-N", "2", "-M", "2", "-o", out("gen.yaml")],
+        "ctsfleet-bench": [INSTANCE, "-t", "0.2", "-j", "1", "--csv", out("bench.csv")],
+        "ctsfleet-seqbench": ["--map", MAP, "-k", "3"],
+        "ctsfleet-coordinator": ["-c", os.path.join(ROOT, "config/fleet.yaml"), "--domain", str(domain)],
+        "ctsfleet-sim": ["--robots", "2", "--domain", str(domain), "--log-dir", out("sim-logs")],
+        "ctsfleet-monitor": ["--duration", "0.3", "--domain", str(domain)],
+        "ctsfleet-fleetbench": ["-n", "2", "--domain", str(domain), "--kill-after", "0", "--step", "0.05"],
+        "ctsfleet-agent": ["--id", f"catalogue{domain}", "--domain", str(domain)],
+        "ctsfleet-toio-emulator": ["--bus", "unix:path=" + out("no-bus"), "--cube", "a@200,200"],
+        "ctsfleet-toio-calibrate": ["fit", "--mat", MAT, "-o", out("mat.yaml"), "--point", "0,0=125,175",
+                                    "--point", "1,0=175,175", "--point", "0,1=125,225"],
+    }[program]
+
+PROGRAMS = ["ctsfleet-solve", "ctsfleet-gen", "ctsfleet-bench", "ctsfleet-seqbench", "ctsfleet-coordinator",
+            "ctsfleet-sim", "ctsfleet-monitor", "ctsfleet-fleetbench", "ctsfleet-agent", "ctsfleet-toio-emulator",
+            "ctsfleet-toio-calibrate"]
+# Programs that run until stopped when their input is good: give them this long, then SIGTERM.
+LONG_RUNNING = {"ctsfleet-coordinator": 2.5, "ctsfleet-sim": 3.0, "ctsfleet-fleetbench": 3.0, "ctsfleet-agent": 2.0}
+
+NUMBER_NONSENSE = ["nan", "inf", "-inf", "1e300", "abc", "99999999999999999999"]
+NUMBER_EDGES = ["-1", "0", "-5", "1e10", "2147483648"]
+TEXT_VALUES = ["", "no-such-word", "/proc/nonexistent/folder/file", WORK, EMPTY_FILE, "/proc/version",
+               "/proc/no/such/file", "a,b;c \"d\""]
+
+OPTION_LINE = re.compile(r"^\s+((?:-\w,)?--[\w-]+)(?:\s+(INT|UINT|FLOAT|TEXT|ENUM)\b(\S*))?")
+
+
+def options_of(program, subcommand=None):
+    """(names, type) for every option of `program`'s --help, but --help and --version."""
+    args = [os.path.join(BIN, program)] + ([subcommand] if subcommand else []) + ["--help"]
+    text = subprocess.run(args, capture_output=True, text=True, timeout=20).stdout
+    found = []
+    for line in text.splitlines():
+        m = OPTION_LINE.match(line)
+        if not m or m.group(1).endswith(("--help", "--version")):
+            continue
+        long_name = m.group(1).split(",")[-1]
+        found.append((long_name, m.group(2)))  # type None: a flag
+    return found
+
+
+class Case:
+    def __init__(self, program, args, name, must_refuse=False, expect=None, timeout=None):
+        self.program, self.args, self.name = program, args, name
+        self.must_refuse = must_refuse  # exit 2 required
+        self.expect = expect            # a predicate on the exit code, for named cases
+        self.timeout = timeout or LONG_RUNNING.get(program, 20.0)
+
+
+def run(case):
+    """Returns a problem description, or None when the case holds."""
+    started = time.monotonic()
+    proc = subprocess.Popen([os.path.join(BIN, case.program)] + case.args, stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True, start_new_session=True, cwd=WORK)
+    terminated = False
+    try:
+        out, err = proc.communicate(timeout=case.timeout)
+    except subprocess.TimeoutExpired:
+        terminated = True
+        proc.send_signal(signal.SIGTERM)
+        try:
+            out, err = proc.communicate(timeout=2.0 + (3.0 if case.program in LONG_RUNNING else 0))
+        except subprocess.TimeoutExpired:
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.communicate()
+            return f"hang: still running {2 + (3 if case.program in LONG_RUNNING else 0)} s after SIGTERM"
+    finally:
+        try:
+            os.killpg(proc.pid, signal.SIGKILL)  # children left behind, if any
+        except ProcessLookupError:
+            pass
+    code = proc.returncode
+    tail = (err.strip().splitlines() or [""])[-1][:200]
+    if code < 0 and case.args[-2:-1] == ["--crash-at"] and -code == signal.SIGABRT:
+        return None  # the agent's fault injection: it aborts on purpose
+    if code < 0:
+        return f"killed by signal {-code}: {tail}"
+    if code >= 128 and not (terminated and code == 130):
+        return f"exit {code}: {tail}"
+    errors = [line for line in err.splitlines() if line.startswith(case.program + ": error: ")]
+    if code == 2 and len(errors) != 1:
+        return f"exit 2 without exactly one '{case.program}: error:' line: {err.strip()[:300]!r}"
+    if case.must_refuse and code != 2:
+        return f"accepted (exit {code}{', after SIGTERM' if terminated else ''}), expected exit 2; stderr: {tail}"
+    if case.expect and not case.expect(code):
+        return f"exit {code} not as expected; stderr: {tail}"
+    del started, out
+    return None
+
+
+def catalogue_cases():
+    cases = []
+    index = 0
+    for program in PROGRAMS:
+        sub = "fit" if program == "ctsfleet-toio-calibrate" else None
+        for option, kind in options_of(program, sub):
+            if kind is None:  # a flag: given a value, or repeated
+                continue
+            values = []
+            if kind in ("INT", "UINT", "FLOAT"):
+                values = [(v, True) for v in NUMBER_NONSENSE] + [(v, False) for v in NUMBER_EDGES]
+            else:
+                values = [(v, False) for v in TEXT_VALUES]
+            for value, must_refuse in values:
+                domain = DOMAIN_BASE + index % 50
+                index += 1
+                args = replace_option(base_args(program, domain), option, value)
+                cases.append(Case(program, args, f"{program} {option} {value!r}", must_refuse))
+            # the option given with no value at all
+            domain = DOMAIN_BASE + index % 50
+            index += 1
+            args = [a for a in replace_option(base_args(program, domain), option, None)] + [option]
+            cases.append(Case(program, args, f"{program} {option} (no value)", True))
+        cases.append(Case(program, ["--no-such-option"], f"{program} --no-such-option", True))
+    return cases
+
+
+def replace_option(args, option, value):
+    """`args` with `option` set to `value` (dropped when None); the value replaces an existing one."""
+    out, skip = [], False
+    aliases = {option}
+    for i, a in enumerate(args):
+        if skip:
+            skip = False
+            continue
+        if a in aliases or (option == "--robots" and a == "-n") or (option == "--output" and a == "-o") \
+                or (option == "--out" and a == "-o") or (option == "--time" and a == "-t") \
+                or (option == "--config" and a == "-c") or (option == "--instance" and a == "-i") \
+                or (option == "--agents" and a == "-N") or (option == "--tasks" and a == "-M") \
+                or (option == "--threads" and a == "-j") or (option == "--sequences" and a == "-k"):
+            skip = True
+            continue
+        out.append(a)
+    if value is not None:
+        out += [option, value]
+    return out
+
+
+def fleet_config(name, **overrides):
+    """config/fleet.yaml with some `section.key` values replaced, written into WORK."""
+    text = open(os.path.join(ROOT, "config/fleet.yaml")).read()
+    text = text.replace("mission: default/", f"mission: {ROOT}/config/default/")
+    text = text.replace("config_dir: dds", f"config_dir: {ROOT}/config/dds")
+    for key, value in overrides.items():
+        text, count = re.subn(rf"^(\s*{key}:)[^#\n]*", rf"\g<1> {value}", text, flags=re.M)
+        assert count == 1, key
+    path = os.path.join(WORK, name)
+    with open(path, "w") as f:
+        f.write(text)
+    return path
+
+
+def named_cases():
+    refuse = lambda program, args, name: Case(program, args, name, must_refuse=True)
+    return [
+        refuse("ctsfleet-sim", ["--robots", "5000"], "sim: more robots than free cells"),
+        refuse("ctsfleet-sim", ["--backend", "toio-emulated", "--robots", "70"], "sim: 70 toio cubes on an 8x8 mat"),
+        refuse("ctsfleet-seqbench", ["--map", FIVE_CELL_MAP], "seqbench on a 5-cell map"),
+        refuse("ctsfleet-seqbench", ["--map", "/proc/nonexistent.map"], "seqbench: missing map"),
+        refuse("ctsfleet-fleetbench", ["--map", "/proc/nonexistent.map"], "fleetbench: missing map"),
+        refuse("ctsfleet-fleetbench", ["-n", "0"], "fleetbench -n 0"),
+        refuse("ctsfleet-monitor", ["--domain", "500"], "monitor --domain 500"),
+        refuse("ctsfleet-monitor", ["--dds-config-dir", "/proc/nonexistent"], "monitor: missing DDS config folder"),
+        Case("ctsfleet-monitor", ["--domain", "231", "--duration", "0.5"], "monitor hears nothing: non-zero",
+             expect=lambda code: code not in (0, 2)),
+        refuse("ctsfleet-bench", ["-j", "100000", INSTANCE], "bench -j 100000"),
+        refuse("ctsfleet-bench", ["--experiment", "dense", "--out-dir", "/proc/no/such"], "bench: unwritable out-dir"),
+        refuse("ctsfleet-bench", ["--experiment", "dense", "--out-dir", "/proc/1", "--sample", "1", "-t", "0.1"],
+               "bench: existing folder nothing can be written into"),
+        refuse("ctsfleet-bench", ["--experiment", "dense", "--benchmarks", "/proc/nonexistent"], "bench: missing suites"),
+        refuse("ctsfleet-toio-calibrate", ["fit", "--mat", MAT, "-o", "/proc/no/such.yaml", "--point", "0,0=1,1"],
+               "calibrate fit -o unwritable"),
+        refuse("ctsfleet-solve", ["-i", INSTANCE, "-t", "inf"], "solve -t inf"),
+        refuse("ctsfleet-solve", ["-i", INSTANCE, "-t", "1e10"], "solve -t 1e10"),
+        refuse("ctsfleet-solve", ["-i", INSTANCE, "-t", "-5"], "solve -t -5"),
+        refuse("ctsfleet-solve", ["-i", INSTANCE, "-t", "nan"], "solve -t nan"),
+        refuse("ctsfleet-solve", ["-i", INSTANCE, "-t", "0"], "solve -t 0"),
+        refuse("ctsfleet-solve", ["-i", os.path.join(ROOT, "benchmarks/mapf/den520d-N500-0.scen"), "-N", "-5"],
+               "solve -N -5"),
+        refuse("ctsfleet-solve", ["-i", os.path.join(ROOT, "benchmarks/mapf/den520d-N500-0.scen"), "-N", "501",
+                                  "--map", os.path.join(ROOT, "benchmarks/maps")], "solve -N beyond the rows"),
+        refuse("ctsfleet-solve", ["-i", os.path.join(ROOT, "benchmarks/mapf/den520d-N500-0.scen"), "-N", "5"],
+               "solve .scen without its map"),
+        refuse("ctsfleet-solve", ["-i", INSTANCE, "--map", MAP], "solve --map with a .yaml"),
+        refuse("ctsfleet-gen", ["--map", MAP, "-N", "99999999999", "-M", "1", "-o", "x.yaml"], "gen -N 99999999999"),
+        refuse("ctsfleet-gen", ["--map", MAP, "-N", "-5", "-M", "1", "-o", "x.yaml"], "gen -N -5"),
+        refuse("ctsfleet-coordinator", ["-c", fleet_config("time-limit.yaml", time_limit_s="-1")],
+               "config planner.time_limit_s: -1"),
+        refuse("ctsfleet-coordinator", ["-c", fleet_config("domain.yaml", domain_id="500")], "config dds.domain_id: 500"),
+        refuse("ctsfleet-coordinator", ["-c", fleet_config("lease.yaml", lease_s="-2")], "config dds.lease_s: -2"),
+        refuse("ctsfleet-coordinator", ["-c", fleet_config("step.yaml", step_s=".nan")], "config timing.step_s: .nan"),
+        refuse("ctsfleet-coordinator", ["-c", fleet_config("quorum.yaml", quorum="99999999999")],
+               "config robots.quorum: 99999999999"),
+        refuse("ctsfleet-coordinator", ["-c", EMPTY_FILE], "coordinator: empty config"),
+        refuse("ctsfleet-coordinator", ["-c", WORK], "coordinator: a folder for the config"),
+        refuse("ctsfleet-agent", ["--id", "r", "--lease", "-1"], "agent --lease -1"),
+        refuse("ctsfleet-agent", ["--id", "r", "--domain", "-5"], "agent --domain -5"),
+        refuse("ctsfleet-agent", ["--id", "r", "--step", "-1"], "agent --step -1"),
+        refuse("ctsfleet-agent", ["--id", "r", "--start", "3"], "agent --start 3"),
+        refuse("ctsfleet-agent", ["--id", "x" * 33], "agent: a 33-character id"),
+        refuse("ctsfleet-sim", ["--domain", "-5"], "sim --domain -5"),
+        refuse("ctsfleet-sim", ["--step", "-1"], "sim --step -1"),
+        refuse("ctsfleet-toio-emulator", ["--bus", "unix:path=/x", "--mat", MAT, "--cube", "a@cell:99,99"],
+               "emulator: a cube on cell 99,99 of a 6x4 grid"),
+        refuse("ctsfleet-toio-emulator", ["--bus", "unix:path=/x", "--cube", "a@200,200", "--cube", "a@250,250"],
+               "emulator: two cubes with one name"),
+        refuse("ctsfleet-toio-emulator", ["--bus", "unix:path=/x", "--cube", "a@200,200", "--tick-ms", "-5"],
+               "emulator --tick-ms -5"),
+    ]
+
+
+def script_cases():
+    """Every script answers --help at once with exit 0 and refuses an unknown option with exit 2."""
+    problems, count = [], 0
+    for script in sorted(os.listdir(os.path.join(ROOT, "scripts"))):
+        path = os.path.join(ROOT, "scripts", script)
+        checks = [(["--help"], 0)]
+        if script != "test":  # test passes its arguments on to ctest
+            checks.append((["--no-such-option"], 2))
+        for args, want in checks:
+            count += 1
+            try:
+                done = subprocess.run([path] + args, capture_output=True, text=True, timeout=20, cwd=WORK)
+            except subprocess.TimeoutExpired:
+                problems.append(f"scripts/{script} {' '.join(args)}: hang")
+                continue
+            if done.returncode != want or "Traceback" in done.stderr:
+                problems.append(f"scripts/{script} {' '.join(args)}: exit {done.returncode}, expected {want}: "
+                                f"{done.stderr.strip()[-200:]!r}")
+            elif want == 0 and "usage" not in (done.stdout + done.stderr).lower():
+                problems.append(f"scripts/{script} --help: no usage text")
+    return count, problems
+
+
+def main():
+    cases = catalogue_cases() + named_cases()
+    failures = []
+    with concurrent.futures.ThreadPoolExecutor(max_workers=4) as pool:
+        for case, problem in zip(cases, pool.map(run, cases)):
+            if problem:
+                failures.append(f"{case.name}: {problem}")
+    script_count, script_problems = script_cases()
+    failures += script_problems
+    programs = len(PROGRAMS)
+    print(f"cli catalogue: {programs} programs, {len(cases)} program cases ({len(named_cases())} named), "
+          f"{script_count} script cases, {len(failures)} failures")
+    for failure in failures:
+        print("FAIL", failure)
+    return 1 if failures else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

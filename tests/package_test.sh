@@ -1,0 +1,17 @@
+#!/usr/bin/env bash
+# Builds the Debian package with CPack (dependencies from dpkg-shlibdeps) and checks it with
+# lintian: no error allowed. Prints the package's name, size and dependencies.
+# Usage: package_test.sh BUILD_DIR WORK_DIR
+set -euo pipefail
+build="$1"; work="$2"
+rm -rf "$work"; mkdir -p "$work"
+trap 'rm -rf "$work"' EXIT
+(cd "$work" && cpack -G DEB --config "$build/CPackConfig.cmake" -B "$work" >cpack.log 2>&1) ||
+  { tail -30 "$work/cpack.log" >&2; echo "FAIL: cpack -G DEB" >&2; exit 1; }
+deb="$(ls "$work"/*.deb)"
+echo "package: $(basename "$deb"), $(du -h "$deb" | cut -f1)"
+dpkg-deb --field "$deb" Depends
+dpkg-deb --field "$deb" Depends | grep -q "libyaml-cpp" || { echo "FAIL: no shlibdeps dependencies" >&2; exit 1; }
+dpkg-deb --contents "$deb" | grep -q "usr/share/ctsfleet/config/fleet.yaml" || { echo "FAIL: configs missing" >&2; exit 1; }
+lintian --fail-on error --no-tag-display-limit "$deb" | tee "$work/lintian.log" || { echo "FAIL: lintian reports errors" >&2; exit 1; }
+echo "lintian: $(grep -c '^E:' "$work/lintian.log" || true) errors, $(grep -c '^W:' "$work/lintian.log" || true) warnings"
