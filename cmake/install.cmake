@@ -13,20 +13,53 @@ set(CTSFLEET_DATA_DESTINATION ${CMAKE_INSTALL_DATADIR}/ctsfleet)
 install(DIRECTORY config benchmarks DESTINATION ${CTSFLEET_DATA_DESTINATION})
 install(FILES README.md CHANGELOG.md DESTINATION ${CMAKE_INSTALL_DOCDIR})
 install(DIRECTORY docs/ DESTINATION ${CMAKE_INSTALL_DOCDIR} PATTERN "results" EXCLUDE)
-install(FILES LICENSE DESTINATION ${CMAKE_INSTALL_DOCDIR} RENAME copyright)
+install(FILES LICENSE DESTINATION ${CMAKE_INSTALL_DOCDIR})
+install(FILES cmake/debian-copyright DESTINATION ${CMAKE_INSTALL_DOCDIR} RENAME copyright)
 
-# Man pages, generated from each program's --help and --version.
+# The Debian changelog a native package carries (the project's own history is CHANGELOG.md).
+string(TIMESTAMP CTSFLEET_BUILD_DATE "%a, %d %b %Y %H:%M:%S +0000" UTC)
+file(WRITE ${CMAKE_BINARY_DIR}/debian/changelog
+"ctsfleet (${PROJECT_VERSION}) unstable; urgency=medium
+
+  * Release ${PROJECT_VERSION}; see /usr/share/doc/ctsfleet/CHANGELOG.md.
+
+ -- ctsfleet developers <ctsfleet@example.org>  ${CTSFLEET_BUILD_DATE}
+")
+add_custom_command(OUTPUT ${CMAKE_BINARY_DIR}/debian/changelog.gz
+  COMMAND gzip -9nkf ${CMAKE_BINARY_DIR}/debian/changelog
+  DEPENDS ${CMAKE_BINARY_DIR}/debian/changelog)
+add_custom_target(debian_changelog ALL DEPENDS ${CMAKE_BINARY_DIR}/debian/changelog.gz)
+install(FILES ${CMAKE_BINARY_DIR}/debian/changelog.gz DESTINATION ${CMAKE_INSTALL_DOCDIR})
+
+# Man pages, generated from each program's --help and --version; the NAME line from this table.
+set(CTSFLEET_MAN_NAMES
+  "ctsfleet-solve|plan collision-free paths for a CTS-MAPF instance or MovingAI scenario"
+  "ctsfleet-gen|generate a random CTS-MAPF instance on a MovingAI map"
+  "ctsfleet-bench|run solvers over benchmark instances and reproduce the experiments of the CTS-PLL paper"
+  "ctsfleet-seqbench|time Held-Karp task ordering and K-best joint sequencing"
+  "ctsfleet-coordinator|plan a mission and drive a robot fleet over DDS"
+  "ctsfleet-sim|run a coordinator and N simulated robot agents on one host"
+  "ctsfleet-monitor|check from the states of the robots that no two robots ever shared a cell"
+  "ctsfleet-fleetbench|measure latency, CPU and replanning time of the fleet runtime"
+  "ctsfleet-agent|one robot of the fleet: a simulated robot or a toio cube over BLE"
+  "ctsfleet-toio-emulator|emulated toio cubes behind a fake BlueZ on a private D-Bus"
+  "ctsfleet-toio-calibrate|find toio cubes, fit and check where the grid lies on a mat")
 find_program(HELP2MAN help2man)
 if(HELP2MAN)
   set(man_pages)
-  foreach(program ${CTSFLEET_PROGRAMS})
+  foreach(entry ${CTSFLEET_MAN_NAMES})
+    string(REPLACE "|" ";" entry "${entry}")
+    list(GET entry 0 program)
+    list(GET entry 1 man_name)
     set(page ${CMAKE_BINARY_DIR}/man/${program}.1)
     add_custom_command(OUTPUT ${page}.gz
       COMMAND ${CMAKE_COMMAND} -E make_directory ${CMAKE_BINARY_DIR}/man
-      COMMAND ${HELP2MAN} --no-info --no-discard-stderr --section=1 --output=${page} $<TARGET_FILE:${program}>
+      COMMAND ${HELP2MAN} --no-info --no-discard-stderr --section=1 "--name=${man_name}" --output=${page}
+              $<TARGET_FILE:${program}>
       COMMAND gzip -9nf ${page}
       DEPENDS ${program}
-      COMMENT "man page ${program}.1")
+      COMMENT "man page ${program}.1"
+      VERBATIM)
     list(APPEND man_pages ${page}.gz)
   endforeach()
   add_custom_target(man_pages ALL DEPENDS ${man_pages})

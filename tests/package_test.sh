@@ -11,7 +11,9 @@ trap 'rm -rf "$work"' EXIT
 deb="$(ls "$work"/*.deb)"
 echo "package: $(basename "$deb"), $(du -h "$deb" | cut -f1)"
 dpkg-deb --field "$deb" Depends
-dpkg-deb --field "$deb" Depends | grep -q "libyaml-cpp" || { echo "FAIL: no shlibdeps dependencies" >&2; exit 1; }
-dpkg-deb --contents "$deb" | grep -q "usr/share/ctsfleet/config/fleet.yaml" || { echo "FAIL: configs missing" >&2; exit 1; }
+dpkg-deb --field "$deb" Depends >"$work/depends.txt"
+grep -q "libyaml-cpp" "$work/depends.txt" || { echo "FAIL: no shlibdeps dependencies" >&2; exit 1; }
+dpkg-deb --contents "$deb" >"$work/contents.txt"
+grep -q "usr/share/ctsfleet/config/fleet.yaml" "$work/contents.txt" || { echo "FAIL: configs missing" >&2; exit 1; }
 lintian --fail-on error --no-tag-display-limit "$deb" | tee "$work/lintian.log" || { echo "FAIL: lintian reports errors" >&2; exit 1; }
 echo "lintian: $(grep -c '^E:' "$work/lintian.log" || true) errors, $(grep -c '^W:' "$work/lintian.log" || true) warnings"
