@@ -8,6 +8,7 @@ set(CTSFLEET_PROGRAMS
   ctsfleet-coordinator ctsfleet-sim ctsfleet-monitor ctsfleet-fleetbench
   ctsfleet-agent ctsfleet-toio-emulator ctsfleet-toio-calibrate)
 install(TARGETS ${CTSFLEET_PROGRAMS} RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+install(PROGRAMS scripts/ctsfleet-plot DESTINATION ${CMAKE_INSTALL_BINDIR})
 
 set(CTSFLEET_DATA_DESTINATION ${CMAKE_INSTALL_DATADIR}/ctsfleet)
 install(DIRECTORY config benchmarks DESTINATION ${CTSFLEET_DATA_DESTINATION})
@@ -92,6 +93,7 @@ set(CPACK_PACKAGING_INSTALL_PREFIX /usr)
 set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
 set(CPACK_DEBIAN_PACKAGE_SECTION science)
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
+set(CPACK_DEBIAN_PACKAGE_DEPENDS "python3, python3-matplotlib")  # ctsfleet-plot; the rest from shlibdeps
 set(CPACK_DEBIAN_PACKAGE_RECOMMENDS "dbus-daemon")
 set(CPACK_DEBIAN_PACKAGE_CONTROL_STRICT_PERMISSION ON)
 set(CPACK_STRIP_FILES ON)

@@ -16,6 +16,7 @@ Usage: cli_catalogue.py BIN_DIR SOURCE_DIR WORK_DIR
 import concurrent.futures
 import os
 import re
+import shutil
 import signal
 import subprocess
 import sys
@@ -92,7 +93,8 @@ def run(case):
     """Returns a problem description, or None when the case holds."""
     started = time.monotonic()
     proc = subprocess.Popen([os.path.join(BIN, case.program)] + case.args, stdout=subprocess.PIPE,
-                            stderr=subprocess.PIPE, text=True, start_new_session=True, cwd=WORK)
+                            stderr=subprocess.PIPE, text=True, start_new_session=True, cwd=WORK,
+                            env=dict(os.environ, TMPDIR=WORK))  # what the programs leave stays in WORK
     terminated = False
     try:
         out, err = proc.communicate(timeout=case.timeout)
@@ -287,6 +289,8 @@ def main():
           f"{script_count} script cases, {len(failures)} failures")
     for failure in failures:
         print("FAIL", failure)
+    if not failures:
+        shutil.rmtree(WORK, ignore_errors=True)
     return 1 if failures else 0
 
 

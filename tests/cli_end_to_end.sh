@@ -13,7 +13,7 @@ grep -q "^order_0=" "$work/sol.txt"
 grep -q "^comp_time_first_ms=" "$work/sol.txt"
 grep -q "^comp_time_preprocessing_ms=" "$work/sol.txt"
 grep -q "preprocessing_ms=.* peak_memory_mb=" "$work/summary"
-grep -q "<polyline" "$work/sol.svg"
+grep -q "stroke-opacity" "$work/sol.svg" && grep -q ">start</text>" "$work/sol.svg"
 "$python" "$ctsval" "$work/gen.yaml" "$work/sol.txt"
 
 mkdir "$work/suite"

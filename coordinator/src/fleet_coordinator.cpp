@@ -39,17 +39,30 @@ FleetCoordinator::FleetCoordinator(const FleetConfig& config, planner_core::Inst
 
 void FleetCoordinator::on_announcement(const fleet_transport::Announcement& announcement) {
   const std::lock_guard<std::mutex> lock(events_mutex_);
-  events_.push_back({Event::Kind::kAnnouncement, announcement, {}, announcement.robot_id, {}});
+  Event event;
+  event.kind = Event::Kind::kAnnouncement;
+  event.announcement = announcement;
+  event.robot_id = announcement.robot_id;
+  events_.push_back(std::move(event));
 }
 
 void FleetCoordinator::on_state(const fleet_transport::RobotState& state) {
   const std::lock_guard<std::mutex> lock(events_mutex_);
-  events_.push_back({Event::Kind::kState, {}, state, state.robot_id, {}, Clock::now()});
+  Event event;
+  event.kind = Event::Kind::kState;
+  event.state = state;
+  event.robot_id = state.robot_id;
+  event.received = Clock::now();
+  events_.push_back(std::move(event));
 }
 
 void FleetCoordinator::on_robot_gone(const std::string& robot_id, fleet_transport::GoneReason reason) {
   const std::lock_guard<std::mutex> lock(events_mutex_);
-  events_.push_back({Event::Kind::kGone, {}, {}, robot_id, reason});
+  Event event;
+  event.kind = Event::Kind::kGone;
+  event.robot_id = robot_id;
+  event.reason = reason;
+  events_.push_back(std::move(event));
 }
 
 Vertex FleetCoordinator::mission_vertex(int x, int y) const { return mission_.graph->vertex_at({x, y}); }

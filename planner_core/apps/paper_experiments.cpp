@@ -1,15 +1,21 @@
 #include "paper_experiments.hpp"
 
+#include <spawn.h>
+#include <sys/wait.h>
+
 #include <algorithm>
+#include <cerrno>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <map>
 #include <sstream>
 
+#include "ctsfleet/data_dir.hpp"
 #include "planner_core/benchmark_runner.hpp"
 #include "planner_core/input_error.hpp"
-#include "svg_chart.hpp"
+
+extern char** environ;
 
 namespace ctsfleet_bench {
 
@@ -84,23 +90,46 @@ void write_file(const fs::path& path, const std::string& text) {
   if (!(out << text)) throw std::runtime_error(path.string() + ": cannot write");
 }
 
-// Flowtime over time of two anytime solvers on one instance.
-std::string anytime_plot(const std::string& file, double seconds, unsigned seed) {
-  std::vector<Series> series;
-  const std::vector<std::pair<std::string, std::string>> solvers = {{"cts-pibt-anytime", "#d62728"},
-                                                                    {"cts-pll-v3", "#1f77b4"}};
+// Flowtime over time of two anytime solvers on one instance, as CSV rows solver,time_s,flowtime.
+std::string anytime_csv(const std::string& file, double seconds, unsigned seed) {
+  std::ostringstream csv;
+  csv << "solver,time_s,flowtime\n";
   const Instance instance = load_instance(file);
-  for (const auto& [solver, colour] : solvers) {
+  for (const std::string solver : {"cts-pibt-anytime", "cts-pll-v3"}) {
     SolverConfig config;
     config.solver = solver;
     config.seed = seed;
     const SolveResult result = make_solver(config)->solve(instance, {Deadline::in_seconds(seconds), {}});
-    Series s{solver, colour, {}, true};
-    for (const Improvement& step : result.improvements) s.points.emplace_back(step.time_ms / 1000.0, step.flowtime);
-    if (!s.points.empty()) s.points.emplace_back(result.comp_time_ms / 1000.0, s.points.back().second);
-    series.push_back(s);
+    for (const Improvement& step : result.improvements) {
+      csv << solver << "," << step.time_ms / 1000.0 << "," << step.flowtime << "\n";
+    }
+    if (!result.improvements.empty()) {
+      csv << solver << "," << result.comp_time_ms / 1000.0 << "," << result.improvements.back().flowtime << "\n";
+    }
   }
-  return line_chart("Flowtime over time: " + fs::path(file).stem().string(), "time (s)", "flowtime", series);
+  return csv.str();
+}
+
+// Draws a chart with ctsfleet-plot (matplotlib) beside this program; a missing plotter or
+// matplotlib only costs the picture (the tables and CSV are the results), so it is a warning.
+void draw_chart(const std::vector<std::string>& arguments) {
+  const fs::path plotter = ctsfleet::program_dir() / "ctsfleet-plot";
+  std::vector<std::string> argv = {plotter.string()};
+  argv.insert(argv.end(), arguments.begin(), arguments.end());
+  std::vector<char*> raw;
+  for (std::string& argument : argv) raw.push_back(argument.data());
+  raw.push_back(nullptr);
+  pid_t pid = -1;
+  if (!fs::exists(plotter) || posix_spawn(&pid, raw[0], nullptr, nullptr, raw.data(), environ) != 0) {
+    std::fprintf(stderr, "warning: %s not found: chart not drawn\n", plotter.c_str());
+    return;
+  }
+  int status = 0;
+  while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  }
+  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
+    std::fprintf(stderr, "warning: %s %s failed: chart not drawn\n", plotter.c_str(), arguments.front().c_str());
+  }
 }
 
 int dense(const ExperimentSettings& settings, std::ostringstream& md, std::ofstream& csv) {
@@ -118,7 +147,6 @@ int dense(const ExperimentSettings& settings, std::ostringstream& md, std::ofstr
      << " s per run)\n\n";
   md << "| M | cts-pibt success | cts-pll-v1 success | paper CTS-PIBT | paper CTS-PLL-v1 | cts-pll-v1 median first (ms) |\n"
         "|---|---|---|---|---|---|\n";
-  Series pibt_series{"cts-pibt", "#d62728", {}}, v1_series{"cts-pll-v1", "#1f77b4", {}}, v3_series{"cts-pll-v3", "#2ca02c", {}};
   for (const auto& [setting, members] : by_setting(pibt)) {
     const int m = std::get<2>(setting);
     int solved_pibt = 0, solved_v1 = 0, solved_v3 = 0;
@@ -138,13 +166,7 @@ int dense(const ExperimentSettings& settings, std::ostringstream& md, std::ofstr
             std::snprintf(text, sizeof text, "%.1f", median(first));
             return std::string(text);
           }() << " |\n";
-    pibt_series.points.emplace_back(m, 100.0 * solved_pibt / n);
-    v1_series.points.emplace_back(m, 100.0 * solved_v1 / n);
-    v3_series.points.emplace_back(m, 100.0 * solved_v3 / n);
   }
-  write_file(fs::path(settings.out_dir) / "dense-success.svg",
-             line_chart("Success rate per M (maze-32-32-2, N=50)", "tasks M", "success (%)",
-                        {pibt_series, v1_series, v3_series}));
 
   md << "\n| M | cts-pibt-anytime flowtime | cts-pll-v3 flowtime | v3 gain | paper gain | anytime F/LB | v3 F/LB | "
         "v3 success | v3 median first (ms) |\n|---|---|---|---|---|---|---|---|---|\n";
@@ -174,7 +196,10 @@ int dense(const ExperimentSettings& settings, std::ostringstream& md, std::ofstr
   md << "\nFlowtimes are means over the instances both solvers solved. Gain = (anytime - v3) / anytime.\n\n";
   const std::string plotted = settings.benchmarks + "/dense/maze-32-32-2-N50-M120-00.yaml";
   if (fs::exists(plotted)) {
-    write_file(fs::path(settings.out_dir) / "dense-anytime.svg", anytime_plot(plotted, settings.seconds, settings.seed));
+    const fs::path anytime_file = fs::path(settings.out_dir) / "dense-anytime.csv";
+    write_file(anytime_file, anytime_csv(plotted, settings.seconds, settings.seed));
+    draw_chart({"anytime", anytime_file.string(), "-o", (fs::path(settings.out_dir) / "dense-anytime.svg").string(),
+                "--title", "Flowtime over time: " + fs::path(plotted).stem().string()});
   }
   return 0;
 }
@@ -274,7 +299,15 @@ int run_experiments(const std::string& which, const ExperimentSettings& settings
   if (which == "dense" || which == "all") code |= dense(settings, md, csv);
   if (which == "sparse" || which == "all") code |= sparse(settings, md, csv);
   if (which == "scale" || which == "all") code |= scale(settings, md, csv);
+  csv.close();
   write_file(fs::path(settings.out_dir) / (which + ".md"), md.str());
+  if (which == "dense" || which == "all") {
+    const std::string results = (fs::path(settings.out_dir) / (which + ".csv")).string();
+    draw_chart({"success", results, "--match", "/dense/", "-o", (fs::path(settings.out_dir) / "dense-success.svg").string(),
+                "--title", "Success rate per M (maze-32-32-2, N=50)"});
+    draw_chart({"ratio", results, "--match", "/dense/", "-o", (fs::path(settings.out_dir) / "dense-ratio.svg").string(),
+                "--title", "Flowtime / lower bound per M (maze-32-32-2, N=50)"});
+  }
   std::printf("%s", md.str().c_str());
   std::printf("written: %s/%s.{md,csv}\n", settings.out_dir.c_str(), which.c_str());
   return code;

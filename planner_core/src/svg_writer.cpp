@@ -1,5 +1,6 @@
 #include "planner_core/svg_writer.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -22,7 +23,31 @@ std::string agent_colour(int agent) {
   return out.str();
 }
 
+constexpr int kLegendPx = 48;
+
 double centre(int coordinate) { return coordinate * kCellPx + kCellPx / 2.0; }
+
+// The key below the map: what the marks mean and how time shows along a path.
+void draw_legend(std::ostringstream& svg, int width_px, int top_px) {
+  const double y = top_px + 16;
+  svg << "<g font-family=\"sans-serif\" font-size=\"12\" fill=\"#000\">\n"
+      << "<rect x=\"0\" y=\"" << top_px << "\" width=\"" << width_px << "\" height=\"" << kLegendPx
+      << "\" fill=\"#f4f4f4\"/>\n"
+      << "<circle cx=\"12\" cy=\"" << y << "\" r=\"6\" fill=\"#4a7fd4\" stroke=\"#000\"/>"
+      << "<text x=\"22\" y=\"" << y + 4 << "\">start</text>\n"
+      << "<rect x=\"66\" y=\"" << y - 6 << "\" width=\"12\" height=\"12\" fill=\"none\" stroke-width=\"3\" "
+      << "stroke=\"#4a7fd4\"/><text x=\"84\" y=\"" << y + 4 << "\">goal</text>\n"
+      << "<polygon points=\"132," << y - 7 << " 139," << y << " 132," << y + 7 << " 125," << y
+      << "\" fill=\"#4a7fd4\" stroke=\"#000\"/><text x=\"144\" y=\"" << y + 4 << "\">task of one agent</text>\n"
+      << "<polygon points=\"262," << y - 7 << " 269," << y << " 262," << y + 7 << " 255," << y
+      << "\" fill=\"#ffd400\" stroke=\"#000\"/><text x=\"274\" y=\"" << y + 4 << "\">shared task</text>\n";
+  const double y2 = top_px + 36;
+  for (int i = 0; i < 10; ++i) {
+    svg << "<line x1=\"" << 8 + i * 8 << "\" y1=\"" << y2 << "\" x2=\"" << 16 + i * 8 << "\" y2=\"" << y2
+        << "\" stroke=\"#4a7fd4\" stroke-width=\"3\" stroke-opacity=\"" << 0.15 + 0.085 * i << "\"/>";
+  }
+  svg << "<text x=\"94\" y=\"" << y2 + 4 << "\">path: faint early, solid late (one colour per agent)</text>\n</g>\n";
+}
 
 }  // namespace
 
@@ -30,9 +55,9 @@ std::string render_svg(const Instance& instance, const Solution& solution) {
   const Graph& graph = *instance.graph;
   const int n = instance.agent_count();
   std::ostringstream svg;
-  svg << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << graph.width() * kCellPx << "\" height=\""
-      << graph.height() * kCellPx << "\" viewBox=\"0 0 " << graph.width() * kCellPx << " "
-      << graph.height() * kCellPx << "\">\n";
+  const int width_px = std::max(graph.width() * kCellPx, 380), map_px = graph.height() * kCellPx;
+  svg << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << width_px << "\" height=\"" << map_px + kLegendPx
+      << "\" viewBox=\"0 0 " << width_px << " " << map_px + kLegendPx << "\">\n";
   svg << "<rect width=\"100%\" height=\"100%\" fill=\"#ffffff\"/>\n<g fill=\"#3a3a3a\">\n";
   for (int y = 0; y < graph.height(); ++y) {
     for (int x = 0; x < graph.width(); ++x) {
@@ -43,19 +68,21 @@ std::string render_svg(const Instance& instance, const Solution& solution) {
     }
   }
   svg << "</g>\n";
-  // Paths first, so markers stay visible on top.
+  // Paths first, so markers stay visible on top; each move drawn more opaque the later it happens.
+  const double last_step = std::max<double>(1.0, static_cast<double>(solution.size()) - 1);
   for (int a = 0; a < n && !solution.empty(); ++a) {
-    svg << "<polyline fill=\"none\" stroke-width=\"2\" stroke-opacity=\"0.8\" stroke-linejoin=\"round\" stroke=\""
-        << agent_colour(a) << "\" points=\"";
-    Vertex previous = kNoVertex;
+    svg << "<g stroke-width=\"2\" stroke-linecap=\"round\" stroke=\"" << agent_colour(a) << "\"><title>agent " << a
+        << "</title>";
     const double offset = ((a % 5) - 2) * 2.0;  // side by side where paths share a corridor
-    for (const Config& config : solution) {
-      if (config[a] == previous || config[a] == kNoVertex) continue;
-      const Cell c = graph.cell_of(config[a]);
-      svg << centre(c.x) + offset << "," << centre(c.y) + offset << " ";
-      previous = config[a];
+    for (size_t t = 1; t < solution.size(); ++t) {
+      const Vertex from = solution[t - 1][a], to = solution[t][a];
+      if (from == to || from == kNoVertex || to == kNoVertex) continue;
+      const Cell c = graph.cell_of(from), d = graph.cell_of(to);
+      svg << "<line x1=\"" << centre(c.x) + offset << "\" y1=\"" << centre(c.y) + offset << "\" x2=\""
+          << centre(d.x) + offset << "\" y2=\"" << centre(d.y) + offset << "\" stroke-opacity=\""
+          << 0.15 + 0.85 * static_cast<double>(t) / last_step << "\"/>";
     }
-    svg << "\"><title>agent " << a << "</title></polyline>\n";
+    svg << "</g>\n";
   }
   for (int k = 0; k < instance.task_count(); ++k) {
     const Task& task = instance.tasks[k];
@@ -78,6 +105,7 @@ std::string render_svg(const Instance& instance, const Solution& solution) {
         << kCellPx - 6 << "\" height=\"" << kCellPx - 6 << "\" fill=\"none\" stroke-width=\"3\" stroke=\"" << colour
         << "\"><title>goal of agent " << a << "</title></rect>\n";
   }
+  draw_legend(svg, width_px, map_px);
   svg << "</svg>\n";
   return svg.str();
 }

@@ -5,9 +5,10 @@
 namespace planner_core {
 
 void YamlContext::fail(const YAML::Node& node, const std::string& field, const std::string& problem) const {
-  std::string where = file_;
-  if (node.IsDefined() && node.Mark().line >= 0) where += ":" + std::to_string(node.Mark().line + 1);
-  throw InputError(where + ": " + field + ": " + problem);
+  std::string message = file_;
+  if (node.IsDefined() && node.Mark().line >= 0) message.append(":").append(std::to_string(node.Mark().line + 1));
+  message.append(": ").append(field).append(": ").append(problem);
+  throw InputError(message);
 }
 
 void YamlContext::only_keys(const YAML::Node& map, const std::set<std::string>& allowed,

@@ -4,6 +4,7 @@ monitor, talking DDS over loopback, each test on its own domain. Every wait is o
 with a generous deadline, so a loaded machine only makes the tests slower."""
 import os
 import re
+import shutil
 import signal
 import subprocess
 import sys
@@ -101,7 +102,8 @@ class Fleet:
         code = self.wait_exit("monitor", 60)
         return code, read(self.log("monitor"))
 
-    def close(self):
+    def close(self, keep_logs=False):
+        """Stops every process; removes the test's folder unless `keep_logs` (a failed test)."""
         for process in self.processes.values():
             if process.poll() is None:
                 process.send_signal(signal.SIGTERM)
@@ -112,6 +114,16 @@ class Fleet:
                 process.kill()
         for out in self.files:
             out.close()
+        if keep_logs:
+            print(f"logs kept in {self.dir}", file=sys.stderr)
+        else:
+            shutil.rmtree(self.dir, ignore_errors=True)
+
+
+def failed(test):
+    """True when `test` (a TestCase in its tearDown) has failed or raised so far."""
+    result = getattr(getattr(test, "_outcome", None), "result", None)
+    return result is None or any(case is test for case, _ in result.failures + result.errors)
 
 
 class FleetTest(unittest.TestCase):
@@ -119,7 +131,7 @@ class FleetTest(unittest.TestCase):
         self.fleet = Fleet(self._testMethodName)
 
     def tearDown(self):
-        self.fleet.close()
+        self.fleet.close(keep_logs=failed(self))
 
     def assert_pending_explained(self, text, role_without_robot=None):
         """Every task or goal left undone is the lost robot's role, or was blocked by the lost robot

@@ -27,8 +27,23 @@ Instance make_instance(const std::vector<std::string>& rows, const std::vector<A
   return instance;
 }
 
+namespace {
+
+// This process's temporary folder, removed when the test program ends.
+struct TemporaryFolder {
+  std::filesystem::path path =
+      std::filesystem::temp_directory_path() / ("ctsfleet-test-" + std::to_string(::getpid()));
+  ~TemporaryFolder() {
+    std::error_code ignored;
+    std::filesystem::remove_all(path, ignored);
+  }
+};
+
+}  // namespace
+
 std::string write_temp_file(const std::string& name, const std::string& text) {
-  const auto dir = std::filesystem::temp_directory_path() / ("ctsfleet-test-" + std::to_string(::getpid()));
+  static TemporaryFolder folder;
+  const auto& dir = folder.path;
   std::filesystem::create_directories(dir);
   const auto path = dir / name;
   std::filesystem::create_directories(path.parent_path());

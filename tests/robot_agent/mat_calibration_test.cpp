@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <unistd.h>
 #include <random>
 
 #include "planner_core/input_error.hpp"
@@ -18,8 +19,19 @@ namespace fs = std::filesystem;
 const std::string kMats = CTSFLEET_CONFIG_DIR "/mats/";
 const MatArea kRing{"ring", 45, 455, 45, 455};
 
+// This process's temporary folder, removed when the test program ends.
+struct TemporaryFolder {
+  fs::path path = fs::temp_directory_path() / ("ctsfleet-mat-" + std::to_string(::getpid()));
+  TemporaryFolder() { fs::create_directories(path); }
+  ~TemporaryFolder() {
+    std::error_code ignored;
+    fs::remove_all(path, ignored);
+  }
+};
+
 std::string write_temp(const std::string& name, const std::string& text) {
-  const fs::path path = fs::temp_directory_path() / ("ctsfleet-mat-" + name + ".yaml");
+  static TemporaryFolder folder;
+  const fs::path path = folder.path / (name + ".yaml");
   std::ofstream(path) << text;
   return path.string();
 }
@@ -135,7 +147,7 @@ TEST(MatCalibration, LoadErrorsNameTheFileAndField) {
             std::string::npos);
   EXPECT_NE(load_error("mat: {x_range: [455, 45], y_range: [45, 455]}\ngrid: {}\n").find("mat.x_range"),
             std::string::npos);
-  EXPECT_NE(load_error(mat + "grid: [1, 2\n").find("ctsfleet-mat-bad.yaml"), std::string::npos);
+  EXPECT_NE(load_error(mat + "grid: [1, 2\n").find("bad.yaml"), std::string::npos);
   EXPECT_NE(load_error(mat + "grid: {width: 8, height: 8}\ntransform: {matrix: [[1, 2], [2, 4]], offset: [0, 0]}\n")
                 .find("singular"),
             std::string::npos);

@@ -11,7 +11,7 @@ import time
 import unittest
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "../fleet"))
-from test_fleet import BIN, DDS_DIR, ROOT, Fleet, read, wait_for  # noqa: E402
+from test_fleet import BIN, DDS_DIR, ROOT, Fleet, failed, read, wait_for  # noqa: E402
 
 import yaml  # noqa: E402
 
@@ -91,7 +91,7 @@ class ToioFleetTest(unittest.TestCase):
         self.fleet = ToioFleet(self._testMethodName)
 
     def tearDown(self):
-        self.fleet.close()
+        self.fleet.close(keep_logs=failed(self))
 
     def assert_safe(self):
         code, text = self.fleet.monitor_verdict()

@@ -71,7 +71,7 @@ class FleetCoordinator {
     std::string backend;
   };
   struct Event {
-    enum class Kind { kAnnouncement, kState, kGone } kind;
+    enum class Kind { kAnnouncement, kState, kGone } kind = Kind::kAnnouncement;
     fleet_transport::Announcement announcement;
     fleet_transport::RobotState state;
     std::string robot_id;
