@@ -82,8 +82,9 @@ def options_of(program, subcommand=None):
 
 
 class Case:
-    def __init__(self, program, args, name, must_refuse=False, expect=None, timeout=None):
+    def __init__(self, program, args, name, must_refuse=False, expect=None, timeout=None, stderr_contains=None):
         self.program, self.args, self.name = program, args, name
+        self.stderr_contains = stderr_contains  # a text the program must say on stderr
         self.must_refuse = must_refuse  # exit 2 required
         self.expect = expect            # a predicate on the exit code, for named cases
         self.timeout = timeout or LONG_RUNNING.get(program, 20.0)
@@ -127,6 +128,8 @@ def run(case):
         return f"accepted (exit {code}{', after SIGTERM' if terminated else ''}), expected exit 2; stderr: {tail}"
     if case.expect and not case.expect(code):
         return f"exit {code} not as expected; stderr: {tail}"
+    if case.stderr_contains and case.stderr_contains not in err:
+        return f"stderr does not say '{case.stderr_contains}': {err.strip()[-300:]!r}"
     del started, out
     return None
 
@@ -205,7 +208,10 @@ def named_cases():
         refuse("ctsfleet-monitor", ["--domain", "500"], "monitor --domain 500"),
         refuse("ctsfleet-monitor", ["--dds-config-dir", "/proc/nonexistent"], "monitor: missing DDS config folder"),
         Case("ctsfleet-monitor", ["--domain", "231", "--duration", "0.5"], "monitor hears nothing: non-zero",
-             expect=lambda code: code not in (0, 2)),
+             expect=lambda code: code not in (0, 2), stderr_contains="heard no robot on cyclone domain 231"),
+        Case("ctsfleet-coordinator", ["-c", os.path.join(ROOT, "config/fleet.yaml"), "--domain", "230"],
+             "coordinator hearing no robot says what an agent needs", timeout=8, expect=lambda code: code == 130,
+             stderr_contains="no robot heard after 5 s on cyclone domain 230"),
         refuse("ctsfleet-bench", ["-j", "100000", INSTANCE], "bench -j 100000"),
         refuse("ctsfleet-bench", ["--experiment", "dense", "--out-dir", "/proc/no/such"], "bench: unwritable out-dir"),
         refuse("ctsfleet-bench", ["--experiment", "dense", "--out-dir", "/proc/1", "--sample", "1", "-t", "0.1"],

@@ -14,6 +14,10 @@ grep -q "^comp_time_first_ms=" "$work/sol.txt"
 grep -q "^comp_time_preprocessing_ms=" "$work/sol.txt"
 grep -q "preprocessing_ms=.* peak_memory_mb=" "$work/summary"
 grep -q "stroke-opacity" "$work/sol.svg" && grep -q ">start</text>" "$work/sol.svg"
+# mapf-visualizer reads the lines with ":(" as timesteps, each "(x,y)," a position; lacam's keys are there.
+grep ":(" "$work/sol.txt" | grep -qvE '^[0-9]+:(\([0-9]+,[0-9]+\),)+$' && { echo "a timestep line mapf-visualizer would misread"; exit 1; }
+[ "$(grep -c ':(' "$work/sol.txt")" -eq "$(( $(grep '^makespan=' "$work/sol.txt" | cut -d= -f2) + 1 ))" ]
+grep -q '^soc=' "$work/sol.txt" && grep -q '^starts=(' "$work/sol.txt" && grep -q '^goals=(' "$work/sol.txt"
 "$python" "$ctsval" "$work/gen.yaml" "$work/sol.txt"
 
 mkdir "$work/suite"

@@ -68,20 +68,34 @@ std::string render_svg(const Instance& instance, const Solution& solution) {
     }
   }
   svg << "</g>\n";
-  // Paths first, so markers stay visible on top; each move drawn more opaque the later it happens.
+  // Paths first, so markers stay visible on top. Time shows as opacity: each path is cut into
+  // kTimeBands polylines by when its moves happen, faint early, solid late.
+  constexpr int kTimeBands = 8;
   const double last_step = std::max<double>(1.0, static_cast<double>(solution.size()) - 1);
+  const auto band_of = [&](size_t t) { return std::min(kTimeBands - 1, static_cast<int>(kTimeBands * (t - 1) / last_step)); };
   for (int a = 0; a < n && !solution.empty(); ++a) {
-    svg << "<g stroke-width=\"2\" stroke-linecap=\"round\" stroke=\"" << agent_colour(a) << "\"><title>agent " << a
-        << "</title>";
+    svg << "<g fill=\"none\" stroke-width=\"2\" stroke-linejoin=\"round\" stroke=\"" << agent_colour(a)
+        << "\"><title>agent " << a << "</title>\n";
     const double offset = ((a % 5) - 2) * 2.0;  // side by side where paths share a corridor
+    const auto point = [&](Vertex v) {
+      const Cell c = graph.cell_of(v);
+      std::ostringstream text;
+      text << centre(c.x) + offset << "," << centre(c.y) + offset << " ";
+      return text.str();
+    };
+    int open_band = -1;  // the band of the polyline being written, -1 when none is open
     for (size_t t = 1; t < solution.size(); ++t) {
       const Vertex from = solution[t - 1][a], to = solution[t][a];
       if (from == to || from == kNoVertex || to == kNoVertex) continue;
-      const Cell c = graph.cell_of(from), d = graph.cell_of(to);
-      svg << "<line x1=\"" << centre(c.x) + offset << "\" y1=\"" << centre(c.y) + offset << "\" x2=\""
-          << centre(d.x) + offset << "\" y2=\"" << centre(d.y) + offset << "\" stroke-opacity=\""
-          << 0.15 + 0.85 * static_cast<double>(t) / last_step << "\"/>";
+      const int band = band_of(t);
+      if (band != open_band) {
+        if (open_band >= 0) svg << "\"/>\n";
+        svg << "<polyline stroke-opacity=\"" << 0.15 + 0.85 * (band + 1) / kTimeBands << "\" points=\"" << point(from);
+        open_band = band;
+      }
+      svg << point(to);
     }
+    if (open_band >= 0) svg << "\"/>\n";
     svg << "</g>\n";
   }
   for (int k = 0; k < instance.task_count(); ++k) {

@@ -83,9 +83,9 @@ class Fleet:
         for index, cell in enumerate(role_starts()):
             self.agent(f"robot{index}", cell, dds, extra)
 
-    def coordinator(self, dds="cyclone", config=CONFIG):
+    def coordinator(self, dds="cyclone", config=CONFIG, extra=()):
         return self.start("coordinator", [f"{BIN}/ctsfleet-coordinator", "--config", config, "--dds", dds,
-                                          "--domain", str(self.domain)])
+                                          "--domain", str(self.domain), *extra])
 
     def monitor(self, dds="cyclone"):
         return self.start("monitor", [f"{BIN}/ctsfleet-monitor", "--dds", dds, "--domain", str(self.domain),

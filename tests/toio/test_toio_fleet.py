@@ -98,12 +98,12 @@ class ToioFleetTest(unittest.TestCase):
         self.assertIn("overlaps 0", text, text)
         self.assertEqual(code, 0, text)
 
-    def start_mission(self):
+    def start_mission(self, coordinator_extra=()):
         self.fleet.emulator([(f"toio-{i}", cell) for i, cell in enumerate(role_starts())])
         self.fleet.monitor()
         for i in range(len(role_starts())):
             self.fleet.toio_agent(f"robot{i}", f"toio-{i}")
-        self.fleet.coordinator(config=TOIO_CONFIG)
+        self.fleet.coordinator(config=TOIO_CONFIG, extra=coordinator_extra)
         wait_for(lambda: "plan epoch 1" in read(self.fleet.log("coordinator")), 120, "the first plan")
 
     def finish_mission(self):
