@@ -158,9 +158,15 @@ TEST(ToioProtocol, RandomBytesAreDecodedOrRejectedNeverMisread) {
     } else {
       ASSERT_FALSE(id.error.empty());
     }
-    if (const auto motor = decode_motor(bytes)) ASSERT_EQ(bytes.size(), 3u) << to_hex(bytes);
-    if (const auto battery = decode_battery(bytes)) ASSERT_LE(*battery.value, 100);
-    if (const auto reply = decode_configuration(bytes)) ASSERT_GE(bytes.size(), 3u);
+    if (const auto motor = decode_motor(bytes)) {
+      ASSERT_EQ(bytes.size(), 3u) << to_hex(bytes);
+    }
+    if (const auto battery = decode_battery(bytes)) {
+      ASSERT_LE(*battery.value, 100);
+    }
+    if (const auto reply = decode_configuration(bytes)) {
+      ASSERT_GE(bytes.size(), 3u);
+    }
     (void)decode_button(bytes);
   }
 }
