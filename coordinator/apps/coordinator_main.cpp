@@ -36,6 +36,7 @@ int main(int argc, char** argv) {
     spdlog::info("mission {}: {} roles, {} tasks; solver {}; {} domain {}", config.mission, mission.agent_count(),
                  mission.task_count(), config.solver, config.dds_vendor, config.domain_id);
     FleetCoordinator coordinator(config, std::move(mission));
+    coordinator.set_interrupt(&ctsfleet::stop_requested());  // Ctrl-C cuts a running solve short
     fleet_transport::TransportConfig transport_config;
     transport_config.vendor = fleet_transport::parse_vendor(config.dds_vendor);
     transport_config.domain_id = config.domain_id;

@@ -34,12 +34,4 @@ ActionDependencyGraph::ActionDependencyGraph(const planner_core::Solution& plan)
   }
 }
 
-bool ActionDependencyGraph::ready(int robot, int move, const std::vector<int>& finished) const {
-  if (finished[robot] != move) return false;  // its own previous moves first
-  for (const auto& [other, index] : moves_[robot][move].after) {
-    if (finished[other] <= index) return false;
-  }
-  return true;
-}
-
 }  // namespace coordinator

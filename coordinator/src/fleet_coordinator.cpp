@@ -5,7 +5,9 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <tuple>
 
+#include "coordinator/plan_builder.hpp"
 #include "coordinator/role_assignment.hpp"
 #include "planner_core/dist_table.hpp"
 #include "planner_core/input_error.hpp"
@@ -31,9 +33,7 @@ FleetCoordinator::Clock::duration seconds(double s) {
 }  // namespace
 
 FleetCoordinator::FleetCoordinator(const FleetConfig& config, planner_core::Instance mission)
-    : config_(config), mission_(std::move(mission)), started_(Clock::now()) {
-  robot_of_role_.assign(mission_.agent_count(), "");
-  for (const planner_core::Task& task : mission_.tasks) task_done_.emplace_back(task.agents.size(), 0);
+    : config_(config), mission_(std::move(mission)), progress_(mission_), started_(Clock::now()) {
   summary_.tasks_total = mission_.task_count();
 }
 
@@ -77,7 +77,7 @@ void FleetCoordinator::request_replan(const std::string& why) {
   replan_requested_ = true;
 }
 
-void FleetCoordinator::lose(Robot& robot, const std::string& why) {
+void FleetCoordinator::lose(RobotRecord& robot, const std::string& why) {
   if (!robot.active) return;
   robot.active = false;
   replanned_after_finish_ = false;
@@ -89,71 +89,68 @@ void FleetCoordinator::lose(Robot& robot, const std::string& why) {
   }
   // A robot that fell silent mid-move may have arrived at its target: keep that cell clear too.
   const int a = robot.plan_agent;
-  if (a >= 0 && adg_ && a < static_cast<int>(sent_.size()) && sent_[a] == finished_[a] &&
-      finished_[a] < static_cast<int>(adg_->moves(a).size())) {
-    const Cell target = plan_graph_->cell_of(adg_->moves(a)[finished_[a]].to);
+  if (a >= 0 && plan_ && a < plan_->agent_count() && plan_->in_flight(a)) {
+    const Cell target = plan_->target(a, plan_->agent(a).finished);
     blocked_[mission_vertex(target.x, target.y)] = robot.id;
   }
   if (robot.role >= 0) {
-    robot_of_role_[robot.role] = "";
+    progress_.unbind(robot.role);
     robot.role = -1;
   }
   if (robot.plan_agent >= 0) request_replan("robot " + robot.id + " lost");
 }
 
 void FleetCoordinator::handle(const Event& event) {
-  auto [it, fresh] = robots_.try_emplace(event.robot_id);
-  Robot& robot = it->second;
-  robot.id = event.robot_id;
+  RobotRecord& robot = robots_[event.robot_id];
   switch (event.kind) {
-    case Event::Kind::kAnnouncement:
-      if (event.announcement.leaving) {
-        lose(robot, "said goodbye");
-        return;
-      }
-      if (robot.announced && robot.active) {
-        if (robot.backend != event.announcement.backend) {
-          spdlog::warn("robot id {} announced by a second {} robot while a {} robot is active: duplicate id, the "
-                       "second is ignored",
-                       robot.id, event.announcement.backend, robot.backend);
-        }
-        return;  // robots repeat their announcement every second
-      }
-      if (!config_.any_robots && std::find(config_.expected_robots.begin(), config_.expected_robots.end(),
-                                           robot.id) == config_.expected_robots.end()) {
-        if (!robot.refused) spdlog::warn("robot {} refused: not in robots.expected of {}", robot.id, config_.source);
-        robot.refused = true;
-        return;
-      }
-      robot.announced = true;
-      robot.refused = false;
-      robot.backend = event.announcement.backend;
-      spdlog::info("robot {} announced ({} backend, version {})", robot.id, event.announcement.backend,
-                   event.announcement.version);
-      return;
+    case Event::Kind::kAnnouncement: handle_announcement(robot, event.announcement); return;
     case Event::Kind::kGone:
       lose(robot, event.reason == fleet_transport::GoneReason::kGoodbye ? "said goodbye" : "liveliness lost");
       return;
-    case Event::Kind::kState: break;
+    case Event::Kind::kState: handle_state(robot, event.state, event.received); return;
   }
+}
+
+void FleetCoordinator::handle_announcement(RobotRecord& robot, const fleet_transport::Announcement& announcement) {
+  if (announcement.leaving) {
+    lose(robot, "said goodbye");
+    return;
+  }
+  const std::string backend_before = robot.backend;
+  switch (robots_.admit(announcement, config_)) {
+    case RobotRegistry::Admission::kRepeat: return;  // robots repeat their announcement every second
+    case RobotRegistry::Admission::kDuplicate:
+      spdlog::warn("robot id {} announced by a second {} robot while a {} robot is active: duplicate id, the "
+                   "second is ignored",
+                   robot.id, announcement.backend, backend_before);
+      return;
+    case RobotRegistry::Admission::kRefused:
+      spdlog::warn("robot {} refused: not in robots.expected of {}", robot.id, config_.source);
+      return;
+    case RobotRegistry::Admission::kRefusedAgain: return;
+    case RobotRegistry::Admission::kAdmitted:
+      spdlog::info("robot {} announced ({} backend, version {})", robot.id, announcement.backend, announcement.version);
+      return;
+  }
+}
+
+void FleetCoordinator::handle_state(RobotRecord& robot, const fleet_transport::RobotState& state,
+                                    Clock::time_point received) {
   ++summary_.states_received;
   if (!robot.announced) {
     if (warned_unknown_.insert(robot.id).second) {
       spdlog::warn("state from unknown robot {} ignored until it announces itself; its cell is kept clear", robot.id);
     }
-    const Vertex cell = mission_vertex(event.state.cell_x, event.state.cell_y);
+    const Vertex cell = mission_vertex(state.cell_x, state.cell_y);
     if (cell != planner_core::kNoVertex) unknown_cells_[robot.id] = cell;
     return;
   }
   unknown_cells_.erase(robot.id);
   if (robot.refused) return;
-  const fleet_transport::RobotState& state = event.state;
   const Vertex cell = mission_vertex(state.cell_x, state.cell_y);
   if (cell == planner_core::kNoVertex) {
-    if (!robot.refused) {
-      spdlog::error("robot {} refused: it reports cell ({},{}), which is outside the map or blocked", robot.id,
-                    state.cell_x, state.cell_y);
-    }
+    spdlog::error("robot {} refused: it reports cell ({},{}), which is outside the map or blocked", robot.id,
+                  state.cell_x, state.cell_y);
     robot.refused = true;
     lose(robot, "reported a cell off the map");
     return;
@@ -168,10 +165,8 @@ void FleetCoordinator::handle(const Event& event) {
   }
   robot.has_state = true;
   robot.last = state;
-  if (const int a = robot.plan_agent; a >= 0 && adg_ && state.plan_epoch == epoch_ && a < static_cast<int>(sent_.size()) &&
-                                      state.action_index == sent_[a] && !acknowledged_[a]) {
-    acknowledged_[a] = 1;
-    summary_.round_trips_ms.push_back(std::chrono::duration<double, std::milli>(event.received - first_sent_at_[a]).count());
+  if (const int a = robot.plan_agent; a >= 0 && plan_ && a < plan_->agent_count()) {
+    if (const auto round_trip = plan_->acknowledge(a, state, received)) summary_.round_trips_ms.push_back(*round_trip);
   }
   if (!robot.active) {
     robot.active = true;
@@ -180,36 +175,24 @@ void FleetCoordinator::handle(const Event& event) {
     if (phase_ != Phase::kWaiting) {
       ++summary_.robots_joined;
       replanned_after_finish_ = false;
-      std::vector<Robot*> joining{&robot};
-      bind_roles(joining);
+      bind_roles({&robot});
       request_replan("robot " + robot.id + " joined");
     }
   }
-  if (robot.role >= 0) mark_visit(robot, {state.cell_x, state.cell_y});
+  if (robot.role >= 0) progress_.visit(robot.role, cell);
 }
 
-void FleetCoordinator::mark_visit(Robot& robot, Cell cell) {
-  const Vertex v = mission_vertex(cell.x, cell.y);
-  for (int t : mission_.tasks_of_agent[robot.role]) {
-    const planner_core::Task& task = mission_.tasks[t];
-    if (task.at != v) continue;
-    for (size_t k = 0; k < task.agents.size(); ++k) {
-      if (task.agents[k] == robot.role) task_done_[t][k] = 1;
-    }
-  }
-}
-
-void FleetCoordinator::bind_roles(const std::vector<Robot*>& robots) {
-  std::vector<Robot*> unbound;
-  for (Robot* robot : robots) {
+void FleetCoordinator::bind_roles(const std::vector<RobotRecord*>& robots) {
+  std::vector<RobotRecord*> unbound;
+  for (RobotRecord* robot : robots) {
     const Vertex cell = mission_vertex(robot->last.cell_x, robot->last.cell_y);
     int taken = -1;
     for (int role = 0; role < mission_.agent_count() && taken < 0; ++role) {
-      if (robot_of_role_[role].empty() && mission_.starts[role] == cell) taken = role;
+      if (progress_.robot_of(role).empty() && mission_.starts[role] == cell) taken = role;
     }
     if (taken >= 0) {
       robot->role = taken;
-      robot_of_role_[taken] = robot->id;
+      progress_.bind(taken, robot->id);
       spdlog::info("robot {} takes role {} (it stands on the role's start)", robot->id, taken);
     } else {
       unbound.push_back(robot);
@@ -217,10 +200,10 @@ void FleetCoordinator::bind_roles(const std::vector<Robot*>& robots) {
   }
   std::vector<int> free_roles;
   for (int role = 0; role < mission_.agent_count(); ++role) {
-    if (robot_of_role_[role].empty()) free_roles.push_back(role);
+    if (progress_.robot_of(role).empty()) free_roles.push_back(role);
   }
   if (unbound.empty() || free_roles.empty()) {
-    for (Robot* robot : unbound) spdlog::info("robot {} has no role: it stays as an extra robot", robot->id);
+    for (RobotRecord* robot : unbound) spdlog::info("robot {} has no role: it stays as an extra robot", robot->id);
     return;
   }
   planner_core::DistTable dist(*mission_.graph);
@@ -237,132 +220,75 @@ void FleetCoordinator::bind_roles(const std::vector<Robot*>& robots) {
     }
     const int role = free_roles[assignment[r]];
     unbound[r]->role = role;
-    robot_of_role_[role] = unbound[r]->id;
+    progress_.bind(role, unbound[r]->id);
     spdlog::info("robot {} takes role {} ({} steps from its start)", unbound[r]->id, role, cost[r][assignment[r]]);
   }
 }
 
 bool FleetCoordinator::replan(fleet_transport::Transport& transport) {
   // Extra robots take over the roles (and remaining tasks) of robots that left.
-  std::vector<Robot*> extras;
-  for (auto& [id, robot] : robots_) {
-    if (robot.active && robot.has_state && robot.role < 0) extras.push_back(&robot);
+  std::vector<RobotRecord*> extras;
+  for (RobotRecord* robot : robots_.ready_robots()) {
+    if (robot->role < 0) extras.push_back(robot);
   }
-  const bool free_role = std::find(robot_of_role_.begin(), robot_of_role_.end(), "") != robot_of_role_.end();
-  if (!extras.empty() && free_role && phase_ != Phase::kWaiting) bind_roles(extras);
+  if (!extras.empty() && progress_.any_role_free() && phase_ != Phase::kWaiting) bind_roles(extras);
 
-  // The planning map: the mission map with the cells of lost robots blocked.
-  std::vector<std::string> rows = mission_.graph->rows();
-  std::set<Vertex> obstacles;
-  for (const auto& [cell, robot_id] : blocked_) obstacles.insert(cell);
-  for (const auto& [id, cell] : unknown_cells_) obstacles.insert(cell);  // robots we cannot command
-  for (Vertex v : obstacles) {
-    const Cell c = mission_.graph->cell_of(v);
-    rows[c.y][c.x] = '@';
+  // Plan from where the robots stand, around lost robots and robots that cannot be commanded.
+  std::set<Vertex> blocked;
+  for (const auto& [cell, robot_id] : blocked_) blocked.insert(cell);
+  for (const auto& [id, cell] : unknown_cells_) blocked.insert(cell);
+  std::vector<PlanMember> members;
+  for (auto& [id, robot] : robots_) robot.plan_agent = -1;
+  for (RobotRecord* robot : robots_.ready_robots()) {
+    members.push_back({robot->id, {robot->last.cell_x, robot->last.cell_y}, robot->role});
   }
-  auto graph = std::make_shared<const planner_core::Graph>(mission_.graph->width(), mission_.graph->height(), rows);
-  planner_core::DistTable dist(*graph);
-  planner_core::Instance instance;
-  instance.graph = graph;
-  instance.source = "replan";
-  std::vector<Robot*> members;
-  for (auto& [id, robot] : robots_) {
-    robot.plan_agent = -1;
-    if (robot.active && robot.has_state) members.push_back(&robot);
+  PlanInstance built = build_plan_instance(mission_, progress_, members, blocked);
+  for (const std::string& note : built.notes) spdlog::error("{}", note);
+  const planner_core::Instance& instance = built.instance;
+  for (int a = 0; a < instance.agent_count(); ++a) {
+    RobotRecord& robot = robots_[built.robots[a]];
+    robot.plan_agent = a;
+    robot.finished_plan = false;
   }
-  std::set<Vertex> goals_taken;
-  for (Robot* robot : members) {
-    if (robot->role >= 0) goals_taken.insert(graph->vertex_at(mission_.graph->cell_of(mission_.goals[robot->role])));
-  }
-  std::vector<int> plan_role;
-  for (Robot* robot : members) {
-    const Vertex start = graph->vertex_at({robot->last.cell_x, robot->last.cell_y});
-    if (start == planner_core::kNoVertex) continue;  // cannot happen: active robots' cells are free
-    Vertex goal = planner_core::kNoVertex;
-    if (robot->role >= 0) {
-      goal = graph->vertex_at(mission_.graph->cell_of(mission_.goals[robot->role]));
-      if (goal == planner_core::kNoVertex || dist.get(goal, start) >= planner_core::kUnreachable) {
-        spdlog::error("role {}: goal blocked or unreachable for robot {}; it holds its cell", robot->role, robot->id);
-        goal = planner_core::kNoVertex;
-      }
-    }
-    if (goal == planner_core::kNoVertex) {
-      // Extra robots (and robots that cannot reach their goal) rest on the nearest cell nobody needs.
-      int best = planner_core::kUnreachable;
-      for (Vertex v = 0; v < graph->vertex_count(); ++v) {
-        const int from_start = dist.get(start, v);
-        if (from_start < best && !goals_taken.count(v)) best = from_start, goal = v;
-      }
-      goals_taken.insert(goal);
-    }
-    robot->plan_agent = instance.agent_count();
-    instance.starts.push_back(start);
-    instance.goals.push_back(goal);
-    plan_role.push_back(robot->role);
-    plan_robots_.resize(instance.agent_count());
-    plan_robots_[robot->plan_agent] = robot->id;
-  }
-  plan_robots_.resize(instance.agent_count());
-  // Remaining tasks of the roles in the plan.
-  for (int t = 0; t < mission_.task_count(); ++t) {
-    const planner_core::Task& task = mission_.tasks[t];
-    planner_core::Task remaining;
-    remaining.at = graph->vertex_at(mission_.graph->cell_of(task.at));
-    for (size_t k = 0; k < task.agents.size(); ++k) {
-      if (task_done_[t][k]) continue;
-      for (int a = 0; a < instance.agent_count(); ++a) {
-        if (plan_role[a] != task.agents[k]) continue;
-        if (remaining.at == planner_core::kNoVertex || dist.get(remaining.at, instance.starts[a]) >= planner_core::kUnreachable) {
-          spdlog::error("task {} unreachable for robot {} (blocked by a lost robot): left pending", t,
-                        plan_robots_[a]);
-          continue;
-        }
-        remaining.agents.push_back(a);
-      }
-    }
-    if (!remaining.agents.empty()) instance.tasks.push_back(remaining);
-  }
-  instance.index_tasks();
-  for (Robot* robot : members) robot->finished_plan = false;
 
   planner_core::SolverConfig solver_config;
   const bool first_plan = epoch_ == 0;
   solver_config.solver = first_plan ? config_.solver : config_.replan_solver;
   solver_config.forbid_rotations = true;  // robots execute one move at a time
   solver_config.pibt.swap = config_.pibt_swap;
-  const auto solver = planner_core::make_solver(solver_config);
-  const planner_core::SolveResult result = solver->solve(
-      instance, {planner_core::Deadline::in_seconds(first_plan ? config_.plan_time_s : config_.replan_time_s), {}});
-  if (!result.solved) {
-    spdlog::error("planning failed ({}); retrying", result.failure_reason);
+  // After a failure the robots hold (no new moves) and the next try gets a longer limit, up to 8x.
+  const double limit_s = (first_plan ? config_.plan_time_s : config_.replan_time_s) * plan_limit_factor_;
+  const auto failed = [&](const std::string& why) {
+    plan_limit_factor_ = std::min(8.0, plan_limit_factor_ * 2);
+    spdlog::error("planning failed ({}); the robots hold; retrying in 1 s with a limit of {:.1f} s", why,
+                  (first_plan ? config_.plan_time_s : config_.replan_time_s) * plan_limit_factor_);
     return false;
+  };
+  planner_core::SolveResult result;
+  try {
+    result = planner_core::make_solver(solver_config)->solve(instance, {planner_core::Deadline::in_seconds(limit_s, interrupt_), {}});
+  } catch (const std::exception& e) {  // a solver bug must not end the mission
+    return failed(std::string("the solver threw: ") + e.what());
   }
+  if (!result.solved) return failed(result.failure_reason);
   const planner_core::ValidationReport report =
       planner_core::validate(instance, result.solution, planner_core::ValidationOptions{true});
   if (!report.ok()) {
     spdlog::critical("the plan failed validation; it is not sent:\n{}", report.summary());
-    return false;
+    return failed("invalid plan");
   }
+  plan_limit_factor_ = 1;
   ++epoch_;
   if (epoch_ > 1) ++summary_.replans;
   if (epoch_ == 1) {
     summary_.first_plan_makespan = report.makespan;
     summary_.first_plan_flowtime = report.flowtime;
   }
-  plan_graph_ = graph;
-  adg_ = std::make_unique<ActionDependencyGraph>(result.solution);
-  finished_.assign(instance.agent_count(), 0);
-  sent_.assign(instance.agent_count(), -1);
-  sent_at_.assign(instance.agent_count(), Clock::time_point{});
-  first_sent_at_.assign(instance.agent_count(), Clock::time_point{});
-  acknowledged_.assign(instance.agent_count(), 0);
+  plan_ = std::make_unique<PlanExecution>(epoch_, instance.graph, result.solution, built.robots);
+  int visits = 0;
+  for (const auto& task : instance.tasks) visits += static_cast<int>(task.agents.size());
   spdlog::info("plan epoch {}: {} robots, {} task visits, flowtime {}, makespan {}", epoch_, instance.agent_count(),
-               [&] {
-                 int visits = 0;
-                 for (const auto& task : instance.tasks) visits += static_cast<int>(task.agents.size());
-                 return visits;
-               }(),
-               report.flowtime, report.makespan);
+               visits, report.flowtime, report.makespan);
   replan_requested_ = false;
   phase_ = Phase::kExecuting;
   dispatch(transport);
@@ -370,58 +296,34 @@ bool FleetCoordinator::replan(fleet_transport::Transport& transport) {
 }
 
 void FleetCoordinator::update_progress() {
-  if (!adg_) return;
-  for (size_t a = 0; a < plan_robots_.size(); ++a) {
-    Robot& robot = robots_[plan_robots_[a]];
-    const std::vector<Move>& moves = adg_->moves(static_cast<int>(a));
-    if (finished_[a] >= static_cast<int>(moves.size()) || sent_[a] != finished_[a]) continue;
-    const fleet_transport::RobotState& s = robot.last;
-    const Cell target = plan_graph_->cell_of(moves[finished_[a]].to);
-    if (s.plan_epoch == epoch_ && s.action_index == finished_[a] && s.status != RobotStatus::kMoving &&
-        s.cell_x == target.x && s.cell_y == target.y) {
-      ++finished_[a];
-      if (robot.role >= 0) mark_visit(robot, target);
+  if (!plan_) return;
+  for (int a = 0; a < plan_->agent_count(); ++a) {
+    RobotRecord& robot = robots_[plan_->agent(a).robot_id];
+    if (const auto reached = plan_->confirm(a, robot.last); reached && robot.role >= 0) {
+      progress_.visit(robot.role, mission_vertex(reached->x, reached->y));
     }
   }
 }
 
 void FleetCoordinator::dispatch(fleet_transport::Transport& transport) {
-  if (!adg_) return;
+  if (!plan_) return;
   const Clock::time_point now = Clock::now();
-  for (size_t a = 0; a < plan_robots_.size(); ++a) {
-    Robot& robot = robots_[plan_robots_[a]];
+  const double resend_after_s = std::max(1.0, 5 * config_.step_s);
+  for (int a = 0; a < plan_->agent_count(); ++a) {
+    RobotRecord& robot = robots_[plan_->agent(a).robot_id];
     if (!robot.active) continue;
-    const std::vector<Move>& moves = adg_->moves(static_cast<int>(a));
-    const int next = finished_[a];
-    if (next >= static_cast<int>(moves.size())) {
+    if (plan_->done(a)) {
       if (!robot.finished_plan) {
         robot.finished_plan = true;
         summary_.sum_of_finish_s += first_command_sent_ ? seconds_between(first_command_, now) : 0;
       }
       continue;
     }
-    const bool in_flight = sent_[a] == next;
-    const double resend_after = std::max(1.0, 5 * config_.step_s);
-    if (in_flight && seconds_between(sent_at_[a], now) < resend_after) continue;
-    if (!in_flight && !adg_->ready(static_cast<int>(a), next, finished_)) continue;
-    const Cell target = plan_graph_->cell_of(moves[next].to);
-    fleet_transport::StepCommand command;
-    command.robot_id = robot.id;
-    command.plan_epoch = epoch_;
-    command.action_index = next;
-    command.target_x = target.x;
-    command.target_y = target.y;
-    command.target_pose_x = target.x;
-    command.target_pose_y = target.y;
-    command.deadline_ms = fleet_transport::wall_clock_ms() + static_cast<int64_t>(4000 * config_.step_s) + 1000;
-    transport.send_command(command);
+    const int64_t deadline_ms = fleet_transport::wall_clock_ms() + static_cast<int64_t>(4000 * config_.step_s) + 1000;
+    const auto command = plan_->due_command(a, now, resend_after_s, deadline_ms);
+    if (!command) continue;
+    transport.send_command(*command);
     ++summary_.commands_sent;
-    if (!in_flight) {
-      first_sent_at_[a] = now;
-      acknowledged_[a] = 0;
-    }
-    sent_[a] = next;
-    sent_at_[a] = now;
     if (!first_command_sent_) {
       first_command_sent_ = true;
       first_command_ = now;
@@ -434,22 +336,20 @@ void FleetCoordinator::dispatch(fleet_transport::Transport& transport) {
 }
 
 bool FleetCoordinator::plan_finished() const {
-  if (!adg_) return false;
-  for (size_t a = 0; a < plan_robots_.size(); ++a) {
-    const auto found = robots_.find(plan_robots_[a]);
-    if (found == robots_.end() || !found->second.active) continue;
-    if (finished_[a] < static_cast<int>(adg_->moves(static_cast<int>(a)).size())) return false;
+  if (!plan_) return false;
+  for (int a = 0; a < plan_->agent_count(); ++a) {
+    const RobotRecord* robot = robots_.find(plan_->agent(a).robot_id);
+    if (robot == nullptr || !robot->active) continue;
+    if (!plan_->done(a)) return false;
   }
   return true;
 }
 
 bool FleetCoordinator::mission_complete() const {
-  for (const auto& done : task_done_) {
-    if (std::find(done.begin(), done.end(), 0) != done.end()) return false;
-  }
+  if (!progress_.all_tasks_done()) return false;
   for (int role = 0; role < mission_.agent_count(); ++role) {
-    if (robot_of_role_[role].empty()) continue;
-    const Robot& robot = robots_.at(robot_of_role_[role]);
+    if (progress_.robot_of(role).empty()) continue;
+    const RobotRecord& robot = *robots_.find(progress_.robot_of(role));
     if (mission_vertex(robot.last.cell_x, robot.last.cell_y) != mission_.goals[role]) return false;
   }
   return plan_finished();
@@ -464,26 +364,16 @@ void FleetCoordinator::publish_status(fleet_transport::Transport& transport) {
     if (!robot.active) continue;
     ++status.robots;
     fleet_transport::Assignment row{id, robot.role, 0, 0};
-    if (robot.role >= 0) {
-      for (int t : mission_.tasks_of_agent[robot.role]) {
-        const planner_core::Task& task = mission_.tasks[t];
-        ++row.tasks_total;
-        for (size_t k = 0; k < task.agents.size(); ++k) {
-          if (task.agents[k] == robot.role && task_done_[t][k]) ++row.tasks_done;
-        }
-      }
-    }
+    if (robot.role >= 0) std::tie(row.tasks_total, row.tasks_done) = progress_.role_tasks(robot.role);
     status.assignments.push_back(row);
   }
   transport.publish_fleet_status(status);
 }
 
 std::string FleetCoordinator::progress_line() const {
-  int active = 0;
-  for (const auto& [id, robot] : robots_) active += robot.active ? 1 : 0;
   std::ostringstream out;
-  out << "robots " << active << "  tasks " << summary_.tasks_done << "/" << summary_.tasks_total << "  epoch "
-      << epoch_ << "  replans " << summary_.replans;
+  out << "robots " << robots_.active_count() << "  tasks " << summary_.tasks_done << "/" << summary_.tasks_total
+      << "  epoch " << epoch_ << "  replans " << summary_.replans;
   return out.str();
 }
 
@@ -501,20 +391,14 @@ bool FleetCoordinator::step(fleet_transport::Transport& transport) {
     }
   }
   const Clock::time_point now = Clock::now();
-  for (auto& [id, robot] : robots_) {
-    if (robot.active && seconds_between(robot.last_heard, now) > config_.silence_timeout_s) {
-      lose(robot, "no state for " + std::to_string(config_.silence_timeout_s) + " s");
-    }
+  for (RobotRecord* robot : robots_.silent_robots(now, config_.silence_timeout_s)) {
+    lose(*robot, "no state for " + std::to_string(config_.silence_timeout_s) + " s");
   }
-  summary_.tasks_done = 0;
-  for (const auto& done : task_done_) summary_.tasks_done += std::find(done.begin(), done.end(), 0) == done.end();
+  summary_.tasks_done = progress_.tasks_done();
 
   switch (phase_) {
     case Phase::kWaiting: {
-      std::vector<Robot*> ready;
-      for (auto& [id, robot] : robots_) {
-        if (robot.active && robot.has_state) ready.push_back(&robot);
-      }
+      const std::vector<RobotRecord*> ready = robots_.ready_robots();
       const bool all_expected = !config_.any_robots && static_cast<int>(ready.size()) ==
                                                             static_cast<int>(config_.expected_robots.size());
       const bool quorum = config_.any_robots && static_cast<int>(ready.size()) >= config_.quorum;
@@ -541,12 +425,7 @@ bool FleetCoordinator::step(fleet_transport::Transport& transport) {
       } else if (plan_finished()) {
         // Everyone active is done. What is left belongs to roles without robots, or is blocked by a
         // lost robot (a replan from here changed nothing): wait for a robot, then end.
-        bool waiting_for_robot = replanned_after_finish_;
-        for (int t = 0; t < mission_.task_count(); ++t) {
-          for (size_t k = 0; k < task_done_[t].size(); ++k) {
-            if (!task_done_[t][k] && robot_of_role_[mission_.tasks[t].agents[k]].empty()) waiting_for_robot = true;
-          }
-        }
+        const bool waiting_for_robot = replanned_after_finish_ || progress_.work_waits_for_a_robot();
         if (!waiting_for_robot) {
           replanned_after_finish_ = true;
           request_replan("plan finished with tasks left");
@@ -565,8 +444,9 @@ bool FleetCoordinator::step(fleet_transport::Transport& transport) {
     case Phase::kSettling: {
       update_progress();
       bool moves_in_flight = false;
-      for (size_t a = 0; a < sent_.size(); ++a) {
-        if (sent_[a] == finished_[a] && robots_[plan_robots_[a]].active) moves_in_flight = true;
+      for (int a = 0; plan_ && a < plan_->agent_count(); ++a) {
+        const RobotRecord* robot = robots_.find(plan_->agent(a).robot_id);
+        if (plan_->in_flight(a) && robot != nullptr && robot->active) moves_in_flight = true;
       }
       // Plan only from where robots really stand: every move in flight must have ended (a robot
       // that never finishes is taken out by the silence timeout or its lease).
@@ -598,21 +478,14 @@ bool FleetCoordinator::step(fleet_transport::Transport& transport) {
 void FleetCoordinator::list_pending() {
   summary_.pending.clear();
   for (int role = 0; role < mission_.agent_count(); ++role) {
-    if (robot_of_role_[role].empty()) continue;
-    const Robot& robot = robots_.at(robot_of_role_[role]);
+    if (progress_.robot_of(role).empty()) continue;
+    const RobotRecord& robot = *robots_.find(progress_.robot_of(role));
     if (mission_vertex(robot.last.cell_x, robot.last.cell_y) != mission_.goals[role]) {
       summary_.pending.push_back("role " + std::to_string(role) + ": robot " + robot.id +
                                  " could not reach its goal (blocked)");
     }
   }
-  for (int t = 0; t < mission_.task_count(); ++t) {
-    for (size_t k = 0; k < task_done_[t].size(); ++k) {
-      if (task_done_[t][k]) continue;
-      const int role = mission_.tasks[t].agents[k];
-      summary_.pending.push_back("task " + std::to_string(t) + " for role " + std::to_string(role) +
-                                 (robot_of_role_[role].empty() ? " (no robot)" : " (robot " + robot_of_role_[role] + ")"));
-    }
-  }
+  for (const std::string& line : progress_.pending_visits()) summary_.pending.push_back(line);
 }
 
 }  // namespace coordinator

@@ -27,7 +27,18 @@ class ActionDependencyGraph {
   int robot_count() const { return static_cast<int>(moves_.size()); }
   const std::vector<Move>& moves(int robot) const { return moves_[robot]; }
   // May robot r start move k, given how many moves each robot has finished?
-  bool ready(int robot, int move, const std::vector<int>& finished) const;
+  bool ready(int robot, int move, const std::vector<int>& finished) const {
+    return ready(robot, move, [&finished](int other) { return finished[other]; });
+  }
+  // The same, with `finished_of(robot)` giving how many moves that robot has finished.
+  template <typename FinishedOf>
+  bool ready(int robot, int move, FinishedOf finished_of) const {
+    if (finished_of(robot) != move) return false;  // its own previous moves first
+    for (const auto& [other, index] : moves_[robot][move].after) {
+      if (finished_of(other) <= index) return false;
+    }
+    return true;
+  }
 
  private:
   std::vector<std::vector<Move>> moves_;

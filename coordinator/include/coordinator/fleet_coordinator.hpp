@@ -1,9 +1,12 @@
 // FleetCoordinator: binds robots to the mission's roles, plans with planner_core from where the
 // robots really are, validates the plan, and executes it through an Action Dependency Graph;
-// replans when robots join or leave. All state lives on the thread that calls step(); the
-// transport's handlers only queue events.
+// replans when robots join or leave. It composes the parts: RobotRegistry (who is there),
+// MissionProgress (roles and task visits), build_plan_instance (what to plan) and PlanExecution
+// (the plan being carried out). All state lives on the thread that calls step(); the transport's
+// handlers only queue events.
 #pragma once
 
+#include <atomic>
 #include <chrono>
 #include <deque>
 #include <map>
@@ -14,8 +17,10 @@
 #include <string>
 #include <vector>
 
-#include "coordinator/action_dependency_graph.hpp"
 #include "coordinator/fleet_config.hpp"
+#include "coordinator/mission_progress.hpp"
+#include "coordinator/plan_execution.hpp"
+#include "coordinator/robot_registry.hpp"
 #include "fleet_transport/transport.hpp"
 #include "planner_core/instance.hpp"
 
@@ -53,23 +58,12 @@ class FleetCoordinator {
   // One iteration; false once the mission has ended (completed, or timed out).
   bool step(fleet_transport::Transport& transport);
   const MissionSummary& summary() const { return summary_; }
+  // A flag (Ctrl-C) that cuts a running solve short; the mission then ends at the next step.
+  void set_interrupt(const std::atomic<bool>* interrupt) { interrupt_ = interrupt; }
   std::string progress_line() const;
 
  private:
   enum class Phase { kWaiting, kExecuting, kSettling, kDone };
-  struct Robot {
-    std::string id;
-    bool announced = false;
-    bool active = false;   // announced, has a free cell, not lost
-    bool refused = false;
-    bool has_state = false;
-    fleet_transport::RobotState last;
-    Clock::time_point last_heard;
-    int role = -1;         // mission role, -1 for an extra robot
-    int plan_agent = -1;   // index in the current plan, -1 when not in it
-    bool finished_plan = false;
-    std::string backend;
-  };
   struct Event {
     enum class Kind { kAnnouncement, kState, kGone } kind = Kind::kAnnouncement;
     fleet_transport::Announcement announcement;
@@ -80,16 +74,18 @@ class FleetCoordinator {
   };
 
   void handle(const Event& event);
-  void lose(Robot& robot, const std::string& why);
-  void bind_roles(const std::vector<Robot*>& robots);
+  void handle_announcement(RobotRecord& robot, const fleet_transport::Announcement& announcement);
+  void handle_state(RobotRecord& robot, const fleet_transport::RobotState& state, Clock::time_point received);
+  void lose(RobotRecord& robot, const std::string& why);
+  void bind_roles(const std::vector<RobotRecord*>& robots);
   bool replan(fleet_transport::Transport& transport);
   void update_progress();
   void dispatch(fleet_transport::Transport& transport);
-  void mark_visit(Robot& robot, planner_core::Cell cell);
   bool mission_complete() const;
   bool plan_finished() const;
   void publish_status(fleet_transport::Transport& transport);
   void request_replan(const std::string& why);
+  void list_pending();
   planner_core::Vertex mission_vertex(int x, int y) const;
 
   FleetConfig config_;
@@ -97,9 +93,8 @@ class FleetCoordinator {
   std::mutex events_mutex_;
   std::deque<Event> events_;
 
-  std::map<std::string, Robot> robots_;
-  std::vector<std::string> robot_of_role_;          // "" when the role has no robot
-  std::vector<std::vector<char>> task_done_;        // [task][index in task.agents] visited by that role's robot
+  RobotRegistry robots_;
+  MissionProgress progress_;
   std::map<planner_core::Vertex, std::string> blocked_;  // cells of lost robots (mission graph ids) -> robot
   std::set<std::string> warned_unknown_;
   std::map<std::string, planner_core::Vertex> unknown_cells_;  // robots heard but not announced
@@ -112,17 +107,11 @@ class FleetCoordinator {
   Clock::time_point retry_plan_at_;
   std::optional<Clock::time_point> waiting_for_robot_since_;
   bool replanned_after_finish_ = false;  // the plan in hand was made because the last one left work
-  void list_pending();
 
-  // The plan being executed.
   int epoch_ = 0;
-  std::shared_ptr<const planner_core::Graph> plan_graph_;
-  std::vector<std::string> plan_robots_;  // plan agent -> robot id
-  std::unique_ptr<ActionDependencyGraph> adg_;
-  std::vector<int> finished_, sent_;
-  std::vector<Clock::time_point> sent_at_;
-  std::vector<Clock::time_point> first_sent_at_;  // of the move in flight, for round-trip times
-  std::vector<char> acknowledged_;
+  double plan_limit_factor_ = 1;
+  const std::atomic<bool>* interrupt_ = nullptr;  // grows after each failed planning attempt, back to 1 on success
+  std::unique_ptr<PlanExecution> plan_;  // the plan being executed
   MissionSummary summary_;
 };
 

@@ -1,0 +1,46 @@
+// MissionProgress: which robot holds each of the mission's roles, and which task visits are done.
+// A task shared by several roles is done when every one of their robots has visited its cell
+// under the plan. Plain data with rules; no DDS, no clock, tested on its own.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "planner_core/instance.hpp"
+
+namespace coordinator {
+
+class MissionProgress {
+ public:
+  // `mission` must outlive this object (the coordinator owns both).
+  explicit MissionProgress(const planner_core::Instance& mission);
+
+  int role_count() const { return static_cast<int>(robot_of_role_.size()); }
+  // The robot holding `role`, "" when none.
+  const std::string& robot_of(int role) const { return robot_of_role_[role]; }
+  bool any_role_free() const;
+  void bind(int role, const std::string& robot_id) { robot_of_role_[role] = robot_id; }
+  void unbind(int role) { robot_of_role_[role].clear(); }
+
+  // The robot of `role` stands on `cell` under the plan: its visits to tasks there are done.
+  void visit(int role, planner_core::Vertex cell);
+  // Whether task t's k-th role (mission.tasks[t].agents[k]) has visited.
+  bool visited(int task, size_t k) const { return task_done_[task][k] != 0; }
+  int task_count() const { return static_cast<int>(task_done_.size()); }
+  // Tasks every one of whose roles has visited.
+  int tasks_done() const;
+  bool all_tasks_done() const { return tasks_done() == task_count(); }
+  // (tasks of the role, of which visited) for the fleet status.
+  std::pair<int, int> role_tasks(int role) const;
+  // Some visit is owed by a role that has no robot.
+  bool work_waits_for_a_robot() const;
+  // One line per task visit not done, naming its role and robot.
+  std::vector<std::string> pending_visits() const;
+
+ private:
+  const planner_core::Instance& mission_;
+  std::vector<std::string> robot_of_role_;
+  std::vector<std::vector<char>> task_done_;  // [task][index in task.agents]
+};
+
+}  // namespace coordinator

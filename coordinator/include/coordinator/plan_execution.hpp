@@ -1,0 +1,71 @@
+// PlanExecution: one validated plan being carried out. Holds the plan's Action Dependency Graph
+// and, per plan agent, how far its robot has come (moves confirmed, the move in flight and when it
+// was sent); decides which step commands are due and folds robot states into progress. It knows
+// nothing of DDS: commands are returned, not sent, so it is tested without a transport.
+#pragma once
+
+#include <chrono>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "coordinator/action_dependency_graph.hpp"
+#include "fleet_transport/messages.hpp"
+#include "planner_core/graph.hpp"
+#include "planner_core/solution.hpp"
+
+namespace coordinator {
+
+class PlanExecution {
+ public:
+  using Clock = std::chrono::steady_clock;
+
+  // One plan agent: the robot carrying it out and its progress through the agent's moves.
+  struct Agent {
+    std::string robot_id;
+    int finished = 0;                // moves confirmed done (the robot reported their target)
+    int sent = -1;                   // index of the move last sent, -1 before the first
+    Clock::time_point sent_at;       // when that move was last (re)sent
+    Clock::time_point first_sent_at; // when it was first sent, for the round trip
+    bool acknowledged = false;       // the robot reported that move (round trip measured)
+  };
+
+  // `robots[a]` carries plan agent a of `plan` (on `graph`, the plan's own map).
+  PlanExecution(int epoch, std::shared_ptr<const planner_core::Graph> graph, const planner_core::Solution& plan,
+                std::vector<std::string> robots);
+
+  int epoch() const { return epoch_; }
+  int agent_count() const { return static_cast<int>(agents_.size()); }
+  const Agent& agent(int a) const { return agents_[a]; }
+  const std::vector<Move>& moves(int a) const { return adg_.moves(a); }
+  // The plan agent of `robot_id`, or -1.
+  int agent_of(const std::string& robot_id) const;
+
+  // Every move of agent a confirmed.
+  bool done(int a) const { return agents_[a].finished >= static_cast<int>(moves(a).size()); }
+  // A move of agent a was sent and not yet confirmed.
+  bool in_flight(int a) const { return !done(a) && agents_[a].sent == agents_[a].finished; }
+  // The cell agent a's move `index` ends on.
+  planner_core::Cell target(int a, int index) const { return graph_->cell_of(moves(a)[index].to); }
+
+  // The round trip (ms, from the first sending) when `state` is the robot's first report of the
+  // move in flight in this epoch; nothing otherwise.
+  std::optional<double> acknowledge(int a, const fleet_transport::RobotState& state, Clock::time_point received);
+  // Confirms the move in flight when `state` says the robot ended it, standing still on its target
+  // in this epoch; returns that target (a cell the robot reached under the plan), or nothing.
+  std::optional<planner_core::Cell> confirm(int a, const fleet_transport::RobotState& state);
+
+  // The command due for agent a at `now` (its next move once the ADG allows it, or the move in
+  // flight again after `resend_after_s` without confirmation), and records it as sent.
+  std::optional<fleet_transport::StepCommand> due_command(int a, Clock::time_point now, double resend_after_s,
+                                                          int64_t deadline_ms);
+
+ private:
+  int epoch_;
+  std::shared_ptr<const planner_core::Graph> graph_;
+  ActionDependencyGraph adg_;
+  std::vector<Agent> agents_;
+};
+
+}  // namespace coordinator

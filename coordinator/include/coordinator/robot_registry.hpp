@@ -1,0 +1,65 @@
+// RobotRegistry: every robot the coordinator has heard of, by id: whether it announced itself, was
+// refused, is active (announced, on a free cell, not lost), its last state and when it was heard,
+// its role and its agent in the current plan. Admission rules for announcements live here; the
+// coordinator decides what a loss or a join means for the plan.
+#pragma once
+
+#include <chrono>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "coordinator/fleet_config.hpp"
+#include "fleet_transport/messages.hpp"
+
+namespace coordinator {
+
+struct RobotRecord {
+  using Clock = std::chrono::steady_clock;
+  std::string id;
+  std::string backend;
+  bool announced = false;
+  bool active = false;   // announced, has a free cell, not lost
+  bool refused = false;
+  bool has_state = false;
+  fleet_transport::RobotState last;
+  Clock::time_point last_heard;
+  int role = -1;          // mission role, -1 for an extra robot
+  int plan_agent = -1;    // agent in the current plan, -1 when not in it
+  bool finished_plan = false;
+};
+
+class RobotRegistry {
+ public:
+  using Clock = RobotRecord::Clock;
+
+  enum class Admission {
+    kAdmitted,        // first announcement (or again after a loss): now known
+    kRepeat,          // an active robot repeating its announcement
+    kDuplicate,       // an announcement under an active robot's id from another backend
+    kRefused,         // not in robots.expected (first time)
+    kRefusedAgain,    // the same, already refused
+  };
+
+  // The record of `id`, created empty on first use.
+  RobotRecord& operator[](const std::string& id);
+  const RobotRecord* find(const std::string& id) const;
+  // Applies the admission rules of `config` to an announcement (not a goodbye).
+  Admission admit(const fleet_transport::Announcement& announcement, const FleetConfig& config);
+
+  int active_count() const;
+  // Active robots that have reported a cell, in id order.
+  std::vector<RobotRecord*> ready_robots();
+  // Active robots not heard for more than `timeout_s` at `now`.
+  std::vector<RobotRecord*> silent_robots(Clock::time_point now, double timeout_s);
+
+  std::map<std::string, RobotRecord>::iterator begin() { return robots_.begin(); }
+  std::map<std::string, RobotRecord>::iterator end() { return robots_.end(); }
+  std::map<std::string, RobotRecord>::const_iterator begin() const { return robots_.begin(); }
+  std::map<std::string, RobotRecord>::const_iterator end() const { return robots_.end(); }
+
+ private:
+  std::map<std::string, RobotRecord> robots_;
+};
+
+}  // namespace coordinator

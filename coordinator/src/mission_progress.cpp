@@ -1,0 +1,66 @@
+#include "coordinator/mission_progress.hpp"
+
+#include <algorithm>
+
+namespace coordinator {
+
+MissionProgress::MissionProgress(const planner_core::Instance& mission)
+    : mission_(mission), robot_of_role_(mission.agent_count()) {
+  for (const planner_core::Task& task : mission.tasks) task_done_.emplace_back(task.agents.size(), 0);
+}
+
+bool MissionProgress::any_role_free() const {
+  return std::any_of(robot_of_role_.begin(), robot_of_role_.end(), [](const std::string& id) { return id.empty(); });
+}
+
+void MissionProgress::visit(int role, planner_core::Vertex cell) {
+  for (int t : mission_.tasks_of_agent[role]) {
+    const planner_core::Task& task = mission_.tasks[t];
+    if (task.at != cell) continue;
+    for (size_t k = 0; k < task.agents.size(); ++k) {
+      if (task.agents[k] == role) task_done_[t][k] = 1;
+    }
+  }
+}
+
+int MissionProgress::tasks_done() const {
+  int done = 0;
+  for (const auto& visits : task_done_) done += std::find(visits.begin(), visits.end(), 0) == visits.end() ? 1 : 0;
+  return done;
+}
+
+std::pair<int, int> MissionProgress::role_tasks(int role) const {
+  int total = 0, visited_count = 0;
+  for (int t : mission_.tasks_of_agent[role]) {
+    const planner_core::Task& task = mission_.tasks[t];
+    ++total;
+    for (size_t k = 0; k < task.agents.size(); ++k) {
+      if (task.agents[k] == role && task_done_[t][k]) ++visited_count;
+    }
+  }
+  return {total, visited_count};
+}
+
+bool MissionProgress::work_waits_for_a_robot() const {
+  for (int t = 0; t < task_count(); ++t) {
+    for (size_t k = 0; k < task_done_[t].size(); ++k) {
+      if (!task_done_[t][k] && robot_of_role_[mission_.tasks[t].agents[k]].empty()) return true;
+    }
+  }
+  return false;
+}
+
+std::vector<std::string> MissionProgress::pending_visits() const {
+  std::vector<std::string> lines;
+  for (int t = 0; t < task_count(); ++t) {
+    for (size_t k = 0; k < task_done_[t].size(); ++k) {
+      if (task_done_[t][k]) continue;
+      const int role = mission_.tasks[t].agents[k];
+      lines.push_back("task " + std::to_string(t) + " for role " + std::to_string(role) +
+                      (robot_of_role_[role].empty() ? " (no robot)" : " (robot " + robot_of_role_[role] + ")"));
+    }
+  }
+  return lines;
+}
+
+}  // namespace coordinator

@@ -1,0 +1,70 @@
+#include "coordinator/plan_execution.hpp"
+
+#include <algorithm>
+
+namespace coordinator {
+
+PlanExecution::PlanExecution(int epoch, std::shared_ptr<const planner_core::Graph> graph,
+                             const planner_core::Solution& plan, std::vector<std::string> robots)
+    : epoch_(epoch), graph_(std::move(graph)), adg_(plan) {
+  agents_.resize(robots.size());
+  for (size_t a = 0; a < robots.size(); ++a) agents_[a].robot_id = std::move(robots[a]);
+}
+
+int PlanExecution::agent_of(const std::string& robot_id) const {
+  for (int a = 0; a < agent_count(); ++a) {
+    if (agents_[a].robot_id == robot_id) return a;
+  }
+  return -1;
+}
+
+std::optional<double> PlanExecution::acknowledge(int a, const fleet_transport::RobotState& state,
+                                                 Clock::time_point received) {
+  Agent& agent = agents_[a];
+  if (state.plan_epoch != epoch_ || agent.sent < 0 || state.action_index != agent.sent || agent.acknowledged) {
+    return std::nullopt;
+  }
+  agent.acknowledged = true;
+  return std::chrono::duration<double, std::milli>(received - agent.first_sent_at).count();
+}
+
+std::optional<planner_core::Cell> PlanExecution::confirm(int a, const fleet_transport::RobotState& state) {
+  if (!in_flight(a)) return std::nullopt;
+  Agent& agent = agents_[a];
+  const planner_core::Cell cell = target(a, agent.finished);
+  if (state.plan_epoch != epoch_ || state.action_index != agent.finished ||
+      state.status == fleet_transport::RobotStatus::kMoving || state.cell_x != cell.x || state.cell_y != cell.y) {
+    return std::nullopt;
+  }
+  ++agent.finished;
+  return cell;
+}
+
+std::optional<fleet_transport::StepCommand> PlanExecution::due_command(int a, Clock::time_point now,
+                                                                       double resend_after_s, int64_t deadline_ms) {
+  if (done(a)) return std::nullopt;
+  Agent& agent = agents_[a];
+  const int next = agent.finished;
+  const bool resend = in_flight(a);
+  if (resend && std::chrono::duration<double>(now - agent.sent_at).count() < resend_after_s) return std::nullopt;
+  if (!resend && !adg_.ready(a, next, [this](int other) { return agents_[other].finished; })) return std::nullopt;
+  const planner_core::Cell cell = target(a, next);
+  fleet_transport::StepCommand command;
+  command.robot_id = agent.robot_id;
+  command.plan_epoch = epoch_;
+  command.action_index = next;
+  command.target_x = cell.x;
+  command.target_y = cell.y;
+  command.target_pose_x = cell.x;
+  command.target_pose_y = cell.y;
+  command.deadline_ms = deadline_ms;
+  if (!resend) {
+    agent.first_sent_at = now;
+    agent.acknowledged = false;
+  }
+  agent.sent = next;
+  agent.sent_at = now;
+  return command;
+}
+
+}  // namespace coordinator

@@ -1,0 +1,183 @@
+// The coordinator's parts on their own, without DDS: MissionProgress, RobotRegistry, the plan
+// builder and PlanExecution.
+#include <gtest/gtest.h>
+
+#include <memory>
+
+#include "coordinator/mission_progress.hpp"
+#include "coordinator/plan_builder.hpp"
+#include "coordinator/plan_execution.hpp"
+#include "coordinator/robot_registry.hpp"
+#include "planner_core/validator.hpp"
+
+namespace coordinator {
+namespace {
+
+using planner_core::Cell;
+using planner_core::Vertex;
+
+// A 5x3 open map; roles 0 and 1 with a task each and one task shared by both.
+planner_core::Instance small_mission() {
+  planner_core::Instance mission;
+  mission.graph = std::make_shared<const planner_core::Graph>(5, 3, std::vector<std::string>{".....", ".....", "....."});
+  const auto at = [&](int x, int y) { return mission.graph->vertex_at({x, y}); };
+  mission.starts = {at(0, 0), at(0, 2)};
+  mission.goals = {at(4, 0), at(4, 2)};
+  mission.tasks = {{at(2, 0), {0}}, {at(2, 2), {1}}, {at(2, 1), {0, 1}}};
+  mission.index_tasks();
+  return mission;
+}
+
+TEST(MissionProgress, ASharedTaskIsDoneOnlyWhenEveryRoleVisited) {
+  const planner_core::Instance mission = small_mission();
+  MissionProgress progress(mission);
+  EXPECT_EQ(progress.tasks_done(), 0);
+  progress.visit(0, mission.graph->vertex_at({2, 1}));
+  EXPECT_TRUE(progress.visited(2, 0));
+  EXPECT_FALSE(progress.visited(2, 1));
+  EXPECT_EQ(progress.tasks_done(), 0);
+  progress.visit(1, mission.graph->vertex_at({2, 1}));
+  EXPECT_EQ(progress.tasks_done(), 1);
+  progress.visit(0, mission.graph->vertex_at({2, 2}));  // role 1's task: role 0's visit does not count
+  EXPECT_FALSE(progress.visited(1, 0));
+  EXPECT_EQ(progress.role_tasks(0), std::make_pair(2, 1));
+}
+
+TEST(MissionProgress, PendingVisitsNameRoleAndRobot) {
+  const planner_core::Instance mission = small_mission();
+  MissionProgress progress(mission);
+  progress.bind(0, "robot7");
+  EXPECT_TRUE(progress.any_role_free());
+  EXPECT_TRUE(progress.work_waits_for_a_robot());  // role 1 has visits and no robot
+  const auto lines = progress.pending_visits();
+  ASSERT_EQ(lines.size(), 4u);
+  EXPECT_EQ(lines[0], "task 0 for role 0 (robot robot7)");
+  EXPECT_EQ(lines[1], "task 1 for role 1 (no robot)");
+  progress.bind(1, "robot8");
+  EXPECT_FALSE(progress.work_waits_for_a_robot());
+  progress.unbind(1);
+  EXPECT_EQ(progress.robot_of(1), "");
+}
+
+TEST(RobotRegistry, AdmissionRules) {
+  FleetConfig config;
+  config.any_robots = false;
+  config.expected_robots = {"robot0"};
+  RobotRegistry registry;
+  fleet_transport::Announcement hello{"robot0", "sim", "", "1", false};
+  EXPECT_EQ(registry.admit(hello, config), RobotRegistry::Admission::kAdmitted);
+  registry["robot0"].active = true;
+  EXPECT_EQ(registry.admit(hello, config), RobotRegistry::Admission::kRepeat);
+  fleet_transport::Announcement other_backend{"robot0", "toio", "", "1", false};
+  EXPECT_EQ(registry.admit(other_backend, config), RobotRegistry::Admission::kDuplicate);
+  fleet_transport::Announcement stranger{"robot9", "sim", "", "1", false};
+  EXPECT_EQ(registry.admit(stranger, config), RobotRegistry::Admission::kRefused);
+  EXPECT_EQ(registry.admit(stranger, config), RobotRegistry::Admission::kRefusedAgain);
+  EXPECT_EQ(registry.active_count(), 1);
+  EXPECT_TRUE(registry.ready_robots().empty());  // active but no state yet
+  registry["robot0"].has_state = true;
+  EXPECT_EQ(registry.ready_robots().size(), 1u);
+}
+
+TEST(RobotRegistry, SilentRobotsAfterTheTimeout) {
+  RobotRegistry registry;
+  const auto now = RobotRegistry::Clock::now();
+  RobotRecord& quiet = registry["quiet"];
+  quiet.active = true;
+  quiet.last_heard = now - std::chrono::seconds(3);
+  RobotRecord& chatty = registry["chatty"];
+  chatty.active = true;
+  chatty.last_heard = now;
+  const auto silent = registry.silent_robots(now, 2.0);
+  ASSERT_EQ(silent.size(), 1u);
+  EXPECT_EQ(silent[0]->id, "quiet");
+}
+
+TEST(PlanBuilder, RemainingVisitsOnlyAndExtrasPark) {
+  const planner_core::Instance mission = small_mission();
+  MissionProgress progress(mission);
+  progress.visit(0, mission.graph->vertex_at({2, 0}));  // role 0's own task done
+  const std::vector<PlanMember> members = {{"a", {1, 0}, 0}, {"b", {1, 2}, 1}, {"extra", {3, 1}, -1}};
+  const PlanInstance built = build_plan_instance(mission, progress, members, {});
+  EXPECT_TRUE(built.notes.empty());
+  ASSERT_EQ(built.robots, (std::vector<std::string>{"a", "b", "extra"}));
+  const planner_core::Instance& instance = built.instance;
+  EXPECT_EQ(instance.graph->cell_of(instance.starts[0]), (Cell{1, 0}));
+  EXPECT_EQ(instance.graph->cell_of(instance.goals[1]), (Cell{4, 2}));
+  EXPECT_EQ(instance.graph->cell_of(instance.goals[2]), (Cell{3, 1}));  // parks where it stands
+  // Task 0 is done; task 1 for b; the shared task for both.
+  ASSERT_EQ(instance.task_count(), 2);
+  EXPECT_EQ(instance.tasks[0].agents, std::vector<int>{1});
+  EXPECT_EQ(instance.tasks[1].agents, (std::vector<int>{0, 1}));
+  EXPECT_TRUE(instance.tasks_of_agent[2].empty());
+}
+
+TEST(PlanBuilder, TwoRobotsOnOneCellAreLeftOutAndTheirCellWalled) {
+  const planner_core::Instance mission = small_mission();
+  MissionProgress progress(mission);
+  const std::vector<PlanMember> members = {{"a", {1, 1}, 0}, {"b", {1, 1}, 1}, {"c", {3, 1}, -1}};
+  const PlanInstance built = build_plan_instance(mission, progress, members, {});
+  ASSERT_EQ(built.robots, std::vector<std::string>{"c"});
+  EXPECT_EQ(built.notes.size(), 2u);
+  EXPECT_FALSE(built.instance.graph->is_free({1, 1}));
+}
+
+TEST(PlanBuilder, BlockedCellsAreWallsAndUnreachableTasksAreNoted) {
+  const planner_core::Instance mission = small_mission();
+  MissionProgress progress(mission);
+  // Wall off (2,2)'s neighbours so role 1's task there cannot be reached.
+  std::set<Vertex> blocked = {mission.graph->vertex_at({1, 2}), mission.graph->vertex_at({3, 2}),
+                              mission.graph->vertex_at({2, 1})};
+  const std::vector<PlanMember> members = {{"a", {0, 0}, 0}, {"b", {0, 2}, 1}, {"off", {9, 9}, -1}};
+  const PlanInstance built = build_plan_instance(mission, progress, members, blocked);
+  EXPECT_FALSE(built.instance.graph->is_free({2, 1}));
+  ASSERT_EQ(built.robots.size(), 2u);  // the robot off the map is left out
+  bool unreachable_noted = false;
+  for (const std::string& note : built.notes) unreachable_noted |= note.find("task 1 unreachable") != std::string::npos;
+  EXPECT_TRUE(unreachable_noted);
+}
+
+TEST(PlanExecution, SendsWhenReadyResendsWhenSilentAndConfirmsOnTheTarget) {
+  const auto graph = std::make_shared<const planner_core::Graph>(3, 1, std::vector<std::string>{"..."});
+  const Vertex v0 = graph->vertex_at({0, 0}), v1 = graph->vertex_at({1, 0}), v2 = graph->vertex_at({2, 0});
+  // Robot "front" moves 1 -> 2, then "back" follows 0 -> 1: back's move waits for front's.
+  const planner_core::Solution plan = {{v1, v0}, {v2, v1}};
+  PlanExecution execution(3, graph, plan, {"front", "back"});
+  const auto t0 = PlanExecution::Clock::now();
+  EXPECT_EQ(execution.agent_of("back"), 1);
+  EXPECT_FALSE(execution.due_command(1, t0, 1.0, 0).has_value());  // waits on the ADG
+  const auto first = execution.due_command(0, t0, 1.0, 99);
+  ASSERT_TRUE(first.has_value());
+  EXPECT_EQ(first->robot_id, "front");
+  EXPECT_EQ(first->plan_epoch, 3);
+  EXPECT_EQ(first->action_index, 0);
+  EXPECT_EQ(first->target_x, 2);
+  EXPECT_EQ(first->deadline_ms, 99);
+  EXPECT_TRUE(execution.in_flight(0));
+  EXPECT_FALSE(execution.due_command(0, t0 + std::chrono::milliseconds(500), 1.0, 0).has_value());
+  EXPECT_TRUE(execution.due_command(0, t0 + std::chrono::seconds(2), 1.0, 0).has_value());  // resent
+
+  fleet_transport::RobotState state;
+  state.robot_id = "front";
+  state.plan_epoch = 3;
+  state.action_index = 0;
+  state.status = fleet_transport::RobotStatus::kMoving;
+  state.cell_x = 2;
+  const auto round_trip = execution.acknowledge(0, state, t0 + std::chrono::milliseconds(40));
+  ASSERT_TRUE(round_trip.has_value());
+  EXPECT_NEAR(*round_trip, 40, 1e-6);
+  EXPECT_FALSE(execution.acknowledge(0, state, t0).has_value());  // once per move
+  EXPECT_FALSE(execution.confirm(0, state).has_value());          // still moving
+  state.status = fleet_transport::RobotStatus::kArrived;
+  state.plan_epoch = 2;
+  EXPECT_FALSE(execution.confirm(0, state).has_value());          // another epoch's report
+  state.plan_epoch = 3;
+  const auto reached = execution.confirm(0, state);
+  ASSERT_TRUE(reached.has_value());
+  EXPECT_EQ(*reached, (Cell{2, 0}));
+  EXPECT_TRUE(execution.done(0));
+  EXPECT_TRUE(execution.due_command(1, t0, 1.0, 0).has_value());  // now back may move
+}
+
+}  // namespace
+}  // namespace coordinator

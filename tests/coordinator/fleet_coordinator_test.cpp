@@ -1,0 +1,147 @@
+// FleetCoordinator end to end without DDS: a fake transport and robots that carry out each command
+// at once (or, in one test, one robot that stops answering). Checks that the mission completes,
+// that no two robots ever stand on one cell, and that each task visit is counted.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <map>
+#include <set>
+#include <thread>
+
+#include "coordinator/fleet_coordinator.hpp"
+
+namespace coordinator {
+namespace {
+
+// Records what the coordinator sends; nothing goes anywhere.
+class FakeTransport : public fleet_transport::Transport {
+ public:
+  void announce(const fleet_transport::Announcement&) override {}
+  void say_goodbye(const std::string&) override {}
+  void publish_state(const fleet_transport::RobotState&) override {}
+  void send_command(const fleet_transport::StepCommand& command) override { commands.push_back(command); }
+  void prepare_commands_for(const std::string&) override {}
+  void publish_fleet_status(const fleet_transport::FleetStatus& status) override { last_status = status; }
+
+  std::vector<fleet_transport::StepCommand> commands;
+  fleet_transport::FleetStatus last_status;
+};
+
+// A robot that ends every commanded move at once (or never, once it is `silent`).
+struct FakeRobot {
+  std::string id;
+  planner_core::Cell cell;
+  uint64_t seq = 0;
+  bool silent = false;
+  int epoch = -1, action = -1;  // of the last command carried out, repeated in every state
+
+  fleet_transport::RobotState state(int epoch, int action, fleet_transport::RobotStatus status) {
+    fleet_transport::RobotState s;
+    s.robot_id = id;
+    s.cell_x = cell.x;
+    s.cell_y = cell.y;
+    s.plan_epoch = epoch;
+    s.action_index = action;
+    s.status = status;
+    s.seq_number = ++seq;
+    return s;
+  }
+};
+
+FleetConfig config_for(int robots) {
+  FleetConfig config;
+  config.quorum = robots;
+  config.solver = "cts-pll-v2";
+  config.replan_solver = "cts-pll-v2";
+  config.plan_time_s = 2;
+  config.replan_time_s = 2;
+  config.silence_timeout_s = 0.3;
+  config.replan_settle_s = 0.05;
+  config.mission_timeout_s = 60;
+  config.replacement_timeout_s = 0.5;
+  return config;
+}
+
+// Runs the coordinator until it ends; robots answer each command with an arrival on its target.
+// Returns the cells each robot stood on, checking every step that no two robots share one.
+std::map<std::string, std::vector<planner_core::Cell>> run(FleetCoordinator& coordinator, std::vector<FakeRobot>& robots) {
+  FakeTransport transport;
+  std::map<std::string, std::vector<planner_core::Cell>> visited;
+  for (FakeRobot& robot : robots) {
+    coordinator.on_announcement({robot.id, "sim", "", "test", false});
+    coordinator.on_state(robot.state(-1, -1, fleet_transport::RobotStatus::kIdle));
+    visited[robot.id].push_back(robot.cell);
+  }
+  for (int iteration = 0; iteration < 200000 && coordinator.step(transport); ++iteration) {
+    std::vector<fleet_transport::StepCommand> commands;
+    commands.swap(transport.commands);
+    for (const fleet_transport::StepCommand& command : commands) {
+      for (FakeRobot& robot : robots) {
+        if (robot.id != command.robot_id || robot.silent) continue;
+        robot.cell = {command.target_x, command.target_y};
+        robot.epoch = command.plan_epoch;
+        robot.action = command.action_index;
+        visited[robot.id].push_back(robot.cell);
+        coordinator.on_state(robot.state(command.plan_epoch, command.action_index, fleet_transport::RobotStatus::kArrived));
+      }
+    }
+    std::set<std::pair<int, int>> occupied;
+    for (const FakeRobot& robot : robots) {
+      EXPECT_TRUE(occupied.insert({robot.cell.x, robot.cell.y}).second)
+          << "two robots on " << planner_core::to_string(robot.cell) << " at iteration " << iteration;
+    }
+    // Keep every live robot heard, as the agents' periodic states do.
+    if (iteration % 20 == 0) {
+      for (FakeRobot& robot : robots) {
+        if (!robot.silent) coordinator.on_state(robot.state(robot.epoch, robot.action, fleet_transport::RobotStatus::kArrived));
+      }
+    }
+    std::this_thread::sleep_for(std::chrono::microseconds(200));
+  }
+  return visited;
+}
+
+TEST(FleetCoordinator, CompletesTheDefaultMissionWithAFakeTransport) {
+  planner_core::Instance mission = planner_core::load_instance(CTSFLEET_CONFIG_DIR "/default/mission-8.yaml");
+  std::vector<FakeRobot> robots;
+  for (int r = 0; r < mission.agent_count(); ++r) {
+    robots.push_back({"robot" + std::to_string(r), mission.graph->cell_of(mission.starts[r])});
+  }
+  const planner_core::Instance copy = mission;
+  FleetCoordinator coordinator(config_for(mission.agent_count()), std::move(mission));
+  const auto visited = run(coordinator, robots);
+  const MissionSummary& summary = coordinator.summary();
+  EXPECT_TRUE(summary.completed);
+  EXPECT_EQ(summary.tasks_done, summary.tasks_total);
+  EXPECT_EQ(summary.replans, 0);
+  // Every task was really visited by each of its robots (role r = robot r: each stands on its role's start).
+  for (const planner_core::Task& task : copy.tasks) {
+    const planner_core::Cell at = copy.graph->cell_of(task.at);
+    for (int role : task.agents) {
+      const auto& cells = visited.at("robot" + std::to_string(role));
+      EXPECT_NE(std::find(cells.begin(), cells.end(), at), cells.end()) << "role " << role << " never on " << planner_core::to_string(at);
+    }
+  }
+  for (int r = 0; r < copy.agent_count(); ++r) EXPECT_EQ(robots[r].cell, copy.graph->cell_of(copy.goals[r]));
+}
+
+TEST(FleetCoordinator, ASilentRobotIsTakenOutAndTheOthersStillFinish) {
+  planner_core::Instance mission = planner_core::load_instance(CTSFLEET_CONFIG_DIR "/default/mission-8.yaml");
+  std::vector<FakeRobot> robots;
+  for (int r = 0; r < mission.agent_count(); ++r) {
+    robots.push_back({"robot" + std::to_string(r), mission.graph->cell_of(mission.starts[r])});
+  }
+  robots[3].silent = true;  // never moves, never reports again
+  FleetCoordinator coordinator(config_for(mission.agent_count()), std::move(mission));
+  run(coordinator, robots);
+  const MissionSummary& summary = coordinator.summary();
+  EXPECT_FALSE(summary.completed);  // robot3's role has no robot left
+  EXPECT_EQ(summary.robots_lost, 1);
+  EXPECT_GE(summary.replans, 1);
+  bool role_without_robot = false;
+  for (const std::string& line : summary.pending) role_without_robot |= line.find("(no robot)") != std::string::npos;
+  EXPECT_TRUE(role_without_robot);
+}
+
+}  // namespace
+}  // namespace coordinator
