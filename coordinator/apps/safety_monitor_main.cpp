@@ -1,11 +1,13 @@
 // ctsfleet-monitor: an independent observer. Records every robot state it hears and checks, from
 // the robots' own arrival timestamps, that no two robots ever held the same cell at the same time
-// (which also rules out swaps). Runs until SIGINT/SIGTERM or --duration; exit 0 when safe, 1 on
-// a collision, 4 when it heard no robot at all (a check that saw nothing has not passed).
+// (which also rules out swaps), and that no robot id is claimed by two live processes (told apart by
+// their incarnation). Runs until SIGINT/SIGTERM or --duration; exit 0 when safe, 1 on a collision
+// or a duplicate id, 4 when it heard no robot at all (a check that saw nothing has not passed).
 #include <spdlog/spdlog.h>
 
 #include <atomic>
 #include <map>
+#include <set>
 #include <mutex>
 #include <thread>
 
@@ -42,7 +44,14 @@ int main(int argc, char** argv) {
   if (dds_dir.empty()) dds_dir = ctsfleet::data_path("config/dds").string();
 
   std::mutex mutex;
+  // Paths per robot process: "id#incarnation", so a restart starts a new path and a second process
+  // under one id is told apart from the first.
   std::map<std::string, std::vector<Visit>> visits;
+  struct Incarnation {
+    std::chrono::steady_clock::time_point first_heard, last_heard;
+  };
+  std::map<std::string, std::map<uint64_t, Incarnation>> incarnations;  // robot id -> its processes
+  std::set<std::pair<std::string, std::pair<uint64_t, uint64_t>>> duplicates;
   int64_t gaps = 0, states = 0;
   fleet_transport::TransportConfig config;
   config.vendor = fleet_transport::parse_vendor(vendor);
@@ -52,7 +61,30 @@ int main(int argc, char** argv) {
   handlers.on_state = [&](const fleet_transport::RobotState& s) {
     const std::lock_guard<std::mutex> lock(mutex);
     ++states;
-    std::vector<Visit>& path = visits[s.robot_id];
+    const auto now = std::chrono::steady_clock::now();
+    auto& of_robot = incarnations[s.robot_id];
+    const bool new_process = of_robot.find(s.incarnation) == of_robot.end();
+    Incarnation& self = of_robot[s.incarnation];
+    if (new_process) self.first_heard = now;
+    self.last_heard = now;
+    const std::string key = s.robot_id + "#" + std::to_string(s.incarnation);
+    for (const auto& [other, seen] : of_robot) {
+      if (other == s.incarnation) continue;
+      // A restart hands over (the old process falls silent before the new one speaks, give or take
+      // states in flight); two processes both heard after the other began are a duplicate id.
+      constexpr auto kGrace = std::chrono::milliseconds(300);
+      const auto overlap = std::min(seen.last_heard, self.last_heard) - std::max(seen.first_heard, self.first_heard);
+      if (overlap > kGrace &&
+          duplicates.insert({s.robot_id, {std::min(other, s.incarnation), std::max(other, s.incarnation)}}).second) {
+        spdlog::error("duplicate robot id {}: two processes (incarnations {:016x} and {:016x}) publish states", s.robot_id,
+                      other, s.incarnation);
+      }
+      if (new_process) {  // the other's last cell is left when this one starts (a restart)
+        auto& other_path = visits[s.robot_id + "#" + std::to_string(other)];
+        if (!other_path.empty() && other_path.back().to_ms == INT64_MAX) other_path.back().to_ms = s.stamp_ms;
+      }
+    }
+    std::vector<Visit>& path = visits[key];
     if (!path.empty() && path.back().x == s.cell_x && path.back().y == s.cell_y) return;
     if (!path.empty()) {
       Visit& last = path.back();
@@ -88,21 +120,22 @@ int main(int argc, char** argv) {
     std::sort(list.begin(), list.end(), [](const auto& a, const auto& b) { return a.first->from_ms < b.first->from_ms; });
     for (size_t i = 0; i + 1 < list.size(); ++i) {
       for (size_t j = i + 1; j < list.size() && list[j].first->from_ms < list[i].first->to_ms; ++j) {
-        if (*list[i].second == *list[j].second) continue;
+        if (*list[i].second == *list[j].second) continue;  // one process's own consecutive visits
         ++overlaps;
         spdlog::error("collision: {} and {} both on ({},{}) around t={} ms", *list[i].second, *list[j].second,
                       cell.first, cell.second, list[j].first->from_ms);
       }
     }
   }
-  std::printf("monitor: robots %zu, states %lld, cell visits %lld, overlaps %d, gaps %lld\n", visits.size(),
-              static_cast<long long>(states), static_cast<long long>(cell_visits), overlaps,
-              static_cast<long long>(gaps));
-  if (visits.empty()) {
+  std::printf("monitor: robots %zu, processes %zu, states %lld, cell visits %lld, overlaps %d, gaps %lld, "
+              "duplicate ids %zu\n",
+              incarnations.size(), visits.size(), static_cast<long long>(states), static_cast<long long>(cell_visits),
+              overlaps, static_cast<long long>(gaps), duplicates.size());
+  if (incarnations.empty()) {
     std::fprintf(stderr, "ctsfleet-monitor: heard no robot on %s domain %d with DDS config %s: nothing was checked\n",
                  vendor.c_str(), domain, dds_dir.c_str());
     return kExitHeardNothing;
   }
-  return overlaps == 0 ? 0 : 1;
+  return overlaps == 0 && duplicates.empty() ? 0 : 1;
   });
 }

@@ -82,7 +82,11 @@ void FleetCoordinator::lose(RobotRecord& robot, const std::string& why) {
   robot.active = false;
   replanned_after_finish_ = false;
   ++summary_.robots_lost;
-  spdlog::warn("robot {} taken out: {}", robot.id, why);
+  if (robot.has_state) {
+    spdlog::warn("robot {} taken out: {} (last at ({},{}))", robot.id, why, robot.last.cell_x, robot.last.cell_y);
+  } else {
+    spdlog::warn("robot {} taken out: {}", robot.id, why);
+  }
   if (robot.has_state) {
     const Vertex last = mission_vertex(robot.last.cell_x, robot.last.cell_y);
     if (last != planner_core::kNoVertex) blocked_[last] = robot.id;  // it may still stand there
@@ -155,8 +159,10 @@ void FleetCoordinator::handle_state(RobotRecord& robot, const fleet_transport::R
     lose(robot, "reported a cell off the map");
     return;
   }
-  if (robot.has_state && state.seq_number <= robot.last.seq_number && state.seq_number != 1) return;  // stale
-  robot.last_heard = Clock::now();
+  const Clock::time_point now = Clock::now();
+  if (!accept_incarnation(robot, state, now)) return;
+  if (robot.has_state && state.seq_number <= robot.last.seq_number) return;  // stale, within one incarnation
+  robot.last_heard = now;
   if (state.status == RobotStatus::kFault) {
     // A robot in fault (a toio cube lifted, disconnected, between cells...) is out until it reports
     // a cell again; its last good cell and the cell it was moving to stay blocked meanwhile.
@@ -180,6 +186,43 @@ void FleetCoordinator::handle_state(RobotRecord& robot, const fleet_transport::R
     }
   }
   if (robot.role >= 0) progress_.visit(robot.role, cell);
+}
+
+// Sequence numbers count within one incarnation of a robot's process. A state from another
+// incarnation is a restart when the accepted one has gone quiet (or is out already): the new one
+// takes over at once. While the accepted one is still heard, it is a second process claiming the
+// same id: refused, and reported once.
+bool FleetCoordinator::accept_incarnation(RobotRecord& robot, const fleet_transport::RobotState& state,
+                                          Clock::time_point now) {
+  constexpr double kQuietS = 1.0;  // ten missed periodic states
+  if (state.incarnation == robot.incarnation) return true;
+  if (!robot.has_state) {  // the first state heard from this id
+    robot.incarnation = state.incarnation;
+    return true;
+  }
+  if (robot.active && seconds_between(robot.last_heard, now) <= kQuietS) {
+    if (robot.refused_incarnations.insert(state.incarnation).second) {
+      spdlog::error("duplicate robot id {}: a second process (incarnation {:016x}) at ({},{}) is refused while "
+                    "incarnation {:016x} at ({},{}) is driven",
+                    robot.id, state.incarnation, state.cell_x, state.cell_y, robot.incarnation, robot.last.cell_x,
+                    robot.last.cell_y);
+      // It stands somewhere all the same: keep its cell clear, like a robot never enrolled.
+      const Vertex cell = mission_vertex(state.cell_x, state.cell_y);
+      if (cell != planner_core::kNoVertex) {
+        unknown_cells_[robot.id + " (duplicate)"] = cell;
+        request_replan("a duplicate of robot " + robot.id + " stands on (" + std::to_string(state.cell_x) + "," +
+                       std::to_string(state.cell_y) + ")");
+      }
+    }
+    return false;
+  }
+  spdlog::warn("robot {} restarted: incarnation {:016x} replaces {:016x}", robot.id, state.incarnation,
+               robot.incarnation);
+  if (robot.active) lose(robot, "restarted");
+  robot.incarnation = state.incarnation;
+  robot.refused_incarnations.erase(state.incarnation);
+  robot.has_state = false;  // its sequence numbers start again
+  return true;
 }
 
 void FleetCoordinator::bind_roles(const std::vector<RobotRecord*>& robots) {

@@ -115,6 +115,7 @@ class CycloneTransport : public Transport {
     copy_string(wire.capabilities, a.capabilities);
     copy_string(wire.version, a.version);
     wire.leaving = a.leaving;
+    wire.incarnation = a.incarnation;
     check(dds_write(writer(announcement_writer_, announcement_topic_, registry_qos_), &wire), "write announcement");
   }
 
@@ -141,6 +142,7 @@ class CycloneTransport : public Transport {
     wire.battery_percent = s.battery_percent;
     wire.seq_number = s.seq_number;
     wire.stamp_ms = s.stamp_ms;
+    wire.incarnation = s.incarnation;
     check(dds_write(writer(state_writer_, state_topic_, state_qos_), &wire), "write state");
   }
 
@@ -235,7 +237,7 @@ class CycloneTransport : public Transport {
     take_all<fleet_Announcement>(reader, [self](const fleet_Announcement& w, const dds_sample_info_t& info) {
       if (info.valid_data) {
         if (self->handlers_.on_announcement) {
-          self->handlers_.on_announcement({w.robot_id, w.backend, w.capabilities, w.version, w.leaving});
+          self->handlers_.on_announcement({w.robot_id, w.backend, w.capabilities, w.version, w.leaving, w.incarnation});
         }
       } else if (self->handlers_.on_robot_gone) {
         // Invalid samples carry the key: the instance lost its writer or was disposed.
@@ -265,6 +267,7 @@ class CycloneTransport : public Transport {
       s.battery_percent = w.battery_percent;
       s.seq_number = w.seq_number;
       s.stamp_ms = w.stamp_ms;
+      s.incarnation = w.incarnation;
       self->handlers_.on_state(s);
     });
   }

@@ -175,6 +175,7 @@ class FastDdsTransport : public Transport {
         s.battery_percent = w.battery_percent();
         s.seq_number = w.seq_number();
         s.stamp_ms = w.stamp_ms();
+        s.incarnation = w.incarnation();
         handlers_.on_state(s);
       });
     }
@@ -218,6 +219,7 @@ class FastDdsTransport : public Transport {
     wire.capabilities(a.capabilities);
     wire.version(a.version);
     wire.leaving(a.leaving);
+    wire.incarnation(a.incarnation);
     writer(announcement_writer_, announcement_topic_, registry_w_)->write(&wire);
   }
 
@@ -244,6 +246,7 @@ class FastDdsTransport : public Transport {
     wire.battery_percent(s.battery_percent);
     wire.seq_number(s.seq_number);
     wire.stamp_ms(s.stamp_ms);
+    wire.incarnation(s.incarnation);
     writer(state_writer_, state_topic_, state_w_)->write(&wire);
   }
 
@@ -334,7 +337,8 @@ class FastDdsTransport : public Transport {
       }
       if (handlers_.on_announcement) handlers_.on_announcement({id, w.backend().to_string(),
                                                                 w.capabilities().to_string(),
-                                                                w.version().to_string(), w.leaving()});
+                                                                w.version().to_string(), w.leaving(),
+                                                                w.incarnation()});
       return;
     }
     // Invalid samples carry no data here: find the robot by the instance it announced on.

@@ -37,6 +37,10 @@ int main(int argc, char** argv) {
   app.add_option("--state-rate", settings.state_rate_hz, "state messages per second")
       ->check(ctsfleet::number_in(0.1, 1000))
       ->capture_default_str();
+  app.add_option("--first-seq", settings.first_seq_number,
+                 "sequence number of the first state (tests: play a robot that ran long before a restart)")
+      ->check(ctsfleet::count_in(1, 4'000'000'000'000'000'000))
+      ->capture_default_str();
   app.add_option("--step", sim.step_s, "sim: seconds per move")->check(ctsfleet::positive_seconds(3600))->capture_default_str();
   app.add_option("--jitter", sim.jitter, "sim: each move takes step * (1 + U[0, jitter])")
       ->check(ctsfleet::number_in(0, 10))
@@ -99,7 +103,8 @@ int main(int argc, char** argv) {
     handlers.on_command = [&agent](const fleet_transport::StepCommand& c) { agent.on_command(c); };
     auto transport = fleet_transport::make_transport(config, handlers);
     transport->announce(agent.announcement());
-    spdlog::info("{}: {} robot on {} domain {}", settings.robot_id, robot.kind(), vendor, domain);
+    spdlog::info("{}: {} robot on {} domain {}, incarnation {:016x}", settings.robot_id, robot.kind(), vendor, domain,
+                 agent.incarnation());
     // Announce again every second: a coordinator that starts later or restarts learns of us even
     // when the middleware's late-joiner delivery is slow (seen with Fast DDS).
     auto next_announcement = std::chrono::steady_clock::now() + std::chrono::seconds(1);

@@ -1,5 +1,7 @@
 #include "robot_agent/robot_agent.hpp"
 
+#include <random>
+
 #include <spdlog/spdlog.h>
 
 #include <cstdlib>
@@ -9,11 +11,27 @@ namespace robot_agent {
 using fleet_transport::RobotStatus;
 using fleet_transport::StepCommand;
 
+namespace {
+
+// A random 64-bit number, never 0 (0 means "not set" on the wire).
+uint64_t new_incarnation() {
+  std::random_device device;
+  uint64_t value = 0;
+  while (value == 0) value = (static_cast<uint64_t>(device()) << 32) ^ device();
+  return value;
+}
+
+}  // namespace
+
 RobotAgent::RobotAgent(const AgentSettings& settings, RobotBackend& backend)
-    : settings_(settings), backend_(backend), next_start_(backend.poll().cell) {}
+    : settings_(settings),
+      backend_(backend),
+      next_start_(backend.poll().cell),
+      seq_(settings.first_seq_number > 0 ? settings.first_seq_number - 1 : 0),
+      incarnation_(new_incarnation()) {}
 
 fleet_transport::Announcement RobotAgent::announcement() const {
-  return {settings_.robot_id, backend_.kind(), "grid-4,wait", settings_.version, false};
+  return {settings_.robot_id, backend_.kind(), "grid-4,wait", settings_.version, false, incarnation_};
 }
 
 void RobotAgent::reject(const StepCommand& command, const std::string& why) {
@@ -126,6 +144,7 @@ void RobotAgent::step(fleet_transport::Transport& transport, bool reporting) {
                                           : RobotStatus::kIdle;
   state.battery_percent = report.battery_percent;
   state.seq_number = ++seq_;
+  state.incarnation = incarnation_;
   state.stamp_ms = report.arrived_ms;
   transport.publish_state(state);
 }

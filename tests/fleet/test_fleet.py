@@ -33,6 +33,8 @@ TESTS = [
     "test_extra_robot_takes_over_a_lost_role",
     "test_ctrl_c_stops_the_whole_fleet",
     "test_fastdds_hears_more_than_ten_robots",
+    "test_restarted_robot_with_the_same_id_rejoins",
+    "test_duplicate_id_is_refused_and_reported",
 ]
 
 
@@ -211,6 +213,64 @@ class FleetTest(unittest.TestCase):
         # Lease 1 s: detection within two leases, plus slack for a loaded machine's scheduling.
         self.assertLess(stamp - killed_at, 2 * 1.0 + 1.0)
         return victim
+
+    def coordinator_stamp(self, line):
+        """Wall-clock time of a coordinator log line."""
+        return time.mktime(time.strptime(line[1:20], "%Y-%m-%d %H:%M:%S")) + int(line[21:24]) / 1000
+
+    def test_restarted_robot_with_the_same_id_rejoins(self):
+        # robot3 has run long: its sequence numbers are far above a fresh process's.
+        self.fleet.monitor()
+        for index, cell in enumerate(role_starts()):
+            self.fleet.agent(f"robot{index}", cell, extra=["--first-seq", "1000000000"] if index == 3 else [])
+        self.fleet.coordinator()
+        log = self.fleet.log("coordinator")
+        wait_for(lambda: "plan epoch 1" in read(log), 120, "the first plan")
+        wait_for(lambda: any(int(done) >= 2 for done in re.findall(r"tasks (\d+)/16", read(log))), 120,
+                 "the mission under way (two tasks done)")
+        old = self.fleet.processes["robot3"]
+        old.send_signal(signal.SIGKILL)
+        old.wait()
+        wait_for(lambda: "robot robot3 taken out" in read(log), 60, "the loss detected")
+        line = next(l for l in read(log).splitlines() if "robot robot3 taken out" in l)
+        cell = tuple(int(v) for v in re.search(r"last at \((\d+),(\d+)\)", line).groups())
+        # The process restarts where the robot stands, with the same id and a new incarnation.
+        restarted_at = time.time()
+        self.fleet.agent("robot3", cell)
+        wait_for(lambda: "replanning: robot robot3 joined" in read(log), 30, "the restarted robot back in")
+        text = read(log)
+        after = text[text.index("replanning: robot robot3 joined"):]
+        wait_for(lambda: re.search(r"plan epoch \d+", read(log)[read(log).index("replanning: robot robot3 joined"):]),
+                 30, "a plan with the restarted robot")
+        after = read(log)[read(log).index("replanning: robot robot3 joined"):]
+        plan_line = next(l for l in after.splitlines() if "plan epoch" in l)
+        print(f"restarted robot back in a sent plan {self.coordinator_stamp(plan_line) - restarted_at:.2f} s after "
+              f"its process started")
+        code = self.fleet.wait_exit("coordinator", 240)
+        text = read(log)
+        self.assertEqual(code, 0, text[-3000:])  # robot3 did its role's remaining tasks
+        self.assertNotIn("duplicate robot id", text)
+        self.assert_safe()
+
+    def test_duplicate_id_is_refused_and_reported(self):
+        self.fleet.monitor()
+        self.fleet.agents()
+        self.fleet.coordinator()
+        log = self.fleet.log("coordinator")
+        wait_for(lambda: "plan epoch 1" in read(log), 120, "the first plan")
+        # A second process claims robot6's id from a cell of its own.
+        self.fleet.start("duplicate", [f"{BIN}/ctsfleet-agent", "--id", "robot6", "--start", "1,1", "--domain",
+                                       str(self.fleet.domain), "--step", STEP, "--dds-config-dir", DDS_DIR])
+        wait_for(lambda: "duplicate robot id robot6" in read(log), 30, "the coordinator refusing the duplicate")
+        code = self.fleet.wait_exit("coordinator", 240)
+        text = read(log)
+        self.assertIn(code, (0, 3), text[-3000:])
+        self.assertNotIn("robot robot6 taken out", text)  # the robot it drives stays in
+        self.fleet.processes["duplicate"].send_signal(signal.SIGTERM)
+        monitor_code, monitor_text = self.fleet.monitor_verdict()
+        self.assertIn("overlaps 0", monitor_text, monitor_text)
+        self.assertIn("duplicate ids 1", monitor_text, monitor_text)
+        self.assertEqual(monitor_code, 1, monitor_text)  # a duplicate id is an alarm
 
     def test_killed_agent_is_detected_and_the_others_finish(self):
         victim = self.kill_role3_robot_mid_run()

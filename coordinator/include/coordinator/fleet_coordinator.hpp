@@ -76,6 +76,7 @@ class FleetCoordinator {
   void handle(const Event& event);
   void handle_announcement(RobotRecord& robot, const fleet_transport::Announcement& announcement);
   void handle_state(RobotRecord& robot, const fleet_transport::RobotState& state, Clock::time_point received);
+  bool accept_incarnation(RobotRecord& robot, const fleet_transport::RobotState& state, Clock::time_point now);
   void lose(RobotRecord& robot, const std::string& why);
   void bind_roles(const std::vector<RobotRecord*>& robots);
   bool replan(fleet_transport::Transport& transport);

@@ -6,6 +6,7 @@
 
 #include <chrono>
 #include <map>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -27,6 +28,8 @@ struct RobotRecord {
   int role = -1;          // mission role, -1 for an extra robot
   int plan_agent = -1;    // agent in the current plan, -1 when not in it
   bool finished_plan = false;
+  uint64_t incarnation = 0;               // of the process whose states are accepted
+  std::set<uint64_t> refused_incarnations;  // other live processes claiming this id (reported once each)
 };
 
 class RobotRegistry {

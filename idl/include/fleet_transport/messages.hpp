@@ -17,6 +17,7 @@ struct Announcement {
   std::string capabilities;
   std::string version;
   bool leaving = false;
+  uint64_t incarnation = 0;  // random per process start; 0 from senders that do not set it
 };
 
 struct RobotState {
@@ -32,6 +33,7 @@ struct RobotState {
   int battery_percent = -1;
   uint64_t seq_number = 0;
   int64_t stamp_ms = 0;  // wall clock of the arrival at (cell_x, cell_y)
+  uint64_t incarnation = 0;  // of the publishing process; seq_number counts within one incarnation
 };
 
 struct StepCommand {

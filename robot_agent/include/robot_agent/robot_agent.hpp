@@ -18,6 +18,7 @@ struct AgentSettings {
   std::string robot_id;
   double state_rate_hz = 10;  // periodic state, besides one at every arrival
   std::string version = "0.1.0";
+  uint64_t first_seq_number = 1;  // of the first state (a test starts high to play a long-running robot)
 };
 
 class RobotAgent {
@@ -30,6 +31,8 @@ class RobotAgent {
   // Returns false when the agent must stop (crash fault).
   void step(fleet_transport::Transport& transport, bool reporting);
   fleet_transport::Announcement announcement() const;
+  // This process's incarnation: random, never 0, in every announcement and state.
+  uint64_t incarnation() const { return incarnation_; }
   // Sleeps until a command arrives or `timeout` passes (whichever is first).
   void wait_for_command(std::chrono::steady_clock::duration timeout);
   // How long the agent may sleep before step() has something to do (next state or arrival).
@@ -55,6 +58,7 @@ class RobotAgent {
   int fault_epoch_ = -1;  // commands of this epoch or older were issued before a fault
   GridCell moving_to_{};
   uint64_t seq_ = 0;
+  uint64_t incarnation_ = 0;
   std::chrono::steady_clock::time_point next_publish_{};
 };
 
