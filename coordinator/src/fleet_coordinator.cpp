@@ -169,12 +169,31 @@ void FleetCoordinator::handle_state(RobotRecord& robot, const fleet_transport::R
     if (robot.active) lose(robot, "reports a fault");
     return;
   }
+  const bool had_state = robot.has_state;
+  const fleet_transport::RobotState previous = robot.last;
   robot.has_state = true;
   robot.last = state;
-  if (const int a = robot.plan_agent; a >= 0 && plan_ && a < plan_->agent_count()) {
+  const int a = robot.plan_agent;
+  const bool in_plan = a >= 0 && plan_ && a < plan_->agent_count();
+  if (in_plan) {
     if (const auto round_trip = plan_->acknowledge(a, state, received)) summary_.round_trips_ms.push_back(*round_trip);
   }
+  // Every report is checked against the plan: a robot on a cell the plan does not have it on (moved
+  // by hand, or by commands from elsewhere) is taken out at once and planned around.
+  if (robot.active && in_plan && !plan_->allows(a, {state.cell_x, state.cell_y})) {
+    const Cell expected = plan_->position(a);
+    if (had_state) {  // it may be anywhere between where it was and where it is
+      const Vertex before = mission_vertex(previous.cell_x, previous.cell_y);
+      if (before != planner_core::kNoVertex) blocked_[before] = robot.id;
+    }
+    ++summary_.off_plan;
+    lose(robot, "off its plan: reports (" + std::to_string(state.cell_x) + "," + std::to_string(state.cell_y) +
+                    "), the plan has it on (" + std::to_string(expected.x) + "," + std::to_string(expected.y) + ")");
+    return;
+  }
   if (!robot.active) {
+    // A robot (re)joins once it stands still on a cell.
+    if (state.status == RobotStatus::kMoving) return;
     robot.active = true;
     // It is where it reports, no longer where it was lost.
     std::erase_if(blocked_, [&](const auto& entry) { return entry.second == robot.id || entry.first == cell; });
@@ -185,7 +204,6 @@ void FleetCoordinator::handle_state(RobotRecord& robot, const fleet_transport::R
       request_replan("robot " + robot.id + " joined");
     }
   }
-  if (robot.role >= 0) progress_.visit(robot.role, cell);
 }
 
 // Sequence numbers count within one incarnation of a robot's process. A state from another
@@ -328,6 +346,11 @@ bool FleetCoordinator::replan(fleet_transport::Transport& transport) {
     summary_.first_plan_flowtime = report.flowtime;
   }
   plan_ = std::make_unique<PlanExecution>(epoch_, instance.graph, result.solution, built.robots);
+  // Task visits count only when made under a plan: a start counts, being the plan's first step.
+  for (int a = 0; a < instance.agent_count(); ++a) {
+    const RobotRecord& robot = robots_[built.robots[a]];
+    if (robot.role >= 0) progress_.visit(robot.role, mission_vertex(robot.last.cell_x, robot.last.cell_y));
+  }
   int visits = 0;
   for (const auto& task : instance.tasks) visits += static_cast<int>(task.agents.size());
   spdlog::info("plan epoch {}: {} robots, {} task visits, flowtime {}, makespan {}", epoch_, instance.agent_count(),

@@ -6,7 +6,7 @@ namespace coordinator {
 
 PlanExecution::PlanExecution(int epoch, std::shared_ptr<const planner_core::Graph> graph,
                              const planner_core::Solution& plan, std::vector<std::string> robots)
-    : epoch_(epoch), graph_(std::move(graph)), adg_(plan) {
+    : epoch_(epoch), graph_(std::move(graph)), adg_(plan), starts_(plan.empty() ? planner_core::Config{} : plan[0]) {
   agents_.resize(robots.size());
   for (size_t a = 0; a < robots.size(); ++a) agents_[a].robot_id = std::move(robots[a]);
 }
@@ -16,6 +16,15 @@ int PlanExecution::agent_of(const std::string& robot_id) const {
     if (agents_[a].robot_id == robot_id) return a;
   }
   return -1;
+}
+
+planner_core::Cell PlanExecution::position(int a) const {
+  const int finished = agents_[a].finished;
+  return graph_->cell_of(finished > 0 ? moves(a)[finished - 1].to : starts_[a]);
+}
+
+bool PlanExecution::allows(int a, planner_core::Cell cell) const {
+  return cell == position(a) || (in_flight(a) && cell == target(a, agents_[a].finished));
 }
 
 std::optional<double> PlanExecution::acknowledge(int a, const fleet_transport::RobotState& state,

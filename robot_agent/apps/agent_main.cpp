@@ -55,6 +55,10 @@ int main(int argc, char** argv) {
       ->check(ctsfleet::number_in(0, 1e6));
   app.add_option("--crash-at", sim.crash_at_s, "sim fault: abort the process after this many seconds")
       ->check(ctsfleet::number_in(0, 1e6));
+  std::string teleport_to;
+  app.add_option("--teleport-after", sim.teleport_after_moves, "sim fault: carried by hand to --to after this many moves")
+      ->check(ctsfleet::count_in(0, 1'000'000));
+  app.add_option("--to", teleport_to, "sim fault: the cell x,y --teleport-after puts the robot on");
   app.add_option("--seed", sim.seed, "sim: random seed");
   app.add_option("--cube", toio.cube, "toio: the cube's advertised name (toio-XXX) or Bluetooth address");
   app.add_option("--mat", mat_file, "toio: mat file (config/mats/*.yaml) placing the grid on the mat")
@@ -75,6 +79,12 @@ int main(int argc, char** argv) {
   if (std::sscanf(start_text.c_str(), "%d,%d%c", &start.x, &start.y, &trailing) != 2 || start.x < 0 || start.y < 0 ||
       start.x > 100000 || start.y > 100000) {
     throw InputError("--start: must be x,y with x and y in [0, 100000], not '" + start_text + "'");
+  }
+  if (sim.teleport_after_moves >= 0) {
+    if (std::sscanf(teleport_to.c_str(), "%d,%d%c", &sim.teleport_to.x, &sim.teleport_to.y, &trailing) != 2 ||
+        sim.teleport_to.x < 0 || sim.teleport_to.y < 0 || sim.teleport_to.x > 100000 || sim.teleport_to.y > 100000) {
+      throw InputError("--to: --teleport-after needs a cell x,y with x and y in [0, 100000], not '" + teleport_to + "'");
+    }
   }
   if (dds_dir.empty()) dds_dir = ctsfleet::data_path("config/dds").string();
   std::unique_ptr<RobotBackend> backend;

@@ -43,6 +43,13 @@ BackendReport SimRobot::poll() {
     cell_ = *target_;
     target_.reset();
     arrived_ms_ = wall_clock_ms();
+    ++moves_done_;
+  }
+  if (settings_.teleport_after_moves >= 0 && !teleported_ && moves_done_ >= settings_.teleport_after_moves) {
+    teleported_ = true;  // picked up and put down elsewhere
+    cell_ = settings_.teleport_to;
+    target_.reset();
+    arrived_ms_ = wall_clock_ms();
   }
   BackendReport report;
   report.cell = cell_;

@@ -9,6 +9,7 @@
 #include <thread>
 
 #include "coordinator/fleet_coordinator.hpp"
+#include "coordinator/plan_execution.hpp"
 
 namespace coordinator {
 namespace {
@@ -34,6 +35,9 @@ struct FakeRobot {
   uint64_t seq = 0;
   bool silent = false;
   int epoch = -1, action = -1;  // of the last command carried out, repeated in every state
+  int moves = 0;
+  int teleport_after = -1;       // carried by hand to teleport_to after this many moves
+  planner_core::Cell teleport_to{};
 
   fleet_transport::RobotState state(int epoch, int action, fleet_transport::RobotStatus status) {
     fleet_transport::RobotState s;
@@ -81,6 +85,7 @@ std::map<std::string, std::vector<planner_core::Cell>> run(FleetCoordinator& coo
         robot.cell = {command.target_x, command.target_y};
         robot.epoch = command.plan_epoch;
         robot.action = command.action_index;
+        if (++robot.moves == robot.teleport_after) robot.cell = robot.teleport_to;
         visited[robot.id].push_back(robot.cell);
         coordinator.on_state(robot.state(command.plan_epoch, command.action_index, fleet_transport::RobotStatus::kArrived));
       }
@@ -141,6 +146,34 @@ TEST(FleetCoordinator, ASilentRobotIsTakenOutAndTheOthersStillFinish) {
   bool role_without_robot = false;
   for (const std::string& line : summary.pending) role_without_robot |= line.find("(no robot)") != std::string::npos;
   EXPECT_TRUE(role_without_robot);
+}
+
+TEST(FleetCoordinator, ARobotCarriedOffItsPlanIsTakenOutAndPlannedAround) {
+  planner_core::Instance mission = planner_core::load_instance(CTSFLEET_CONFIG_DIR "/default/mission-8.yaml");
+  std::vector<FakeRobot> robots;
+  for (int r = 0; r < mission.agent_count(); ++r) {
+    robots.push_back({"robot" + std::to_string(r), mission.graph->cell_of(mission.starts[r])});
+  }
+  robots[5].teleport_after = 10;
+  robots[5].teleport_to = {1, 1};  // a free cell no role needs
+  FleetCoordinator coordinator(config_for(mission.agent_count()), std::move(mission));
+  run(coordinator, robots);  // also checks that no two robots ever share a cell
+  const MissionSummary& summary = coordinator.summary();
+  EXPECT_EQ(summary.off_plan, 1);
+  EXPECT_GE(summary.robots_lost, 1);
+  EXPECT_GE(summary.robots_joined, 1);  // back in from (1,1)
+  EXPECT_TRUE(summary.completed);
+}
+
+TEST(PlanExecution, AllowsOnlyThePlannedCellAndTheTargetInFlight) {
+  const auto graph = std::make_shared<const planner_core::Graph>(3, 1, std::vector<std::string>{"..."});
+  const planner_core::Solution plan = {{graph->vertex_at({0, 0})}, {graph->vertex_at({1, 0})}, {graph->vertex_at({2, 0})}};
+  PlanExecution execution(1, graph, plan, {"r"});
+  EXPECT_TRUE(execution.allows(0, {0, 0}));
+  EXPECT_FALSE(execution.allows(0, {1, 0}));  // not sent yet
+  ASSERT_TRUE(execution.due_command(0, PlanExecution::Clock::now(), 1.0, 0).has_value());
+  EXPECT_TRUE(execution.allows(0, {1, 0}));
+  EXPECT_FALSE(execution.allows(0, {2, 0}));
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 """Multi-process fleet tests: a real coordinator, real robot agents and an independent safety
 monitor, talking DDS over loopback, each test on its own domain. Every wait is on a condition
 with a generous deadline, so a loaded machine only makes the tests slower."""
+import json
 import os
 import re
 import shutil
@@ -35,6 +36,7 @@ TESTS = [
     "test_fastdds_hears_more_than_ten_robots",
     "test_restarted_robot_with_the_same_id_rejoins",
     "test_duplicate_id_is_refused_and_reported",
+    "test_robot_moved_by_hand_is_taken_out_and_planned_around",
 ]
 
 
@@ -271,6 +273,25 @@ class FleetTest(unittest.TestCase):
         self.assertIn("overlaps 0", monitor_text, monitor_text)
         self.assertIn("duplicate ids 1", monitor_text, monitor_text)
         self.assertEqual(monitor_code, 1, monitor_text)  # a duplicate id is an alarm
+
+    def test_robot_moved_by_hand_is_taken_out_and_planned_around(self):
+        # robot5 is carried to (1,1) after its 10th move, off its plan.
+        self.fleet.monitor()
+        for index, cell in enumerate(role_starts()):
+            self.fleet.agent(f"robot{index}", cell, extra=["--teleport-after", "10", "--to", "1,1"] if index == 5 else [])
+        self.fleet.coordinator(extra=["--json"])
+        log = self.fleet.log("coordinator")
+        wait_for(lambda: "robot robot5 taken out: off its plan: reports (1,1)" in read(log), 120,
+                 "the coordinator seeing robot5 off its plan")
+        code = self.fleet.wait_exit("coordinator", 240)
+        text = read(log)
+        self.assertIn(code, (0, 3), text[-3000:])
+        self.assertIn("replanning: robot robot5 joined", text)  # back in, from where it was put down
+        summary = json.loads(next(l for l in reversed(text.splitlines()) if l.startswith("{")))
+        self.assertEqual(summary["off_plan"], 1, summary)
+        if code == 3:
+            self.assert_pending_explained(text)
+        self.assert_safe()
 
     def test_killed_agent_is_detected_and_the_others_finish(self):
         victim = self.kill_role3_robot_mid_run()

@@ -34,6 +34,7 @@ struct MissionSummary {
   int replans = 0;
   int robots_lost = 0;
   int robots_joined = 0;
+  int off_plan = 0;               // robots taken out for standing where the plan did not have them
   double seconds = 0;             // from the first command to the end
   int first_plan_makespan = 0;    // steps
   int64_t first_plan_flowtime = 0;

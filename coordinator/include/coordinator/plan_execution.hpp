@@ -46,6 +46,11 @@ class PlanExecution {
   bool done(int a) const { return agents_[a].finished >= static_cast<int>(moves(a).size()); }
   // A move of agent a was sent and not yet confirmed.
   bool in_flight(int a) const { return !done(a) && agents_[a].sent == agents_[a].finished; }
+  // Where the plan has agent a now: its start, or the end of its last confirmed move.
+  planner_core::Cell position(int a) const;
+  // A cell the robot of agent a may report under the plan: its position, or the target of the move
+  // in flight.
+  bool allows(int a, planner_core::Cell cell) const;
   // The cell agent a's move `index` ends on.
   planner_core::Cell target(int a, int index) const { return graph_->cell_of(moves(a)[index].to); }
 
@@ -66,6 +71,7 @@ class PlanExecution {
   std::shared_ptr<const planner_core::Graph> graph_;
   ActionDependencyGraph adg_;
   std::vector<Agent> agents_;
+  std::vector<planner_core::Vertex> starts_;  // the plan's first configuration
 };
 
 }  // namespace coordinator

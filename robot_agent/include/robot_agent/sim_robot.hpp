@@ -1,5 +1,5 @@
 // SimRobot: a simulated robot that moves cell to cell at a configured speed with random jitter,
-// plus fault injection (stall for a while, stop reporting, crash).
+// plus fault injection (stall for a while, stop reporting, crash, be carried to another cell).
 #pragma once
 
 #include <chrono>
@@ -21,6 +21,8 @@ struct SimSettings {
   double stall_for_s = 0;
   double silent_at_s = -1;      // stop reporting (the agent checks reporting_enabled)
   double crash_at_s = -1;       // the process aborts
+  int teleport_after_moves = -1;  // after this many moves the robot is carried by hand to teleport_to
+  GridCell teleport_to{};
 };
 
 class SimRobot : public RobotBackend {
@@ -44,6 +46,8 @@ class SimRobot : public RobotBackend {
   int64_t arrived_ms_;
   std::optional<GridCell> target_;
   Clock::time_point move_started_, move_ends_;
+  bool teleported_ = false;
+  int moves_done_ = 0;
 };
 
 }  // namespace robot_agent
