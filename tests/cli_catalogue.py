@@ -103,11 +103,11 @@ def run(case):
         terminated = True
         proc.send_signal(signal.SIGTERM)
         try:
-            out, err = proc.communicate(timeout=2.0 + (3.0 if case.program in LONG_RUNNING else 0))
+            out, err = proc.communicate(timeout=2.0 + (1.0 if case.program in LONG_RUNNING else 0))
         except subprocess.TimeoutExpired:
             os.killpg(proc.pid, signal.SIGKILL)
             proc.communicate()
-            return f"hang: still running {2 + (3 if case.program in LONG_RUNNING else 0)} s after SIGTERM"
+            return f"hang: still running {2 + (1 if case.program in LONG_RUNNING else 0)} s after SIGTERM"
     finally:
         try:
             os.killpg(proc.pid, signal.SIGKILL)  # children left behind, if any
@@ -188,7 +188,7 @@ def fleet_config(name, **overrides):
     text = text.replace("mission: default/", f"mission: {ROOT}/config/default/")
     text = text.replace("config_dir: dds", f"config_dir: {ROOT}/config/dds")
     for key, value in overrides.items():
-        text, count = re.subn(rf"^(\s*{key}:)[^#\n]*", rf"\g<1> {value}", text, flags=re.M)
+        text, count = re.subn(rf"^(\s*{key}:)[^#\n]*", rf"\g<1> {value}  ", text, flags=re.M)
         assert count == 1, key
     path = os.path.join(WORK, name)
     with open(path, "w") as f:
@@ -240,6 +240,8 @@ def named_cases():
         refuse("ctsfleet-coordinator", ["-c", fleet_config("step.yaml", step_s=".nan")], "config timing.step_s: .nan"),
         refuse("ctsfleet-coordinator", ["-c", fleet_config("quorum.yaml", quorum="99999999999")],
                "config robots.quorum: 99999999999"),
+        refuse("ctsfleet-coordinator", ["-c", fleet_config("twice.yaml", expected="[robot0, robot1, robot0]")],
+               "config robots.expected with an id twice"),
         refuse("ctsfleet-coordinator", ["-c", EMPTY_FILE], "coordinator: empty config"),
         refuse("ctsfleet-coordinator", ["-c", WORK], "coordinator: a folder for the config"),
         refuse("ctsfleet-agent", ["--id", "r", "--lease", "-1"], "agent --lease -1"),

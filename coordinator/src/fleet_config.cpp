@@ -56,6 +56,10 @@ FleetConfig load_fleet_config(const std::string& path) {
           if (!id.IsScalar() || id.Scalar().empty() || id.Scalar().size() > 32) {
             r.fail(id, "robots.expected", "robot ids are strings of 1 to 32 characters");
           }
+          if (std::find(config.expected_robots.begin(), config.expected_robots.end(), id.Scalar()) !=
+              config.expected_robots.end()) {
+            r.fail(id, "robots.expected", "robot id '" + id.Scalar() + "' is listed twice");
+          }
           config.expected_robots.push_back(id.Scalar());
         }
       } else {

@@ -59,6 +59,11 @@ void RobotAgent::on_command(const StepCommand& command) {
     return;
   }
   // Checked before the command can change the epoch, so a bad command cannot lock out good ones.
+  if (command.deadline_ms > 0 && command.deadline_ms < fleet_transport::wall_clock_ms()) {
+    reject(command, "its deadline passed " + std::to_string(fleet_transport::wall_clock_ms() - command.deadline_ms) +
+                        " ms ago (a late or replayed command)");
+    return;
+  }
   if (std::abs(command.target_x - next_start_.x) + std::abs(command.target_y - next_start_.y) > 1) {
     reject(command, "not a move to a neighbouring cell of (" + std::to_string(next_start_.x) + "," +
                         std::to_string(next_start_.y) + ") or a wait");
