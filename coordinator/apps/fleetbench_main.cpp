@@ -72,89 +72,89 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_flag("--json", json, "print one JSON object per fleet size instead of the table");
   return program.main(argc, argv, [&] {
-  if (domain + static_cast<int>(sizes.size()) - 1 > 232) {
-    throw planner_core::InputError("--domain: " + std::to_string(domain) + " + " + std::to_string(sizes.size()) +
-                                   " fleet sizes run past DDS domain 232");
-  }
-  if (map.empty()) map = ctsfleet::data_path("config/default/random-64-64-20.map").string();
-  const std::string dds_config_dir = ctsfleet::data_path("config/dds").string();
-  const std::atomic<bool>& stop = ctsfleet::stop_requested();
-  const fs::path work = fs::temp_directory_path() / ("ctsfleet-fleetbench-" + std::to_string(getpid()));
-  fs::create_directories(work);
-  if (!json) std::printf("| robots | mission | round trip p50 (ms) | p99 (ms) | max (ms) | coordinator CPU (%% of one core) | "
-              "replan latency after a loss (ms) |\n|---|---|---|---|---|---|---|\n");
-  for (int n : sizes) {
-    auto graph = std::make_shared<const planner_core::Graph>(planner_core::load_movingai_map(map));
-    const planner_core::Instance mission = planner_core::generate_instance(graph, {n, n, 2, static_cast<uint32_t>(n)});
-    const fs::path mission_file = work / ("mission-" + std::to_string(n) + ".yaml");
-    std::ofstream(mission_file) << planner_core::instance_to_yaml(mission, fs::absolute(map).string());
-    const fs::path config_file = work / ("fleet-" + std::to_string(n) + ".yaml");
-    std::ofstream(config_file) << "mission: " << mission_file.string() << "\nrobots:\n  quorum: " << n
-                               << "\n  wait_timeout_s: 60\nplanner:\n  solver: cts-pll-v2\n  time_limit_s: 5\n"
-                               << "  replan_solver: cts-pll-v2\n  replan_time_limit_s: 5\ndds:\n  vendor: " << vendor
-                               << "\n  domain_id: " << domain << "\n  config_dir: " << dds_config_dir
-                               << "\ntiming:\n  step_s: " << step
-                               << "\n  silence_timeout_s: 3\n  mission_timeout_s: 300\n  replacement_timeout_s: 2\n";
-    std::vector<pid_t> agents;
-    for (int r = 0; r < n; ++r) {
-      const planner_core::Cell start = graph->cell_of(mission.starts[r]);
-      agents.push_back(coordinator::start_child({(here / "ctsfleet-agent").string(), "--id", "robot" + std::to_string(r), "--start",
-                              std::to_string(start.x) + "," + std::to_string(start.y), "--dds", vendor, "--domain",
-                              std::to_string(domain), "--step", std::to_string(step), "--jitter", "0.1",
-                              "--dds-config-dir", dds_config_dir},
-                             (work / ("robot" + std::to_string(r) + ".log")).string()));
+    if (domain + static_cast<int>(sizes.size()) - 1 > 232) {
+      throw planner_core::InputError("--domain: " + std::to_string(domain) + " + " + std::to_string(sizes.size()) +
+                                     " fleet sizes run past DDS domain 232");
     }
-    const std::string coordinator_log = (work / ("coordinator-" + std::to_string(n) + ".log")).string();
-    const std::string coordinator_summary = (work / ("coordinator-" + std::to_string(n) + ".json")).string();
-    const pid_t coordinator_pid = coordinator::start_child(
-        {(here / "ctsfleet-coordinator").string(), "--config", config_file.string(), "--json"}, coordinator_log,
-        coordinator_summary);
-    // Kill one robot once the mission is under way.
-    const auto started = std::chrono::steady_clock::now();
-    while (read_file(coordinator_log).find("plan epoch 1") == std::string::npos &&
-           std::chrono::steady_clock::now() - started < std::chrono::seconds(120) && !stop.load()) {
-      std::this_thread::sleep_for(std::chrono::milliseconds(100));
-    }
-    const auto kill_time = std::chrono::steady_clock::now() + std::chrono::duration<double>(kill_after);
-    while (std::chrono::steady_clock::now() < kill_time && !stop.load()) {
-      std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    }
-    kill(agents[0], SIGKILL);
-    // Wait for the mission; Ctrl-C or SIGTERM is passed on to the coordinator.
-    int status = 0;
-    bool forwarded = false;
-    while (waitpid(coordinator_pid, &status, WNOHANG) == 0) {
-      if (stop.load() && !forwarded) {
-        kill(coordinator_pid, SIGINT);
-        forwarded = true;
+    if (map.empty()) map = ctsfleet::data_path("config/default/random-64-64-20.map").string();
+    const std::string dds_config_dir = ctsfleet::data_path("config/dds").string();
+    const std::atomic<bool>& stop = ctsfleet::stop_requested();
+    const fs::path work = fs::temp_directory_path() / ("ctsfleet-fleetbench-" + std::to_string(getpid()));
+    fs::create_directories(work);
+    if (!json) std::printf("| robots | mission | round trip p50 (ms) | p99 (ms) | max (ms) | coordinator CPU (%% of one core) | "
+                "replan latency after a loss (ms) |\n|---|---|---|---|---|---|---|\n");
+    for (int n : sizes) {
+      auto graph = std::make_shared<const planner_core::Graph>(planner_core::load_movingai_map(map));
+      const planner_core::Instance mission = planner_core::generate_instance(graph, {n, n, 2, static_cast<uint32_t>(n)});
+      const fs::path mission_file = work / ("mission-" + std::to_string(n) + ".yaml");
+      std::ofstream(mission_file) << planner_core::instance_to_yaml(mission, fs::absolute(map).string());
+      const fs::path config_file = work / ("fleet-" + std::to_string(n) + ".yaml");
+      std::ofstream(config_file) << "mission: " << mission_file.string() << "\nrobots:\n  quorum: " << n
+                                 << "\n  wait_timeout_s: 60\nplanner:\n  solver: cts-pll-v2\n  time_limit_s: 5\n"
+                                 << "  replan_solver: cts-pll-v2\n  replan_time_limit_s: 5\ndds:\n  vendor: " << vendor
+                                 << "\n  domain_id: " << domain << "\n  config_dir: " << dds_config_dir
+                                 << "\ntiming:\n  step_s: " << step
+                                 << "\n  silence_timeout_s: 3\n  mission_timeout_s: 300\n  replacement_timeout_s: 2\n";
+      std::vector<pid_t> agents;
+      for (int r = 0; r < n; ++r) {
+        const planner_core::Cell start = graph->cell_of(mission.starts[r]);
+        agents.push_back(coordinator::start_child({(here / "ctsfleet-agent").string(), "--id", "robot" + std::to_string(r), "--start",
+                                std::to_string(start.x) + "," + std::to_string(start.y), "--dds", vendor, "--domain",
+                                std::to_string(domain), "--step", std::to_string(step), "--jitter", "0.1",
+                                "--dds-config-dir", dds_config_dir},
+                               (work / ("robot" + std::to_string(r) + ".log")).string()));
       }
-      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+      const std::string coordinator_log = (work / ("coordinator-" + std::to_string(n) + ".log")).string();
+      const std::string coordinator_summary = (work / ("coordinator-" + std::to_string(n) + ".json")).string();
+      const pid_t coordinator_pid = coordinator::start_child(
+          {(here / "ctsfleet-coordinator").string(), "--config", config_file.string(), "--json"}, coordinator_log,
+          coordinator_summary);
+      // Kill one robot once the mission is under way.
+      const auto started = std::chrono::steady_clock::now();
+      while (read_file(coordinator_log).find("plan epoch 1") == std::string::npos &&
+             std::chrono::steady_clock::now() - started < std::chrono::seconds(120) && !stop.load()) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(100));
+      }
+      const auto kill_time = std::chrono::steady_clock::now() + std::chrono::duration<double>(kill_after);
+      while (std::chrono::steady_clock::now() < kill_time && !stop.load()) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(50));
+      }
+      kill(agents[0], SIGKILL);
+      // Wait for the mission; Ctrl-C or SIGTERM is passed on to the coordinator.
+      int status = 0;
+      bool forwarded = false;
+      while (waitpid(coordinator_pid, &status, WNOHANG) == 0) {
+        if (stop.load() && !forwarded) {
+          kill(coordinator_pid, SIGINT);
+          forwarded = true;
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(50));
+      }
+      for (pid_t pid : agents) kill(pid, SIGTERM);
+      for (pid_t pid : agents) waitpid(pid, nullptr, 0);
+      if (stop.load()) {
+        std::fprintf(stderr, "interrupted: logs in %s\n", work.c_str());
+        return ctsfleet::kExitInterrupted;
+      }
+      const nlohmann::json summary = read_summary(coordinator_summary);
+      const double seconds = summary.value("seconds", 0.0);
+      std::string cpu_share = "-";
+      if (summary.contains("cpu_s") && seconds > 0) cpu_share = figure(summary, "cpu_s", 100 / seconds, "%.1f");
+      const auto& latencies = summary.value("replan_latencies_s", std::vector<double>{});
+      const std::string replan_ms = latencies.empty() ? "-" : std::to_string(static_cast<int>(1000 * latencies.front()));
+      if (json) {
+        nlohmann::json row = {{"robots", n}, {"summary", summary}, {"logs", work.string()}};
+        std::printf("%s\n", row.dump().c_str());
+      } else {
+        const std::string outcome = summary.empty() ? "no summary" : summary.value("completed", false) ? "completed" : "NOT completed";
+        std::printf("| %d | %s, %s s | %s | %s | %s | %s | %s |\n", n, outcome.c_str(), figure(summary, "seconds", 1, "%.1f").c_str(),
+                    figure(summary, "round_trip_p50_ms").c_str(), figure(summary, "round_trip_p99_ms").c_str(),
+                    figure(summary, "round_trip_max_ms").c_str(), cpu_share.c_str(), replan_ms.c_str());
+      }
+      std::fflush(stdout);
+      ++domain;
     }
-    for (pid_t pid : agents) kill(pid, SIGTERM);
-    for (pid_t pid : agents) waitpid(pid, nullptr, 0);
-    if (stop.load()) {
-      std::fprintf(stderr, "interrupted: logs in %s\n", work.c_str());
-      return ctsfleet::kExitInterrupted;
-    }
-    const nlohmann::json summary = read_summary(coordinator_summary);
-    const double seconds = summary.value("seconds", 0.0);
-    std::string cpu_share = "-";
-    if (summary.contains("cpu_s") && seconds > 0) cpu_share = figure(summary, "cpu_s", 100 / seconds, "%.1f");
-    const auto& latencies = summary.value("replan_latencies_s", std::vector<double>{});
-    const std::string replan_ms = latencies.empty() ? "-" : std::to_string(static_cast<int>(1000 * latencies.front()));
-    if (json) {
-      nlohmann::json row = {{"robots", n}, {"summary", summary}, {"logs", work.string()}};
-      std::printf("%s\n", row.dump().c_str());
-    } else {
-      const std::string outcome = summary.empty() ? "no summary" : summary.value("completed", false) ? "completed" : "NOT completed";
-      std::printf("| %d | %s, %s s | %s | %s | %s | %s | %s |\n", n, outcome.c_str(), figure(summary, "seconds", 1, "%.1f").c_str(),
-                  figure(summary, "round_trip_p50_ms").c_str(), figure(summary, "round_trip_p99_ms").c_str(),
-                  figure(summary, "round_trip_max_ms").c_str(), cpu_share.c_str(), replan_ms.c_str());
-    }
-    std::fflush(stdout);
-    ++domain;
-  }
-  if (!json) std::printf("\nlogs: %s\n", work.c_str());
-  return 0;
+    if (!json) std::printf("\nlogs: %s\n", work.c_str());
+    return 0;
   });
 }

@@ -40,102 +40,102 @@ int main(int argc, char** argv) {
       ->check(ctsfleet::number_in(0, 1e6))
       ->capture_default_str();
   return program.main(argc, argv, [&] {
-  const std::atomic<bool>& g_stop = ctsfleet::stop_requested();
-  if (dds_dir.empty()) dds_dir = ctsfleet::data_path("config/dds").string();
+    const std::atomic<bool>& g_stop = ctsfleet::stop_requested();
+    if (dds_dir.empty()) dds_dir = ctsfleet::data_path("config/dds").string();
 
-  std::mutex mutex;
-  // Paths per robot process: "id#incarnation", so a restart starts a new path and a second process
-  // under one id is told apart from the first.
-  std::map<std::string, std::vector<Visit>> visits;
-  struct Incarnation {
-    std::chrono::steady_clock::time_point first_heard, last_heard;
-  };
-  std::map<std::string, std::map<uint64_t, Incarnation>> incarnations;  // robot id -> its processes
-  std::set<std::pair<std::string, std::pair<uint64_t, uint64_t>>> duplicates;
-  int64_t gaps = 0, states = 0;
-  fleet_transport::TransportConfig config;
-  config.vendor = fleet_transport::parse_vendor(vendor);
-  config.domain_id = domain;
-  config.loopback_config_dir = dds_dir;
-  fleet_transport::Handlers handlers;
-  handlers.on_state = [&](const fleet_transport::RobotState& s) {
-    const std::lock_guard<std::mutex> lock(mutex);
-    ++states;
-    const auto now = std::chrono::steady_clock::now();
-    auto& of_robot = incarnations[s.robot_id];
-    const bool new_process = of_robot.find(s.incarnation) == of_robot.end();
-    Incarnation& self = of_robot[s.incarnation];
-    if (new_process) self.first_heard = now;
-    self.last_heard = now;
-    const std::string key = s.robot_id + "#" + std::to_string(s.incarnation);
-    for (const auto& [other, seen] : of_robot) {
-      if (other == s.incarnation) continue;
-      // A restart hands over (the old process falls silent before the new one speaks, give or take
-      // states in flight); two processes both heard after the other began are a duplicate id.
-      constexpr auto kGrace = std::chrono::milliseconds(300);
-      const auto overlap = std::min(seen.last_heard, self.last_heard) - std::max(seen.first_heard, self.first_heard);
-      if (overlap > kGrace &&
-          duplicates.insert({s.robot_id, {std::min(other, s.incarnation), std::max(other, s.incarnation)}}).second) {
-        spdlog::error("duplicate robot id {}: two processes (incarnations {:016x} and {:016x}) publish states", s.robot_id,
-                      other, s.incarnation);
+    std::mutex mutex;
+    // Paths per robot process: "id#incarnation", so a restart starts a new path and a second process
+    // under one id is told apart from the first.
+    std::map<std::string, std::vector<Visit>> visits;
+    struct Incarnation {
+      std::chrono::steady_clock::time_point first_heard, last_heard;
+    };
+    std::map<std::string, std::map<uint64_t, Incarnation>> incarnations;  // robot id -> its processes
+    std::set<std::pair<std::string, std::pair<uint64_t, uint64_t>>> duplicates;
+    int64_t gaps = 0, states = 0;
+    fleet_transport::TransportConfig config;
+    config.vendor = fleet_transport::parse_vendor(vendor);
+    config.domain_id = domain;
+    config.loopback_config_dir = dds_dir;
+    fleet_transport::Handlers handlers;
+    handlers.on_state = [&](const fleet_transport::RobotState& s) {
+      const std::lock_guard<std::mutex> lock(mutex);
+      ++states;
+      const auto now = std::chrono::steady_clock::now();
+      auto& of_robot = incarnations[s.robot_id];
+      const bool new_process = of_robot.find(s.incarnation) == of_robot.end();
+      Incarnation& self = of_robot[s.incarnation];
+      if (new_process) self.first_heard = now;
+      self.last_heard = now;
+      const std::string key = s.robot_id + "#" + std::to_string(s.incarnation);
+      for (const auto& [other, seen] : of_robot) {
+        if (other == s.incarnation) continue;
+        // A restart hands over (the old process falls silent before the new one speaks, give or take
+        // states in flight); two processes both heard after the other began are a duplicate id.
+        constexpr auto kGrace = std::chrono::milliseconds(300);
+        const auto overlap = std::min(seen.last_heard, self.last_heard) - std::max(seen.first_heard, self.first_heard);
+        if (overlap > kGrace &&
+            duplicates.insert({s.robot_id, {std::min(other, s.incarnation), std::max(other, s.incarnation)}}).second) {
+          spdlog::error("duplicate robot id {}: two processes (incarnations {:016x} and {:016x}) publish states", s.robot_id,
+                        other, s.incarnation);
+        }
+        if (new_process) {  // the other's last cell is left when this one starts (a restart)
+          auto& other_path = visits[s.robot_id + "#" + std::to_string(other)];
+          if (!other_path.empty() && other_path.back().to_ms == INT64_MAX) other_path.back().to_ms = s.stamp_ms;
+        }
       }
-      if (new_process) {  // the other's last cell is left when this one starts (a restart)
-        auto& other_path = visits[s.robot_id + "#" + std::to_string(other)];
-        if (!other_path.empty() && other_path.back().to_ms == INT64_MAX) other_path.back().to_ms = s.stamp_ms;
+      std::vector<Visit>& path = visits[key];
+      if (!path.empty() && path.back().x == s.cell_x && path.back().y == s.cell_y) return;
+      if (!path.empty()) {
+        Visit& last = path.back();
+        if (s.stamp_ms < last.from_ms) return;  // an older state arriving late
+        if (std::abs(last.x - s.cell_x) + std::abs(last.y - s.cell_y) == 1) {
+          last.to_ms = s.stamp_ms;
+        } else {
+          ++gaps;  // a lost state: we do not know when the robot left `last`; do not judge it
+          last.to_ms = last.from_ms;
+        }
       }
+      path.push_back({s.cell_x, s.cell_y, s.stamp_ms, INT64_MAX});
+    };
+    auto transport = fleet_transport::make_transport(config, handlers);
+    const auto start = std::chrono::steady_clock::now();
+    while (!g_stop.load() &&
+           (duration <= 0 || std::chrono::steady_clock::now() - start < std::chrono::duration<double>(duration))) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
     }
-    std::vector<Visit>& path = visits[key];
-    if (!path.empty() && path.back().x == s.cell_x && path.back().y == s.cell_y) return;
-    if (!path.empty()) {
-      Visit& last = path.back();
-      if (s.stamp_ms < last.from_ms) return;  // an older state arriving late
-      if (std::abs(last.x - s.cell_x) + std::abs(last.y - s.cell_y) == 1) {
-        last.to_ms = s.stamp_ms;
-      } else {
-        ++gaps;  // a lost state: we do not know when the robot left `last`; do not judge it
-        last.to_ms = last.from_ms;
-      }
-    }
-    path.push_back({s.cell_x, s.cell_y, s.stamp_ms, INT64_MAX});
-  };
-  auto transport = fleet_transport::make_transport(config, handlers);
-  const auto start = std::chrono::steady_clock::now();
-  while (!g_stop.load() &&
-         (duration <= 0 || std::chrono::steady_clock::now() - start < std::chrono::duration<double>(duration))) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  }
-  transport.reset();
+    transport.reset();
 
-  // Every pair of visits of one cell by different robots must not overlap in time.
-  std::map<std::pair<int, int>, std::vector<std::pair<const Visit*, const std::string*>>> by_cell;
-  int64_t cell_visits = 0;
-  for (const auto& [id, path] : visits) {
-    for (const Visit& visit : path) {
-      by_cell[{visit.x, visit.y}].emplace_back(&visit, &id);
-      ++cell_visits;
-    }
-  }
-  int overlaps = 0;
-  for (auto& [cell, list] : by_cell) {
-    std::sort(list.begin(), list.end(), [](const auto& a, const auto& b) { return a.first->from_ms < b.first->from_ms; });
-    for (size_t i = 0; i + 1 < list.size(); ++i) {
-      for (size_t j = i + 1; j < list.size() && list[j].first->from_ms < list[i].first->to_ms; ++j) {
-        if (*list[i].second == *list[j].second) continue;  // one process's own consecutive visits
-        ++overlaps;
-        spdlog::error("collision: {} and {} both on ({},{}) around t={} ms", *list[i].second, *list[j].second,
-                      cell.first, cell.second, list[j].first->from_ms);
+    // Every pair of visits of one cell by different robots must not overlap in time.
+    std::map<std::pair<int, int>, std::vector<std::pair<const Visit*, const std::string*>>> by_cell;
+    int64_t cell_visits = 0;
+    for (const auto& [id, path] : visits) {
+      for (const Visit& visit : path) {
+        by_cell[{visit.x, visit.y}].emplace_back(&visit, &id);
+        ++cell_visits;
       }
     }
-  }
-  std::printf("monitor: robots %zu, processes %zu, states %lld, cell visits %lld, overlaps %d, gaps %lld, "
-              "duplicate ids %zu\n",
-              incarnations.size(), visits.size(), static_cast<long long>(states), static_cast<long long>(cell_visits),
-              overlaps, static_cast<long long>(gaps), duplicates.size());
-  if (incarnations.empty()) {
-    std::fprintf(stderr, "ctsfleet-monitor: heard no robot on %s domain %d with DDS config %s: nothing was checked\n",
-                 vendor.c_str(), domain, dds_dir.c_str());
-    return kExitHeardNothing;
-  }
-  return overlaps == 0 && duplicates.empty() ? 0 : 1;
+    int overlaps = 0;
+    for (auto& [cell, list] : by_cell) {
+      std::sort(list.begin(), list.end(), [](const auto& a, const auto& b) { return a.first->from_ms < b.first->from_ms; });
+      for (size_t i = 0; i + 1 < list.size(); ++i) {
+        for (size_t j = i + 1; j < list.size() && list[j].first->from_ms < list[i].first->to_ms; ++j) {
+          if (*list[i].second == *list[j].second) continue;  // one process's own consecutive visits
+          ++overlaps;
+          spdlog::error("collision: {} and {} both on ({},{}) around t={} ms", *list[i].second, *list[j].second,
+                        cell.first, cell.second, list[j].first->from_ms);
+        }
+      }
+    }
+    std::printf("monitor: robots %zu, processes %zu, states %lld, cell visits %lld, overlaps %d, gaps %lld, "
+                "duplicate ids %zu\n",
+                incarnations.size(), visits.size(), static_cast<long long>(states), static_cast<long long>(cell_visits),
+                overlaps, static_cast<long long>(gaps), duplicates.size());
+    if (incarnations.empty()) {
+      std::fprintf(stderr, "ctsfleet-monitor: heard no robot on %s domain %d with DDS config %s: nothing was checked\n",
+                   vendor.c_str(), domain, dds_dir.c_str());
+      return kExitHeardNothing;
+    }
+    return overlaps == 0 && duplicates.empty() ? 0 : 1;
   });
 }

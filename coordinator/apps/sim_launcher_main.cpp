@@ -98,114 +98,114 @@ int main(int argc, char** argv) {
   app.add_option("--log-dir", log_dir, "where the agents' logs go")->check(ctsfleet::writable_folder())->capture_default_str();
   app.add_flag("--json", json, "the coordinator prints its mission summary as one JSON object");
   return program.main(argc, argv, [&]() -> int {
-  const bool toio = backend == "toio-emulated";
-  if (config_path.empty()) config_path = ctsfleet::data_path(toio ? "config/toio/fleet.yaml" : "config/fleet.yaml").string();
-  if (mat_path.empty()) mat_path = ctsfleet::data_path("config/mats/toio-collection-ring.yaml").string();
-  std::vector<pid_t> helpers;  // dbus-daemon and emulator, stopped last
-  auto stop_helpers = [&helpers] {
-    for (auto it = helpers.rbegin(); it != helpers.rend(); ++it) kill(*it, SIGTERM);
-    for (pid_t pid : helpers) waitpid(pid, nullptr, 0);
-    helpers.clear();
-  };
+    const bool toio = backend == "toio-emulated";
+    if (config_path.empty()) config_path = ctsfleet::data_path(toio ? "config/toio/fleet.yaml" : "config/fleet.yaml").string();
+    if (mat_path.empty()) mat_path = ctsfleet::data_path("config/mats/toio-collection-ring.yaml").string();
+    std::vector<pid_t> helpers;  // dbus-daemon and emulator, stopped last
+    auto stop_helpers = [&helpers] {
+      for (auto it = helpers.rbegin(); it != helpers.rend(); ++it) kill(*it, SIGTERM);
+      for (pid_t pid : helpers) waitpid(pid, nullptr, 0);
+      helpers.clear();
+    };
 
-  try {
-    const coordinator::FleetConfig config = coordinator::load_fleet_config(config_path);
-    const planner_core::Instance mission = planner_core::load_instance(config.mission);
-    if (vendor.empty()) vendor = config.dds_vendor;
-    if (agent_vendor.empty()) agent_vendor = vendor;
-    if (domain < 0) domain = config.domain_id;
-    fs::create_directories(log_dir);
+    try {
+      const coordinator::FleetConfig config = coordinator::load_fleet_config(config_path);
+      const planner_core::Instance mission = planner_core::load_instance(config.mission);
+      if (vendor.empty()) vendor = config.dds_vendor;
+      if (agent_vendor.empty()) agent_vendor = vendor;
+      if (domain < 0) domain = config.domain_id;
+      fs::create_directories(log_dir);
 
-    // Robots start on the roles' starts, then on random free cells nobody needs.
-    std::vector<planner_core::Cell> starts;
-    std::set<planner_core::Vertex> used(mission.starts.begin(), mission.starts.end());
-    used.insert(mission.goals.begin(), mission.goals.end());
-    for (int r = 0; r < robots && r < mission.agent_count(); ++r) starts.push_back(mission.graph->cell_of(mission.starts[r]));
-    const int free_cells = mission.graph->vertex_count() - static_cast<int>(used.size());
-    if (robots > mission.agent_count() + free_cells) {
-      throw planner_core::InputError("--robots: " + std::to_string(robots) + " robots do not fit on " + config.mission +
-                                     ": " + std::to_string(mission.agent_count()) + " role starts and " +
-                                     std::to_string(free_cells) + " other free cells");
-    }
-    std::mt19937 rng(seed);
-    while (static_cast<int>(starts.size()) < robots) {
-      const planner_core::Vertex v = std::uniform_int_distribution<int>(0, mission.graph->vertex_count() - 1)(rng);
-      if (used.insert(v).second) starts.push_back(mission.graph->cell_of(v));
-    }
-
-    std::optional<robot_agent::MatCalibration> mat;
-    if (toio) {
-      mat = robot_agent::MatCalibration::load(mat_path);
-      if (mission.graph->width() > mat->grid_width() || mission.graph->height() > mat->grid_height()) {
-        throw planner_core::InputError(config.mission + ": the " + std::to_string(mission.graph->width()) + "x" +
-                                       std::to_string(mission.graph->height()) + " map does not fit the " +
-                                       std::to_string(mat->grid_width()) + "x" + std::to_string(mat->grid_height()) +
-                                       " grid of " + mat_path);
+      // Robots start on the roles' starts, then on random free cells nobody needs.
+      std::vector<planner_core::Cell> starts;
+      std::set<planner_core::Vertex> used(mission.starts.begin(), mission.starts.end());
+      used.insert(mission.goals.begin(), mission.goals.end());
+      for (int r = 0; r < robots && r < mission.agent_count(); ++r) starts.push_back(mission.graph->cell_of(mission.starts[r]));
+      const int free_cells = mission.graph->vertex_count() - static_cast<int>(used.size());
+      if (robots > mission.agent_count() + free_cells) {
+        throw planner_core::InputError("--robots: " + std::to_string(robots) + " robots do not fit on " + config.mission +
+                                       ": " + std::to_string(mission.agent_count()) + " role starts and " +
+                                       std::to_string(free_cells) + " other free cells");
       }
-      const std::string bus = start_private_bus(log_dir, helpers);
-      setenv("DBUS_SYSTEM_BUS_ADDRESS", bus.c_str(), 1);  // the agents' "system bus" is the private one
-      std::vector<std::string> emulator = {(here / "ctsfleet-toio-emulator").string(), "--bus", bus, "--mat", mat_path};
+      std::mt19937 rng(seed);
+      while (static_cast<int>(starts.size()) < robots) {
+        const planner_core::Vertex v = std::uniform_int_distribution<int>(0, mission.graph->vertex_count() - 1)(rng);
+        if (used.insert(v).second) starts.push_back(mission.graph->cell_of(v));
+      }
+
+      std::optional<robot_agent::MatCalibration> mat;
+      if (toio) {
+        mat = robot_agent::MatCalibration::load(mat_path);
+        if (mission.graph->width() > mat->grid_width() || mission.graph->height() > mat->grid_height()) {
+          throw planner_core::InputError(config.mission + ": the " + std::to_string(mission.graph->width()) + "x" +
+                                         std::to_string(mission.graph->height()) + " map does not fit the " +
+                                         std::to_string(mat->grid_width()) + "x" + std::to_string(mat->grid_height()) +
+                                         " grid of " + mat_path);
+        }
+        const std::string bus = start_private_bus(log_dir, helpers);
+        setenv("DBUS_SYSTEM_BUS_ADDRESS", bus.c_str(), 1);  // the agents' "system bus" is the private one
+        std::vector<std::string> emulator = {(here / "ctsfleet-toio-emulator").string(), "--bus", bus, "--mat", mat_path};
+        for (int r = 0; r < robots; ++r) {
+          emulator.push_back("--cube");
+          emulator.push_back("toio-" + std::to_string(r) + "@cell:" + std::to_string(starts[r].x) + "," +
+                             std::to_string(starts[r].y));
+        }
+        const std::string emulator_log = (fs::path(log_dir) / "toio-emulator.log").string();
+        helpers.push_back(coordinator::start_child(emulator, emulator_log));
+        if (!wait_until([&] { return file_contains(emulator_log, "toio-emulator ready"); }, std::chrono::seconds(20))) {
+          throw std::runtime_error("the toio emulator did not start (see " + emulator_log + ")");
+        }
+        spdlog::info("emulated BlueZ with {} toio cubes on {}", robots, bus);
+      }
+
+      std::vector<pid_t> agents;
       for (int r = 0; r < robots; ++r) {
-        emulator.push_back("--cube");
-        emulator.push_back("toio-" + std::to_string(r) + "@cell:" + std::to_string(starts[r].x) + "," +
-                           std::to_string(starts[r].y));
+        std::vector<std::string> args = {(here / "ctsfleet-agent").string(),
+                                         "--id", "robot" + std::to_string(r),
+                                         "--backend", toio ? "toio" : "sim",
+                                         "--start", std::to_string(starts[r].x) + "," + std::to_string(starts[r].y),
+                                         "--dds", agent_vendor,
+                                         "--domain", std::to_string(domain),
+                                         "--lease", std::to_string(config.lease_s),
+                                         "--step", std::to_string(step),
+                                         "--jitter", std::to_string(jitter),
+                                         "--seed", std::to_string(seed + r)};
+        if (!config.dds_config_dir.empty()) args.insert(args.end(), {"--dds-config-dir", config.dds_config_dir});
+        if (toio) args.insert(args.end(), {"--cube", "toio-" + std::to_string(r), "--mat", mat_path});
+        agents.push_back(coordinator::start_child(args, log_dir + "/robot" + std::to_string(r) + ".log"));
       }
-      const std::string emulator_log = (fs::path(log_dir) / "toio-emulator.log").string();
-      helpers.push_back(coordinator::start_child(emulator, emulator_log));
-      if (!wait_until([&] { return file_contains(emulator_log, "toio-emulator ready"); }, std::chrono::seconds(20))) {
-        throw std::runtime_error("the toio emulator did not start (see " + emulator_log + ")");
+      std::vector<std::string> coordinator_args = {(here / "ctsfleet-coordinator").string(), "--config", config_path,
+                                                   "--dds", vendor, "--domain", std::to_string(domain)};
+      if (json) coordinator_args.push_back("--json");
+      const pid_t coordinator_pid = coordinator::start_child(coordinator_args, "");
+      spdlog::info("started {} agents ({}) and the coordinator ({}) on domain {}; agent logs in {}", robots,
+                   agent_vendor, vendor, domain, log_dir);
+      int status = 0;
+      bool coordinator_done = false;
+      while (!coordinator_done) {
+        const pid_t done = waitpid(coordinator_pid, &status, WNOHANG);
+        if (done == coordinator_pid) {
+          coordinator_done = true;
+          break;
+        }
+        if (g_stop.load()) {
+          kill(coordinator_pid, SIGINT);
+          waitpid(coordinator_pid, &status, 0);
+          coordinator_done = true;
+          break;
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(50));
       }
-      spdlog::info("emulated BlueZ with {} toio cubes on {}", robots, bus);
+      for (pid_t pid : agents) kill(pid, SIGTERM);
+      for (pid_t pid : agents) waitpid(pid, nullptr, 0);
+      stop_helpers();
+      if (g_stop.load()) return ctsfleet::kExitInterrupted;
+      const int code = WIFEXITED(status) ? WEXITSTATUS(status) : 1;
+      spdlog::info("coordinator exited with {}", code);
+      return code;
+    } catch (...) {
+      stop_helpers();
+      throw;
     }
-
-    std::vector<pid_t> agents;
-    for (int r = 0; r < robots; ++r) {
-      std::vector<std::string> args = {(here / "ctsfleet-agent").string(),
-                                       "--id", "robot" + std::to_string(r),
-                                       "--backend", toio ? "toio" : "sim",
-                                       "--start", std::to_string(starts[r].x) + "," + std::to_string(starts[r].y),
-                                       "--dds", agent_vendor,
-                                       "--domain", std::to_string(domain),
-                                       "--lease", std::to_string(config.lease_s),
-                                       "--step", std::to_string(step),
-                                       "--jitter", std::to_string(jitter),
-                                       "--seed", std::to_string(seed + r)};
-      if (!config.dds_config_dir.empty()) args.insert(args.end(), {"--dds-config-dir", config.dds_config_dir});
-      if (toio) args.insert(args.end(), {"--cube", "toio-" + std::to_string(r), "--mat", mat_path});
-      agents.push_back(coordinator::start_child(args, log_dir + "/robot" + std::to_string(r) + ".log"));
-    }
-    std::vector<std::string> coordinator_args = {(here / "ctsfleet-coordinator").string(), "--config", config_path,
-                                                 "--dds", vendor, "--domain", std::to_string(domain)};
-    if (json) coordinator_args.push_back("--json");
-    const pid_t coordinator_pid = coordinator::start_child(coordinator_args, "");
-    spdlog::info("started {} agents ({}) and the coordinator ({}) on domain {}; agent logs in {}", robots,
-                 agent_vendor, vendor, domain, log_dir);
-    int status = 0;
-    bool coordinator_done = false;
-    while (!coordinator_done) {
-      const pid_t done = waitpid(coordinator_pid, &status, WNOHANG);
-      if (done == coordinator_pid) {
-        coordinator_done = true;
-        break;
-      }
-      if (g_stop.load()) {
-        kill(coordinator_pid, SIGINT);
-        waitpid(coordinator_pid, &status, 0);
-        coordinator_done = true;
-        break;
-      }
-      std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    }
-    for (pid_t pid : agents) kill(pid, SIGTERM);
-    for (pid_t pid : agents) waitpid(pid, nullptr, 0);
-    stop_helpers();
-    if (g_stop.load()) return ctsfleet::kExitInterrupted;
-    const int code = WIFEXITED(status) ? WEXITSTATUS(status) : 1;
-    spdlog::info("coordinator exited with {}", code);
-    return code;
-  } catch (...) {
-    stop_helpers();
-    throw;
-  }
   });
 }

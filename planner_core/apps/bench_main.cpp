@@ -97,75 +97,75 @@ int main(int argc, char** argv) {
   app.add_option("--seed", config.seed, "random seed")->capture_default_str();
   app.add_flag("--swap", config.pibt.swap, "Extended-PIBT with LaCAM3's swap operation (head-on meetings in corridors)");
   return program.main(argc, argv, [&] {
-  if (!experiment.empty()) {
-    if (std::string unwritable = ctsfleet::writable_folder()(experiment_settings.out_dir); !unwritable.empty()) {
-      throw InputError("--out-dir: " + unwritable);
+    if (!experiment.empty()) {
+      if (std::string unwritable = ctsfleet::writable_folder()(experiment_settings.out_dir); !unwritable.empty()) {
+        throw InputError("--out-dir: " + unwritable);
+      }
+      if (experiment_settings.benchmarks.empty()) experiment_settings.benchmarks = ctsfleet::data_path("benchmarks").string();
+      if (mapf_scale.suite.empty()) mapf_scale.suite = ctsfleet::data_path("benchmarks/mapf-scale").string();
+      experiment_settings.seconds = app.count("--time") ? seconds : (full ? 60 : 10);
+      experiment_settings.threads = threads;
+      experiment_settings.seed = config.seed;
+      if (full) {
+        experiment_settings.dense_per_setting = experiment_settings.sparse_per_setting = 0;
+        experiment_settings.scale_per_setting = 0;
+      } else if (sample > 0) {
+        experiment_settings.dense_per_setting = experiment_settings.sparse_per_setting = sample;
+        experiment_settings.scale_per_setting = sample;
+      }
+      if (experiment == "mapf-scale") {
+        mapf_scale.out_dir = experiment_settings.out_dir;
+        mapf_scale.seconds = experiment_settings.seconds;
+        mapf_scale.seed = config.seed;
+        if (app.count("--solver")) mapf_scale.solvers = solvers;
+        return ctsfleet_bench::run_mapf_scale(mapf_scale);
+      }
+      return ctsfleet_bench::run_experiments(experiment, experiment_settings);
     }
-    if (experiment_settings.benchmarks.empty()) experiment_settings.benchmarks = ctsfleet::data_path("benchmarks").string();
-    if (mapf_scale.suite.empty()) mapf_scale.suite = ctsfleet::data_path("benchmarks/mapf-scale").string();
-    experiment_settings.seconds = app.count("--time") ? seconds : (full ? 60 : 10);
-    experiment_settings.threads = threads;
-    experiment_settings.seed = config.seed;
-    if (full) {
-      experiment_settings.dense_per_setting = experiment_settings.sparse_per_setting = 0;
-      experiment_settings.scale_per_setting = 0;
-    } else if (sample > 0) {
-      experiment_settings.dense_per_setting = experiment_settings.sparse_per_setting = sample;
-      experiment_settings.scale_per_setting = sample;
-    }
-    if (experiment == "mapf-scale") {
-      mapf_scale.out_dir = experiment_settings.out_dir;
-      mapf_scale.seconds = experiment_settings.seconds;
-      mapf_scale.seed = config.seed;
-      if (app.count("--solver")) mapf_scale.solvers = solvers;
-      return ctsfleet_bench::run_mapf_scale(mapf_scale);
-    }
-    return ctsfleet_bench::run_experiments(experiment, experiment_settings);
-  }
-  if (inputs.empty()) throw InputError("give instance files or folders, or --experiment");
-  const std::vector<std::string> files = sample_per_setting(collect_instances(inputs), sample);
-  if (files.empty()) throw InputError("no instances (.yaml) found in the inputs");
-  std::ofstream csv(csv_path);
-  if (!csv) throw InputError("--csv: " + csv_path + ": cannot write");
-  nlohmann::json summary_json = nlohmann::json::object();
-  csv << csv_header() << "\n";
-  int errors = 0;
-  for (const std::string& solver : solvers) {
-    config.solver = solver;
-    std::fprintf(stderr, "%s: %zu instances, %.1f s each, %d threads\n", solver.c_str(), files.size(), seconds,
-                 threads);
-    const auto rows = run_benchmark(files, config, seconds, threads, [&](const BenchmarkRow&, int done) {
-      draw_progress(done, static_cast<int>(files.size()));
-    });
-    for (const BenchmarkRow& row : rows) {
-      csv << to_csv(row, solver) << "\n";
-      if (!row.error.empty()) {
-        ++errors;
-        std::fprintf(stderr, "%s: %s\n", row.file.c_str(), row.error.c_str());
+    if (inputs.empty()) throw InputError("give instance files or folders, or --experiment");
+    const std::vector<std::string> files = sample_per_setting(collect_instances(inputs), sample);
+    if (files.empty()) throw InputError("no instances (.yaml) found in the inputs");
+    std::ofstream csv(csv_path);
+    if (!csv) throw InputError("--csv: " + csv_path + ": cannot write");
+    nlohmann::json summary_json = nlohmann::json::object();
+    csv << csv_header() << "\n";
+    int errors = 0;
+    for (const std::string& solver : solvers) {
+      config.solver = solver;
+      std::fprintf(stderr, "%s: %zu instances, %.1f s each, %d threads\n", solver.c_str(), files.size(), seconds,
+                   threads);
+      const auto rows = run_benchmark(files, config, seconds, threads, [&](const BenchmarkRow&, int done) {
+        draw_progress(done, static_cast<int>(files.size()));
+      });
+      for (const BenchmarkRow& row : rows) {
+        csv << to_csv(row, solver) << "\n";
+        if (!row.error.empty()) {
+          ++errors;
+          std::fprintf(stderr, "%s: %s\n", row.file.c_str(), row.error.c_str());
+        }
+      }
+      if (json) {
+        nlohmann::json& settings = summary_json[solver] = nlohmann::json::array();
+        for (const BenchmarkSummary& s : summarise(rows)) {
+          settings.push_back({{"map", s.map}, {"agents", s.agents}, {"tasks", s.tasks}, {"instances", s.instances},
+                              {"solved", s.solved}, {"median_first_ms", s.median_first_ms},
+                              {"mean_flowtime", s.mean_flowtime}, {"mean_ratio", s.mean_ratio}});
+        }
+        continue;
+      }
+      std::printf("\n%s (time limit %.1f s)\n", solver.c_str(), seconds);
+      std::printf("| map | N | M | instances | success | median first (ms) | mean flowtime | mean flowtime/LB |\n");
+      std::printf("|---|---|---|---|---|---|---|---|\n");
+      for (const BenchmarkSummary& s : summarise(rows)) {
+        std::printf("| %s | %d | %d | %d | %.0f%% | %.1f | %.1f | %.3f |\n", s.map.c_str(), s.agents, s.tasks,
+                    s.instances, 100.0 * s.solved / s.instances, s.median_first_ms, s.mean_flowtime, s.mean_ratio);
       }
     }
     if (json) {
-      nlohmann::json& settings = summary_json[solver] = nlohmann::json::array();
-      for (const BenchmarkSummary& s : summarise(rows)) {
-        settings.push_back({{"map", s.map}, {"agents", s.agents}, {"tasks", s.tasks}, {"instances", s.instances},
-                            {"solved", s.solved}, {"median_first_ms", s.median_first_ms},
-                            {"mean_flowtime", s.mean_flowtime}, {"mean_ratio", s.mean_ratio}});
-      }
-      continue;
+      std::printf("%s\n", nlohmann::json{{"time_limit_s", seconds}, {"csv", csv_path}, {"solvers", summary_json}}.dump().c_str());
+    } else {
+      std::printf("\nrows written to %s\n", csv_path.c_str());
     }
-    std::printf("\n%s (time limit %.1f s)\n", solver.c_str(), seconds);
-    std::printf("| map | N | M | instances | success | median first (ms) | mean flowtime | mean flowtime/LB |\n");
-    std::printf("|---|---|---|---|---|---|---|---|\n");
-    for (const BenchmarkSummary& s : summarise(rows)) {
-      std::printf("| %s | %d | %d | %d | %.0f%% | %.1f | %.1f | %.3f |\n", s.map.c_str(), s.agents, s.tasks,
-                  s.instances, 100.0 * s.solved / s.instances, s.median_first_ms, s.mean_flowtime, s.mean_ratio);
-    }
-  }
-  if (json) {
-    std::printf("%s\n", nlohmann::json{{"time_limit_s", seconds}, {"csv", csv_path}, {"solvers", summary_json}}.dump().c_str());
-  } else {
-    std::printf("\nrows written to %s\n", csv_path.c_str());
-  }
-  return errors > 0 ? 1 : 0;
+    return errors > 0 ? 1 : 0;
   });
 }

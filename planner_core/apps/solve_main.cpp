@@ -135,6 +135,9 @@ int main(int argc, char** argv) {
     write_solution(out_path, *instance.graph, file);
     if (!svg_path.empty()) write_svg(svg_path, instance, result.solution);
 
+    const double ratio =
+        result.lower_bound > 0 && result.solved ? static_cast<double>(result.flowtime) / result.lower_bound : 0.0;
+    const double memory_mb = peak_memory_mb();
     if (json) {
       nlohmann::json improvements = nlohmann::json::array();
       for (const Improvement& improvement : result.improvements) {
@@ -143,25 +146,20 @@ int main(int argc, char** argv) {
       const nlohmann::json summary = {
           {"solver", config.solver}, {"solved", result.solved}, {"agents", instance.agent_count()},
           {"tasks", instance.task_count()}, {"flowtime", result.flowtime}, {"makespan", result.makespan},
-          {"lower_bound", result.lower_bound},
-          {"ratio", result.lower_bound > 0 && result.solved ? static_cast<double>(result.flowtime) / result.lower_bound
-                                                            : 0.0},
-          {"comp_time_ms", result.comp_time_ms}, {"first_ms", result.first_solution_ms},
-          {"preprocessing_ms", result.preprocessing_ms}, {"peak_memory_mb", peak_memory_mb()},
-          {"sequences", result.sequences_tried}, {"releases", result.lock_releases},
+          {"lower_bound", result.lower_bound}, {"ratio", ratio}, {"comp_time_ms", result.comp_time_ms},
+          {"first_ms", result.first_solution_ms}, {"preprocessing_ms", result.preprocessing_ms},
+          {"peak_memory_mb", memory_mb}, {"sequences", result.sequences_tried}, {"releases", result.lock_releases},
           {"lns_iterations", result.lns_iterations}, {"output", out_path},
           {"failure", result.solved ? "" : result.failure_reason}, {"improvements", improvements}};
       std::printf("%s\n", summary.dump().c_str());
     } else {
-    std::printf("solver=%s solved=%d agents=%d tasks=%d flowtime=%lld makespan=%d lower_bound=%lld ratio=%.3f "
-                "comp_time_ms=%.0f first_ms=%.1f preprocessing_ms=%.1f peak_memory_mb=%.0f sequences=%d releases=%d "
-                "lns_iterations=%d output=%s\n",
-                config.solver.c_str(), result.solved ? 1 : 0, instance.agent_count(), instance.task_count(),
-                static_cast<long long>(result.flowtime), result.makespan, static_cast<long long>(result.lower_bound),
-                result.lower_bound > 0 && result.solved ? static_cast<double>(result.flowtime) / result.lower_bound : 0.0,
-                result.comp_time_ms, result.first_solution_ms, result.preprocessing_ms, peak_memory_mb(),
-                result.sequences_tried, result.lock_releases,
-                result.lns_iterations, out_path.c_str());
+      std::printf("solver=%s solved=%d agents=%d tasks=%d flowtime=%lld makespan=%d lower_bound=%lld ratio=%.3f "
+                  "comp_time_ms=%.0f first_ms=%.1f preprocessing_ms=%.1f peak_memory_mb=%.0f sequences=%d "
+                  "releases=%d lns_iterations=%d output=%s\n",
+                  config.solver.c_str(), result.solved ? 1 : 0, instance.agent_count(), instance.task_count(),
+                  static_cast<long long>(result.flowtime), result.makespan, static_cast<long long>(result.lower_bound),
+                  ratio, result.comp_time_ms, result.first_solution_ms, result.preprocessing_ms, memory_mb,
+                  result.sequences_tried, result.lock_releases, result.lns_iterations, out_path.c_str());
     }
     if (!result.solved) std::fprintf(stderr, "not solved: %s\n", result.failure_reason.c_str());
     return result.solved ? 0 : 1;

@@ -69,76 +69,76 @@ int main(int argc, char** argv) {
   app.add_option("--move-timeout", move_timeout_s, "toio: seconds before a move counts as failed")
       ->capture_default_str()->check(CLI::Range(1, 30));
   return program.main(argc, argv, [&] {
-  const std::atomic<bool>& g_stop = ctsfleet::stop_requested();
-  using planner_core::InputError;
-  if (settings.robot_id.empty() || settings.robot_id.size() > fleet_transport::kMaxRobotIdLength) {
-    throw InputError("--id: must have 1 to " + std::to_string(fleet_transport::kMaxRobotIdLength) + " characters");
-  }
-  GridCell start;
-  char trailing = 0;
-  if (std::sscanf(start_text.c_str(), "%d,%d%c", &start.x, &start.y, &trailing) != 2 || start.x < 0 || start.y < 0 ||
-      start.x > 100000 || start.y > 100000) {
-    throw InputError("--start: must be x,y with x and y in [0, 100000], not '" + start_text + "'");
-  }
-  if (sim.teleport_after_moves >= 0) {
-    if (std::sscanf(teleport_to.c_str(), "%d,%d%c", &sim.teleport_to.x, &sim.teleport_to.y, &trailing) != 2 ||
-        sim.teleport_to.x < 0 || sim.teleport_to.y < 0 || sim.teleport_to.x > 100000 || sim.teleport_to.y > 100000) {
-      throw InputError("--to: --teleport-after needs a cell x,y with x and y in [0, 100000], not '" + teleport_to + "'");
+    const std::atomic<bool>& g_stop = ctsfleet::stop_requested();
+    using planner_core::InputError;
+    if (settings.robot_id.empty() || settings.robot_id.size() > fleet_transport::kMaxRobotIdLength) {
+      throw InputError("--id: must have 1 to " + std::to_string(fleet_transport::kMaxRobotIdLength) + " characters");
     }
-  }
-  if (dds_dir.empty()) dds_dir = ctsfleet::data_path("config/dds").string();
-  std::unique_ptr<RobotBackend> backend;
-  SimRobot* sim_robot = nullptr;
-  if (backend_name == "toio") {
-    toio.max_speed = static_cast<uint8_t>(max_speed);
-    toio.move_timeout_s = static_cast<uint8_t>(move_timeout_s);
-    if (toio.cube.empty() || mat_file.empty()) throw InputError("--backend toio needs --cube and --mat");
-    backend = std::make_unique<ToioRobot>(toio, MatCalibration::load(mat_file));
-  } else {
-    auto robot = std::make_unique<SimRobot>(start, sim);
-    sim_robot = robot.get();
-    backend = std::move(robot);
-  }
-  auto reporting = [sim_robot] { return sim_robot == nullptr || sim_robot->reporting_enabled(); };
-  try {
-    RobotBackend& robot = *backend;
-    RobotAgent agent(settings, robot);
-    fleet_transport::TransportConfig config;
-    config.vendor = fleet_transport::parse_vendor(vendor);
-    config.domain_id = domain;
-    config.lease_s = lease;
-    config.commands_for = settings.robot_id;
-    config.loopback_config_dir = dds_dir;
-    fleet_transport::Handlers handlers;
-    handlers.on_command = [&agent](const fleet_transport::StepCommand& c) { agent.on_command(c); };
-    auto transport = fleet_transport::make_transport(config, handlers);
-    transport->announce(agent.announcement());
-    spdlog::info("{}: {} robot on {} domain {}, incarnation {:016x}", settings.robot_id, robot.kind(), vendor, domain,
-                 agent.incarnation());
-    // Announce again every second: a coordinator that starts later or restarts learns of us even
-    // when the middleware's late-joiner delivery is slow (seen with Fast DDS).
-    auto next_announcement = std::chrono::steady_clock::now() + std::chrono::seconds(1);
-    while (!g_stop.load()) {
-      if (std::chrono::steady_clock::now() >= next_announcement && reporting()) {
-        transport->announce(agent.announcement());
-        next_announcement += std::chrono::seconds(1);
-      }
-      if (sim_robot && sim_robot->should_crash()) {
-        spdlog::error("{}: injected crash", settings.robot_id);
-        std::abort();
-      }
-      agent.step(*transport, reporting());
-      // Sleep until a command arrives, the robot arrives, or the next state is due (at most 50 ms).
-      agent.wait_for_command(std::min<std::chrono::steady_clock::duration>(agent.idle_time(),
-                                                                           std::chrono::milliseconds(50)));
+    GridCell start;
+    char trailing = 0;
+    if (std::sscanf(start_text.c_str(), "%d,%d%c", &start.x, &start.y, &trailing) != 2 || start.x < 0 || start.y < 0 ||
+        start.x > 100000 || start.y > 100000) {
+      throw InputError("--start: must be x,y with x and y in [0, 100000], not '" + start_text + "'");
     }
-    transport->say_goodbye(settings.robot_id);
-    spdlog::info("{}: goodbye", settings.robot_id);
-    std::this_thread::sleep_for(std::chrono::milliseconds(200));  // let the goodbye go out
-    return 0;
-  } catch (const std::exception& e) {
-    spdlog::error("{}: {}", settings.robot_id, e.what());
-    return 1;
-  }
+    if (sim.teleport_after_moves >= 0) {
+      if (std::sscanf(teleport_to.c_str(), "%d,%d%c", &sim.teleport_to.x, &sim.teleport_to.y, &trailing) != 2 ||
+          sim.teleport_to.x < 0 || sim.teleport_to.y < 0 || sim.teleport_to.x > 100000 || sim.teleport_to.y > 100000) {
+        throw InputError("--to: --teleport-after needs a cell x,y with x and y in [0, 100000], not '" + teleport_to + "'");
+      }
+    }
+    if (dds_dir.empty()) dds_dir = ctsfleet::data_path("config/dds").string();
+    std::unique_ptr<RobotBackend> backend;
+    SimRobot* sim_robot = nullptr;
+    if (backend_name == "toio") {
+      toio.max_speed = static_cast<uint8_t>(max_speed);
+      toio.move_timeout_s = static_cast<uint8_t>(move_timeout_s);
+      if (toio.cube.empty() || mat_file.empty()) throw InputError("--backend toio needs --cube and --mat");
+      backend = std::make_unique<ToioRobot>(toio, MatCalibration::load(mat_file));
+    } else {
+      auto robot = std::make_unique<SimRobot>(start, sim);
+      sim_robot = robot.get();
+      backend = std::move(robot);
+    }
+    auto reporting = [sim_robot] { return sim_robot == nullptr || sim_robot->reporting_enabled(); };
+    try {
+      RobotBackend& robot = *backend;
+      RobotAgent agent(settings, robot);
+      fleet_transport::TransportConfig config;
+      config.vendor = fleet_transport::parse_vendor(vendor);
+      config.domain_id = domain;
+      config.lease_s = lease;
+      config.commands_for = settings.robot_id;
+      config.loopback_config_dir = dds_dir;
+      fleet_transport::Handlers handlers;
+      handlers.on_command = [&agent](const fleet_transport::StepCommand& c) { agent.on_command(c); };
+      auto transport = fleet_transport::make_transport(config, handlers);
+      transport->announce(agent.announcement());
+      spdlog::info("{}: {} robot on {} domain {}, incarnation {:016x}", settings.robot_id, robot.kind(), vendor, domain,
+                   agent.incarnation());
+      // Announce again every second: a coordinator that starts later or restarts learns of us even
+      // when the middleware's late-joiner delivery is slow (seen with Fast DDS).
+      auto next_announcement = std::chrono::steady_clock::now() + std::chrono::seconds(1);
+      while (!g_stop.load()) {
+        if (std::chrono::steady_clock::now() >= next_announcement && reporting()) {
+          transport->announce(agent.announcement());
+          next_announcement += std::chrono::seconds(1);
+        }
+        if (sim_robot && sim_robot->should_crash()) {
+          spdlog::error("{}: injected crash", settings.robot_id);
+          std::abort();
+        }
+        agent.step(*transport, reporting());
+        // Sleep until a command arrives, the robot arrives, or the next state is due (at most 50 ms).
+        agent.wait_for_command(std::min<std::chrono::steady_clock::duration>(agent.idle_time(),
+                                                                             std::chrono::milliseconds(50)));
+      }
+      transport->say_goodbye(settings.robot_id);
+      spdlog::info("{}: goodbye", settings.robot_id);
+      std::this_thread::sleep_for(std::chrono::milliseconds(200));  // let the goodbye go out
+      return 0;
+    } catch (const std::exception& e) {
+      spdlog::error("{}: {}", settings.robot_id, e.what());
+      return 1;
+    }
   });
 }

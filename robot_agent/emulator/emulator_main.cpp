@@ -63,45 +63,45 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--tick-ms", tick_ms, "simulation step in milliseconds")->check(ctsfleet::number_in(0.1, 1000))->capture_default_str();
   return program.main(argc, argv, [&] {
-  const std::atomic<bool>& g_stop = ctsfleet::stop_requested();
-  if (bus.empty()) {
-    if (const char* env = std::getenv("DBUS_SYSTEM_BUS_ADDRESS")) bus = env;
-  }
-  if (bus.empty()) {
-    throw InputError("--bus: no bus given and DBUS_SYSTEM_BUS_ADDRESS unset; give a private bus (the emulator never "
-                     "serves on the real system bus)");
-  }
-  std::vector<toio_emulator::CubeSpec> cubes;
-  std::optional<robot_agent::MatCalibration> mat;
-  if (!mat_file.empty()) mat = robot_agent::MatCalibration::load(mat_file);
-  std::set<std::string> names;
-  for (const std::string& text : cube_texts) {
-    cubes.push_back(parse_cube(text, mat ? &*mat : nullptr));
-    if (!names.insert(cubes.back().name).second) throw InputError("--cube " + text + ": a second cube named " + cubes.back().name);
-  }
-  try {
-    auto connection = sdbus::createSessionBusConnectionWithAddress(bus);
-    toio_emulator::FakeBluez bluez(*connection, cubes, adapter, speed_per_unit);
-    connection->requestName("org.bluez");
-    robot_agent::DbusEventPump pump(*connection);
-    std::cout << "toio-emulator ready: " << cubes.size() << " cubes on " << bus << std::endl;
-    const auto tick = std::chrono::microseconds(static_cast<int64_t>(tick_ms * 1000));
-    auto last = std::chrono::steady_clock::now();
-    auto next_tick = last + tick;
-    while (!g_stop.load()) {
-      const auto now = std::chrono::steady_clock::now();
-      if (now >= next_tick) {
-        bluez.tick(std::chrono::duration<double>(now - last).count());
-        last = now;
-        next_tick = now + tick;
-      }
-      pump.run_once(std::chrono::ceil<std::chrono::milliseconds>(next_tick - std::chrono::steady_clock::now()));
+    const std::atomic<bool>& g_stop = ctsfleet::stop_requested();
+    if (bus.empty()) {
+      if (const char* env = std::getenv("DBUS_SYSTEM_BUS_ADDRESS")) bus = env;
     }
-    connection->releaseName("org.bluez");
-    return 0;
-  } catch (const sdbus::Error& e) {
-    spdlog::error("D-Bus: {}: {}", e.getName(), e.getMessage());
-    return 1;
-  }
+    if (bus.empty()) {
+      throw InputError("--bus: no bus given and DBUS_SYSTEM_BUS_ADDRESS unset; give a private bus (the emulator never "
+                       "serves on the real system bus)");
+    }
+    std::vector<toio_emulator::CubeSpec> cubes;
+    std::optional<robot_agent::MatCalibration> mat;
+    if (!mat_file.empty()) mat = robot_agent::MatCalibration::load(mat_file);
+    std::set<std::string> names;
+    for (const std::string& text : cube_texts) {
+      cubes.push_back(parse_cube(text, mat ? &*mat : nullptr));
+      if (!names.insert(cubes.back().name).second) throw InputError("--cube " + text + ": a second cube named " + cubes.back().name);
+    }
+    try {
+      auto connection = sdbus::createSessionBusConnectionWithAddress(bus);
+      toio_emulator::FakeBluez bluez(*connection, cubes, adapter, speed_per_unit);
+      connection->requestName("org.bluez");
+      robot_agent::DbusEventPump pump(*connection);
+      std::cout << "toio-emulator ready: " << cubes.size() << " cubes on " << bus << std::endl;
+      const auto tick = std::chrono::microseconds(static_cast<int64_t>(tick_ms * 1000));
+      auto last = std::chrono::steady_clock::now();
+      auto next_tick = last + tick;
+      while (!g_stop.load()) {
+        const auto now = std::chrono::steady_clock::now();
+        if (now >= next_tick) {
+          bluez.tick(std::chrono::duration<double>(now - last).count());
+          last = now;
+          next_tick = now + tick;
+        }
+        pump.run_once(std::chrono::ceil<std::chrono::milliseconds>(next_tick - std::chrono::steady_clock::now()));
+      }
+      connection->releaseName("org.bluez");
+      return 0;
+    } catch (const sdbus::Error& e) {
+      spdlog::error("D-Bus: {}: {}", e.getName(), e.getMessage());
+      return 1;
+    }
   });
 }

@@ -10,23 +10,12 @@
 
 #include "coordinator/fleet_coordinator.hpp"
 #include "coordinator/plan_execution.hpp"
+#include "fake_transport.hpp"
 
 namespace coordinator {
 namespace {
 
-// Records what the coordinator sends; nothing goes anywhere.
-class FakeTransport : public fleet_transport::Transport {
- public:
-  void announce(const fleet_transport::Announcement&) override {}
-  void say_goodbye(const std::string&) override {}
-  void publish_state(const fleet_transport::RobotState&) override {}
-  void send_command(const fleet_transport::StepCommand& command) override { commands.push_back(command); }
-  void prepare_commands_for(const std::string&) override {}
-  void publish_fleet_status(const fleet_transport::FleetStatus& status) override { last_status = status; }
-
-  std::vector<fleet_transport::StepCommand> commands;
-  fleet_transport::FleetStatus last_status;
-};
+using testing_support::FakeTransport;
 
 // A robot that ends every commanded move at once (or never, once it is `silent`).
 struct FakeRobot {

@@ -4,23 +4,14 @@
 
 #include <thread>
 
+#include "fake_transport.hpp"
 #include "robot_agent/robot_agent.hpp"
 #include "robot_agent/sim_robot.hpp"
 
 namespace robot_agent {
 namespace {
 
-// Keeps the last state the agent published.
-class FakeTransport : public fleet_transport::Transport {
- public:
-  void announce(const fleet_transport::Announcement&) override {}
-  void say_goodbye(const std::string&) override {}
-  void publish_state(const fleet_transport::RobotState& state) override { last = state; }
-  void send_command(const fleet_transport::StepCommand&) override {}
-  void prepare_commands_for(const std::string&) override {}
-  void publish_fleet_status(const fleet_transport::FleetStatus&) override {}
-  fleet_transport::RobotState last;
-};
+using testing_support::FakeTransport;
 
 fleet_transport::StepCommand move(int epoch, int index, int x, int y, int64_t deadline_ms) {
   return {"r1", epoch, index, x, y, static_cast<double>(x), static_cast<double>(y), deadline_ms};
@@ -52,7 +43,7 @@ TEST_F(AgentFixture, ACommandPastItsDeadlineIsDroppedAndChangesNothing) {
   agent.on_command(move(5, 0, 2, 3, now + 5000));
   settle();
   EXPECT_EQ(robot.poll().cell, (GridCell{2, 3}));
-  EXPECT_EQ(transport.last.plan_epoch, 5);
+  EXPECT_EQ(transport.last_state.plan_epoch, 5);
 }
 
 TEST_F(AgentFixture, IncarnationIsInEveryAnnouncementAndState) {
@@ -60,7 +51,7 @@ TEST_F(AgentFixture, IncarnationIsInEveryAnnouncementAndState) {
   EXPECT_EQ(agent.announcement().incarnation, agent.incarnation());
   agent.on_command(move(1, 0, 3, 2, fleet_transport::wall_clock_ms() + 5000));
   settle();
-  EXPECT_EQ(transport.last.incarnation, agent.incarnation());
+  EXPECT_EQ(transport.last_state.incarnation, agent.incarnation());
   SimRobot other_robot({0, 0}, sim);
   RobotAgent restarted(settings, other_robot);
   EXPECT_NE(restarted.incarnation(), agent.incarnation());  // 64 random bits: equal once in 2^64

@@ -32,7 +32,6 @@ struct Deadline {
 
 // A time limit a program accepts from its user: a finite number of seconds in (0, 1e6].
 constexpr double kMaxTimeLimitS = 1e6;
-inline bool is_valid_time_limit(double seconds) { return seconds > 0 && seconds <= kMaxTimeLimitS; }  // false for NaN
 
 inline double elapsed_ms(Clock::time_point since) {
   return std::chrono::duration<double, std::milli>(Clock::now() - since).count();

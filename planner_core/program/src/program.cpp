@@ -36,6 +36,30 @@ std::string number_text(double value) {
   return out.str();
 }
 
+// A validator for finite numbers that `accept` takes; `range` says which, in messages and --help.
+CLI::Validator finite_number(const std::string& range, std::function<bool(double)> accept) {
+  return CLI::Validator(
+      [range, accept](std::string& input) -> std::string {
+        double value = 0;
+        if (!CLI::detail::lexical_cast(input, value) || !std::isfinite(value) || !accept(value)) {
+          return "must be " + range + ", not '" + input + "'";
+        }
+        return {};
+      },
+      range);
+}
+
+// Opens `path` for writing (creating it if missing, removing it again when `remove_after`): what
+// permissions alone do not tell (root, read-only or virtual file systems). "" when it worked.
+std::string probe_write(const fs::path& path, bool remove_after) {
+  const int fd = open(path.c_str(), O_WRONLY | O_CREAT | O_CLOEXEC, 0644);
+  if (fd < 0) return std::strerror(errno);
+  close(fd);
+  std::error_code ignored;
+  if (remove_after) fs::remove(path, ignored);
+  return {};
+}
+
 }  // namespace
 
 std::string version_text() {
@@ -103,29 +127,13 @@ int Program::main(int argc, char** argv, const std::function<int()>& body) {
 }
 
 CLI::Validator number_in(double low, double high) {
-  const std::string range = "a number in [" + number_text(low) + ", " + number_text(high) + "]";
-  return CLI::Validator(
-      [low, high, range](std::string& input) -> std::string {
-        double value = 0;
-        if (!CLI::detail::lexical_cast(input, value) || !std::isfinite(value) || value < low || value > high) {
-          return "must be " + range + ", not '" + input + "'";
-        }
-        return {};
-      },
-      range);
+  return finite_number("a number in [" + number_text(low) + ", " + number_text(high) + "]",
+                       [low, high](double value) { return value >= low && value <= high; });
 }
 
 CLI::Validator positive_seconds(double high) {
-  const std::string range = "seconds in (0, " + number_text(high) + "]";
-  return CLI::Validator(
-      [high, range](std::string& input) -> std::string {
-        double value = 0;
-        if (!CLI::detail::lexical_cast(input, value) || !std::isfinite(value) || value <= 0 || value > high) {
-          return "must be " + range + ", not '" + input + "'";
-        }
-        return {};
-      },
-      range);
+  return finite_number("seconds in (0, " + number_text(high) + "]",
+                       [high](double value) { return value > 0 && value <= high; });
 }
 
 CLI::Validator count_in(long long low, long long high) {
@@ -150,12 +158,10 @@ CLI::Validator writable_file() {
         std::error_code ec;
         const fs::path path(input);
         if (fs::is_directory(path, ec)) return "'" + input + "' is a folder, not a file";
-        // Probe by opening: permissions alone do not tell (root, read-only or virtual file systems).
         const bool existed = fs::exists(path, ec);
-        const int fd = open(path.c_str(), O_WRONLY | O_CREAT | O_CLOEXEC, 0644);
-        if (fd < 0) return "cannot write '" + input + "': " + std::strerror(errno);
-        close(fd);
-        if (!existed) fs::remove(path, ec);
+        if (const std::string problem = probe_write(path, !existed); !problem.empty()) {
+          return "cannot write '" + input + "': " + problem;
+        }
         return {};
       },
       "FILE (writable)");
@@ -171,10 +177,9 @@ CLI::Validator writable_folder() {
         fs::create_directories(path, ec);  // the program would make it anyway
         if (ec) return "cannot create the folder '" + input + "': " + ec.message();
         const fs::path probe = path / (".ctsfleet-write-probe-" + std::to_string(getpid()));
-        const int fd = open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
-        if (fd < 0) return "cannot write into '" + input + "': " + std::strerror(errno);
-        close(fd);
-        fs::remove(probe, ec);
+        if (const std::string problem = probe_write(probe, true); !problem.empty()) {
+          return "cannot write into '" + input + "': " + problem;
+        }
         return {};
       },
       "FOLDER (writable)");

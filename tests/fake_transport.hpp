@@ -1,0 +1,25 @@
+// A Transport that sends nothing anywhere and remembers what it was given: commands, the last
+// state and the last fleet status. For tests of the coordinator and the agent without DDS.
+#pragma once
+
+#include <vector>
+
+#include "fleet_transport/transport.hpp"
+
+namespace testing_support {
+
+class FakeTransport : public fleet_transport::Transport {
+ public:
+  void announce(const fleet_transport::Announcement&) override {}
+  void say_goodbye(const std::string&) override {}
+  void publish_state(const fleet_transport::RobotState& state) override { last_state = state; }
+  void send_command(const fleet_transport::StepCommand& command) override { commands.push_back(command); }
+  void prepare_commands_for(const std::string&) override {}
+  void publish_fleet_status(const fleet_transport::FleetStatus& status) override { last_status = status; }
+
+  std::vector<fleet_transport::StepCommand> commands;
+  fleet_transport::RobotState last_state;
+  fleet_transport::FleetStatus last_status;
+};
+
+}  // namespace testing_support
