@@ -22,11 +22,18 @@ int main(int argc, char** argv) {
   CLI::App& app = program.app();
   std::string config_path, vendor;
   int domain = -1;
-  bool json = false;
+  bool json = false, standby = false;
+  std::string journal_path;
   app.add_option("-c,--config", config_path, "fleet configuration (YAML)")->required()->check(CLI::ExistingFile);
   app.add_option("--dds", vendor, "override dds.vendor")->check(CLI::IsMember({"cyclone", "fastdds"}));
   app.add_option("--domain", domain, "override dds.domain_id")->check(ctsfleet::dds_domain());
   app.add_flag("--json", json, "print the mission summary as one JSON object");
+  app.add_option("--journal", journal_path,
+                 "SQLite journal of the mission: every task visit is committed there; an unfinished run found in "
+                 "it is resumed (done tasks are not redone)")
+      ->check(ctsfleet::writable_file());
+  app.add_flag("--standby", standby,
+               "follow the active coordinator of this mission and take over when it falls silent");
   return program.main(argc, argv, [&] {
     const std::atomic<bool>& stop = ctsfleet::stop_requested();
     FleetConfig config = load_fleet_config(config_path);
@@ -35,13 +42,22 @@ int main(int argc, char** argv) {
     planner_core::Instance mission = planner_core::load_instance(config.mission);
     spdlog::info("mission {}: {} roles, {} tasks; solver {}; {} domain {}", config.mission, mission.agent_count(),
                  mission.task_count(), config.solver, config.dds_vendor, config.domain_id);
-    FleetCoordinator coordinator(config, std::move(mission));
+    std::unique_ptr<MissionJournal> journal;
+    if (!journal_path.empty()) {
+      journal = std::make_unique<MissionJournal>(
+          journal_path, mission_fingerprint(mission),
+          config.mission + " (" + std::to_string(mission.agent_count()) + " roles, " +
+              std::to_string(mission.task_count()) + " tasks)");
+    }
+    FleetCoordinator coordinator(config, std::move(mission), {standby, journal.get()});
     coordinator.set_interrupt(&ctsfleet::stop_requested());  // Ctrl-C cuts a running solve short
     fleet_transport::TransportConfig transport_config;
     transport_config.vendor = fleet_transport::parse_vendor(config.dds_vendor);
     transport_config.domain_id = config.domain_id;
     transport_config.lease_s = config.lease_s;
     transport_config.loopback_config_dir = config.dds_config_dir;
+    // Of several live coordinators' commands, a robot hears the highest term's (a standby has none yet).
+    transport_config.command_strength = standby ? 0 : static_cast<int>(coordinator.summary().term);
     fleet_transport::Handlers handlers;
     std::atomic<int> announcements{0};
     handlers.on_announcement = [&](const fleet_transport::Announcement& a) {
@@ -50,6 +66,7 @@ int main(int argc, char** argv) {
     };
     handlers.on_state = [&](const fleet_transport::RobotState& s) { coordinator.on_state(s); };
     handlers.on_robot_gone = [&](const std::string& id, fleet_transport::GoneReason r) { coordinator.on_robot_gone(id, r); };
+    handlers.on_fleet_status = [&](const fleet_transport::FleetStatus& s) { coordinator.on_fleet_status(s); };
     auto transport = fleet_transport::make_transport(transport_config, handlers);
 
     const bool tty = isatty(STDERR_FILENO);
@@ -77,6 +94,7 @@ int main(int argc, char** argv) {
       std::this_thread::sleep_for(std::chrono::milliseconds(2));
     }
     if (tty) std::fprintf(stderr, "\n");
+    coordinator.finish(*transport);
     const MissionSummary& s = coordinator.summary();
     rusage usage{};
     getrusage(RUSAGE_SELF, &usage);
@@ -86,7 +104,8 @@ int main(int argc, char** argv) {
     const auto quantile = [&](double q) {
       return round_trips.empty() ? 0.0 : round_trips[std::min(round_trips.size() - 1, static_cast<size_t>(q * round_trips.size()))];
     };
-    const int exit_code = stop.load() ? ctsfleet::kExitInterrupted : (s.completed ? 0 : 3);
+    // 5: stood down for another active coordinator (nothing was driven after that).
+    const int exit_code = stop.load() ? ctsfleet::kExitInterrupted : s.stood_down ? 5 : (s.completed ? 0 : 3);
     if (json) {
       const nlohmann::json summary = {
           {"completed", s.completed}, {"tasks_done", s.tasks_done}, {"tasks_total", s.tasks_total},
@@ -98,11 +117,17 @@ int main(int argc, char** argv) {
           {"replan_latencies_s", s.replan_latencies_s}, {"round_trips", round_trips.size()},
           {"round_trip_p50_ms", quantile(0.5)}, {"round_trip_p99_ms", quantile(0.99)},
           {"round_trip_max_ms", round_trips.empty() ? 0.0 : round_trips.back()}, {"cpu_s", cpu},
-          {"pending", s.pending}, {"exit_code", exit_code}};
+          {"pending", s.pending}, {"coordinator", fmt::format("{:016x}", coordinator.incarnation())},
+          {"mission_id", coordinator.mission_id()}, {"term", s.term}, {"stood_down", s.stood_down},
+          {"stood_down_because", s.stood_down_because}, {"took_over", s.took_over},
+          {"tasks_done_before", s.tasks_done_before}, {"first_command_wall_ms", s.first_command_wall_ms},
+          {"exit_code", exit_code}};
       std::printf("%s\n", summary.dump().c_str());
       std::fflush(stdout);
       return exit_code;
     }
+    if (s.stood_down) std::printf("stood down: %s\n", s.stood_down_because.c_str());
+    if (s.tasks_done_before > 0) std::printf("%d tasks were done before this coordinator drove\n", s.tasks_done_before);
     std::printf("mission %s: tasks %d/%d, %.1f s, first plan makespan %d steps flowtime %lld, sum of finish times "
                 "%.1f s, replans %d, robots lost %d joined %d, commands %lld, states %lld\n",
                 s.completed ? "completed" : "NOT completed", s.tasks_done, s.tasks_total, s.seconds,

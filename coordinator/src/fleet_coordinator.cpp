@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <random>
 #include <sstream>
 #include <tuple>
 
@@ -30,11 +31,62 @@ FleetCoordinator::Clock::duration seconds(double s) {
   return std::chrono::duration_cast<FleetCoordinator::Clock::duration>(std::chrono::duration<double>(s));
 }
 
+// A random 64-bit number, never 0.
+uint64_t new_incarnation() {
+  std::random_device device;
+  uint64_t value = 0;
+  while (value == 0) value = (static_cast<uint64_t>(device()) << 32) ^ device();
+  return value;
+}
+
+std::string hex(uint64_t value) { return fmt::format("{:016x}", value); }
+
+// How often the status goes out when nothing changed.
+constexpr double kStatusPeriodS = 0.25;
+
 }  // namespace
 
-FleetCoordinator::FleetCoordinator(const FleetConfig& config, planner_core::Instance mission)
-    : config_(config), mission_(std::move(mission)), progress_(mission_), started_(Clock::now()) {
+FleetCoordinator::FleetCoordinator(const FleetConfig& config, planner_core::Instance mission,
+                                   CoordinatorOptions options)
+    : config_(config),
+      mission_(std::move(mission)),
+      options_(options),
+      incarnation_(new_incarnation()),
+      claimed_ms_(fleet_transport::wall_clock_ms()),
+      mission_id_(mission_fingerprint(mission_)),
+      progress_(mission_),
+      started_(Clock::now()) {
   summary_.tasks_total = mission_.task_count();
+  if (options_.standby) {
+    role_ = fleet_transport::CoordinatorRole::kStandby;
+    phase_ = Phase::kStandby;
+  }
+  if (MissionJournal* journal = options_.journal) {
+    term_ = journal->highest_term() + 1;
+    if (const auto& resume = journal->resumable()) {
+      for (const fleet_transport::TaskVisit& visit : resume->visits) progress_.mark(visit);
+      epoch_ = resume->last_epoch;
+      resumed_bindings_ = resume->bindings;
+      spdlog::info("journal {}: resuming run {} of mission {}: {} of {} tasks done, last epoch {}, term {}",
+                   journal->path(), resume->run, mission_id_, progress_.tasks_done(), progress_.task_count(), epoch_,
+                   resume->last_term);
+    }
+    if (!options_.standby) journal->claim(term_, incarnation_, claimed_ms_);
+  }
+  summary_.tasks_done = summary_.tasks_done_before = progress_.tasks_done();
+  summary_.term = term_;
+  spdlog::info("coordinator {} ({}), term {}, mission {}", hex(incarnation_), fleet_transport::to_string(role_), term_,
+               mission_id_);
+}
+
+void FleetCoordinator::on_fleet_status(const fleet_transport::FleetStatus& status) {
+  if (status.coordinator == incarnation_) return;  // our own, heard back
+  const std::lock_guard<std::mutex> lock(events_mutex_);
+  Event event;
+  event.kind = Event::Kind::kStatus;
+  event.status = status;
+  event.received = Clock::now();
+  events_.push_back(std::move(event));
 }
 
 void FleetCoordinator::on_announcement(const fleet_transport::Announcement& announcement) {
@@ -68,7 +120,7 @@ void FleetCoordinator::on_robot_gone(const std::string& robot_id, fleet_transpor
 Vertex FleetCoordinator::mission_vertex(int x, int y) const { return mission_.graph->vertex_at({x, y}); }
 
 void FleetCoordinator::request_replan(const std::string& why) {
-  if (phase_ == Phase::kWaiting || phase_ == Phase::kDone) return;
+  if (!driving()) return;
   spdlog::info("replanning: {}", why);
   if (!replan_requested_) {
     replan_requested_at_ = Clock::now();
@@ -97,14 +149,18 @@ void FleetCoordinator::lose(RobotRecord& robot, const std::string& why) {
     const Cell target = plan_->target(a, plan_->agent(a).finished);
     blocked_[mission_vertex(target.x, target.y)] = robot.id;
   }
-  if (robot.role >= 0) {
-    progress_.unbind(robot.role);
+  if (robot.role >= 0 && phase_ != Phase::kStandby) {  // a standby mirrors the bindings
+    unbind_role(robot.role);
     robot.role = -1;
   }
   if (robot.plan_agent >= 0) request_replan("robot " + robot.id + " lost");
 }
 
 void FleetCoordinator::handle(const Event& event) {
+  if (event.kind == Event::Kind::kStatus) {
+    handle_status(event.status, event.received);
+    return;
+  }
   RobotRecord& robot = robots_[event.robot_id];
   switch (event.kind) {
     case Event::Kind::kAnnouncement: handle_announcement(robot, event.announcement); return;
@@ -112,6 +168,7 @@ void FleetCoordinator::handle(const Event& event) {
       lose(robot, event.reason == fleet_transport::GoneReason::kGoodbye ? "said goodbye" : "liveliness lost");
       return;
     case Event::Kind::kState: handle_state(robot, event.state, event.received); return;
+    case Event::Kind::kStatus: return;
   }
 }
 
@@ -197,7 +254,7 @@ void FleetCoordinator::handle_state(RobotRecord& robot, const fleet_transport::R
     robot.active = true;
     // It is where it reports, no longer where it was lost.
     std::erase_if(blocked_, [&](const auto& entry) { return entry.second == robot.id || entry.first == cell; });
-    if (phase_ != Phase::kWaiting) {
+    if (driving()) {
       ++summary_.robots_joined;
       replanned_after_finish_ = false;
       bind_roles({&robot});
@@ -243,17 +300,46 @@ bool FleetCoordinator::accept_incarnation(RobotRecord& robot, const fleet_transp
   return true;
 }
 
+void FleetCoordinator::bind_role(int role, RobotRecord& robot) {
+  robot.role = role;
+  progress_.bind(role, robot.id);
+  status_changed_ = true;
+  if (options_.journal && role_ == fleet_transport::CoordinatorRole::kActive) {
+    options_.journal->record_binding(role, robot.id);
+  }
+}
+
+void FleetCoordinator::unbind_role(int role) {
+  progress_.unbind(role);
+  status_changed_ = true;
+  if (options_.journal && role_ == fleet_transport::CoordinatorRole::kActive) options_.journal->record_binding(role, "");
+}
+
 void FleetCoordinator::bind_roles(const std::vector<RobotRecord*>& robots) {
   std::vector<RobotRecord*> unbound;
+  std::vector<RobotRecord*> candidates;
+  // A resumed mission gives each robot back the role the journal has for it.
   for (RobotRecord* robot : robots) {
+    int kept = -1;
+    for (const auto& [role, id] : resumed_bindings_) {
+      if (id == robot->id && role < mission_.agent_count() && progress_.robot_of(role).empty()) kept = role;
+    }
+    if (kept >= 0) {
+      bind_role(kept, *robot);
+      spdlog::info("robot {} keeps role {} (from the journal)", robot->id, kept);
+    } else {
+      candidates.push_back(robot);
+    }
+  }
+  resumed_bindings_.clear();
+  for (RobotRecord* robot : candidates) {
     const Vertex cell = mission_vertex(robot->last.cell_x, robot->last.cell_y);
     int taken = -1;
     for (int role = 0; role < mission_.agent_count() && taken < 0; ++role) {
       if (progress_.robot_of(role).empty() && mission_.starts[role] == cell) taken = role;
     }
     if (taken >= 0) {
-      robot->role = taken;
-      progress_.bind(taken, robot->id);
+      bind_role(taken, *robot);
       spdlog::info("robot {} takes role {} (it stands on the role's start)", robot->id, taken);
     } else {
       unbound.push_back(robot);
@@ -280,8 +366,7 @@ void FleetCoordinator::bind_roles(const std::vector<RobotRecord*>& robots) {
       continue;
     }
     const int role = free_roles[assignment[r]];
-    unbound[r]->role = role;
-    progress_.bind(role, unbound[r]->id);
+    bind_role(role, *unbound[r]);
     spdlog::info("robot {} takes role {} ({} steps from its start)", unbound[r]->id, role, cost[r][assignment[r]]);
   }
 }
@@ -292,7 +377,7 @@ bool FleetCoordinator::replan(fleet_transport::Transport& transport) {
   for (RobotRecord* robot : robots_.ready_robots()) {
     if (robot->role < 0) extras.push_back(robot);
   }
-  if (!extras.empty() && progress_.any_role_free() && phase_ != Phase::kWaiting) bind_roles(extras);
+  if (!extras.empty() && progress_.any_role_free()) bind_roles(extras);
 
   // Plan from where the robots stand, around lost robots and robots that cannot be commanded.
   std::set<Vertex> blocked;
@@ -313,7 +398,7 @@ bool FleetCoordinator::replan(fleet_transport::Transport& transport) {
   }
 
   planner_core::SolverConfig solver_config;
-  const bool first_plan = epoch_ == 0;
+  const bool first_plan = plans_made_ == 0;
   solver_config.solver = first_plan ? config_.solver : config_.replan_solver;
   solver_config.forbid_rotations = true;  // robots execute one move at a time
   solver_config.pibt.swap = config_.pibt_swap;
@@ -340,16 +425,18 @@ bool FleetCoordinator::replan(fleet_transport::Transport& transport) {
   }
   plan_limit_factor_ = 1;
   ++epoch_;
-  if (epoch_ > 1) ++summary_.replans;
-  if (epoch_ == 1) {
+  if (plans_made_ > 0) ++summary_.replans;
+  if (plans_made_ == 0) {
     summary_.first_plan_makespan = report.makespan;
     summary_.first_plan_flowtime = report.flowtime;
   }
-  plan_ = std::make_unique<PlanExecution>(epoch_, instance.graph, result.solution, built.robots);
+  ++plans_made_;
+  if (options_.journal) options_.journal->record_epoch(epoch_, term_);
+  plan_ = std::make_unique<PlanExecution>(epoch_, instance.graph, result.solution, built.robots, incarnation_);
   // Task visits count only when made under a plan: a start counts, being the plan's first step.
   for (int a = 0; a < instance.agent_count(); ++a) {
     const RobotRecord& robot = robots_[built.robots[a]];
-    if (robot.role >= 0) progress_.visit(robot.role, mission_vertex(robot.last.cell_x, robot.last.cell_y));
+    if (robot.role >= 0) credit_visits(robot.role, mission_vertex(robot.last.cell_x, robot.last.cell_y), robot.id);
   }
   int visits = 0;
   for (const auto& task : instance.tasks) visits += static_cast<int>(task.agents.size());
@@ -357,6 +444,7 @@ bool FleetCoordinator::replan(fleet_transport::Transport& transport) {
                visits, report.flowtime, report.makespan);
   replan_requested_ = false;
   phase_ = Phase::kExecuting;
+  publish_status(transport);  // agents take only epochs their coordinator has announced
   dispatch(transport);
   return true;
 }
@@ -366,7 +454,7 @@ void FleetCoordinator::update_progress() {
   for (int a = 0; a < plan_->agent_count(); ++a) {
     RobotRecord& robot = robots_[plan_->agent(a).robot_id];
     if (const auto reached = plan_->confirm(a, robot.last); reached && robot.role >= 0) {
-      progress_.visit(robot.role, mission_vertex(reached->x, reached->y));
+      credit_visits(robot.role, mission_vertex(reached->x, reached->y), robot.id);
     }
   }
 }
@@ -393,6 +481,7 @@ void FleetCoordinator::dispatch(fleet_transport::Transport& transport) {
     if (!first_command_sent_) {
       first_command_sent_ = true;
       first_command_ = now;
+      summary_.first_command_wall_ms = fleet_transport::wall_clock_ms();
     }
     if (awaiting_replan_latency_) {
       awaiting_replan_latency_ = false;
@@ -421,11 +510,22 @@ bool FleetCoordinator::mission_complete() const {
   return plan_finished();
 }
 
-void FleetCoordinator::publish_status(fleet_transport::Transport& transport) {
+fleet_transport::FleetStatus FleetCoordinator::own_status() const {
   fleet_transport::FleetStatus status;
+  status.coordinator = incarnation_;
+  status.term = term_;
+  status.claimed_ms = claimed_ms_;
+  status.role = role_;
+  status.mission_id = mission_id_;
   status.plan_epoch = epoch_;
+  return status;
+}
+
+void FleetCoordinator::publish_status(fleet_transport::Transport& transport) {
+  fleet_transport::FleetStatus status = own_status();
   status.tasks_total = summary_.tasks_total;
-  status.tasks_done = summary_.tasks_done;
+  status.tasks_done = progress_.tasks_done();
+  status.done_visits = progress_.done_visits();
   for (const auto& [id, robot] : robots_) {
     if (!robot.active) continue;
     ++status.robots;
@@ -434,6 +534,8 @@ void FleetCoordinator::publish_status(fleet_transport::Transport& transport) {
     status.assignments.push_back(row);
   }
   transport.publish_fleet_status(status);
+  status_changed_ = false;
+  next_status_ = Clock::now() + seconds(kStatusPeriodS);
 }
 
 std::string FleetCoordinator::progress_line() const {
@@ -457,6 +559,12 @@ bool FleetCoordinator::step(fleet_transport::Transport& transport) {
     }
   }
   const Clock::time_point now = Clock::now();
+  if (role_ == fleet_transport::CoordinatorRole::kActive) {
+    if (const OtherCoordinator* other = stronger_active(now)) {
+      stand_down(*other, transport);
+      return false;
+    }
+  }
   for (RobotRecord* robot : robots_.silent_robots(now, config_.silence_timeout_s)) {
     lose(*robot, "no state for " + std::to_string(config_.silence_timeout_s) + " s");
   }
@@ -469,7 +577,9 @@ bool FleetCoordinator::step(fleet_transport::Transport& transport) {
                                                             static_cast<int>(config_.expected_robots.size());
       const bool quorum = config_.any_robots && static_cast<int>(ready.size()) >= config_.quorum;
       const bool timed_out = seconds_between(started_, now) > config_.wait_timeout_s && !ready.empty();
-      if (all_expected || quorum || timed_out) {
+      // Listen for a lease first: another coordinator already active is heard, and this one stands down.
+      const bool listened = seconds_between(started_, now) >= config_.lease_s;
+      if (listened && (all_expected || quorum || timed_out)) {
         spdlog::info("{} robots ready: binding roles and planning", ready.size());
         bind_roles(ready);
         phase_ = Phase::kSettling;
@@ -477,6 +587,7 @@ bool FleetCoordinator::step(fleet_transport::Transport& transport) {
       }
       break;
     }
+    case Phase::kStandby: follow(transport, now); break;
     case Phase::kExecuting:
       update_progress();
       if (replan_requested_) {
@@ -514,6 +625,10 @@ bool FleetCoordinator::step(fleet_transport::Transport& transport) {
         const RobotRecord* robot = robots_.find(plan_->agent(a).robot_id);
         if (plan_->in_flight(a) && robot != nullptr && robot->active) moves_in_flight = true;
       }
+      // Robots still carrying out another coordinator's last command (after a takeover or a restart).
+      for (RobotRecord* robot : robots_.ready_robots()) {
+        if (plans_made_ == 0 && robot->last.status == RobotStatus::kMoving) moves_in_flight = true;
+      }
       // Plan only from where robots really stand: every move in flight must have ended (a robot
       // that never finishes is taken out by the silence timeout or its lease).
       if (moves_in_flight && now >= settle_deadline_) {
@@ -527,13 +642,10 @@ bool FleetCoordinator::step(fleet_transport::Transport& transport) {
     }
     case Phase::kDone: break;
   }
-  if (now >= next_status_) {
-    publish_status(transport);
-    next_status_ = now + seconds(0.5);
-  }
+  if (now >= next_status_ || status_changed_) publish_status(transport);
   if (first_command_sent_) summary_.seconds = seconds_between(first_command_, now);
   if (phase_ == Phase::kDone) return false;
-  if (seconds_between(started_, now) > config_.mission_timeout_s) {
+  if (phase_ != Phase::kStandby && seconds_between(started_, now) > config_.mission_timeout_s) {
     spdlog::error("mission timeout after {} s", config_.mission_timeout_s);
     list_pending();
     return false;
@@ -552,6 +664,167 @@ void FleetCoordinator::list_pending() {
     }
   }
   for (const std::string& line : progress_.pending_visits()) summary_.pending.push_back(line);
+}
+
+// Task visits count once committed to the journal: a restart never redoes a visit it counted.
+void FleetCoordinator::credit_visits(int role, Vertex cell, const std::string& robot_id) {
+  for (const fleet_transport::TaskVisit& visit : progress_.visits_due_at(role, cell)) {
+    if (options_.journal) {
+      try {
+        options_.journal->record_visit(visit, robot_id, epoch_);
+      } catch (const JournalError& e) {
+        spdlog::error("task {} for role {} not counted: the journal could not record it: {}", visit.task, visit.role,
+                      e.what());
+        continue;
+      }
+    }
+    progress_.mark(visit);
+    status_changed_ = true;
+  }
+}
+
+void FleetCoordinator::handle_status(const fleet_transport::FleetStatus& status, Clock::time_point received) {
+  OtherCoordinator& other = others_[status.coordinator];
+  const bool first = other.status.coordinator == 0;
+  other.status = status;
+  other.heard = received;
+  if (first) {
+    spdlog::info("heard coordinator {} ({}, term {}, mission {}, epoch {})", hex(status.coordinator),
+                 fleet_transport::to_string(status.role), status.term, status.mission_id, status.plan_epoch);
+  }
+}
+
+const FleetCoordinator::OtherCoordinator* FleetCoordinator::stronger_active(Clock::time_point now) const {
+  const fleet_transport::FleetStatus mine = own_status();
+  for (const auto& [id, other] : others_) {
+    if (other.status.role != fleet_transport::CoordinatorRole::kActive) continue;
+    if (seconds_between(other.heard, now) > config_.lease_s + 1.0) continue;  // gone
+    if (fleet_transport::outranks(other.status, mine)) return &other;
+  }
+  return nullptr;
+}
+
+void FleetCoordinator::stand_down(const OtherCoordinator& other, fleet_transport::Transport& transport) {
+  const fleet_transport::FleetStatus& s = other.status;
+  const std::string why =
+      s.term > term_
+          ? fmt::format("it has a higher term ({} > {})", s.term, term_)
+          : fmt::format("it claimed the fleet first ({} ms before this one)", claimed_ms_ - s.claimed_ms);
+  summary_.stood_down = true;
+  summary_.stood_down_because = fmt::format(
+      "coordinator {} is already active on {} domain {} (term {}, mission {}{}, epoch {}) and {}", hex(s.coordinator),
+      config_.dds_vendor, config_.domain_id, s.term, s.mission_id,
+      s.mission_id == mission_id_ ? ", the same mission" : ", ANOTHER mission", s.plan_epoch, why);
+  spdlog::error("standing down: {}. One coordinator drives a fleet: run a second one with --standby to follow the "
+                "active one and take over if it fails.", summary_.stood_down_because);
+  role_ = fleet_transport::CoordinatorRole::kStoodDown;
+  phase_ = Phase::kDone;
+  plan_.reset();  // not one more command
+  publish_status(transport);
+}
+
+const FleetCoordinator::OtherCoordinator* FleetCoordinator::followed() const {
+  const OtherCoordinator* best = nullptr;
+  for (const auto& [id, other] : others_) {
+    if (other.status.role != fleet_transport::CoordinatorRole::kActive || other.status.mission_id != mission_id_) continue;
+    if (best == nullptr || fleet_transport::outranks(other.status, best->status)) best = &other;
+  }
+  return best;
+}
+
+// A standby keeps the active coordinator's progress (its done visits, its bindings, its epoch) and
+// takes over once that coordinator has been silent for a lease and a half.
+void FleetCoordinator::follow(fleet_transport::Transport& transport, Clock::time_point now) {
+  // The followed coordinator ended the mission (completed or not): so does its standby.
+  if (const auto it = others_.find(mirrored_);
+      it != others_.end() && it->second.status.role == fleet_transport::CoordinatorRole::kEnded) {
+    for (const fleet_transport::TaskVisit& visit : it->second.status.done_visits) progress_.mark(visit);
+    summary_.tasks_done = progress_.tasks_done();
+    summary_.completed = progress_.all_tasks_done();
+    spdlog::info("standby: coordinator {} ended the mission ({} of {} tasks done); the standby ends too", hex(mirrored_),
+                 summary_.tasks_done, summary_.tasks_total);
+    phase_ = Phase::kDone;
+    return;
+  }
+  const OtherCoordinator* active = followed();
+  if (active == nullptr) {
+    if (!logged_no_active_) {
+      logged_no_active_ = true;
+      spdlog::info("standby: waiting for an active coordinator of mission {}", mission_id_);
+    }
+    return;
+  }
+  if (active->status.coordinator != mirrored_) {
+    mirrored_ = active->status.coordinator;
+    spdlog::info("standby: follows coordinator {} (term {})", hex(mirrored_), active->status.term);
+  }
+  for (const fleet_transport::TaskVisit& visit : active->status.done_visits) progress_.mark(visit);
+  mirrored_roles_.clear();
+  for (const fleet_transport::Assignment& row : active->status.assignments) {
+    if (row.role >= 0 && row.role < mission_.agent_count()) mirrored_roles_[row.robot_id] = row.role;
+  }
+  epoch_ = std::max(epoch_, active->status.plan_epoch);
+  summary_.tasks_done = progress_.tasks_done();
+  const double silent_s = seconds_between(active->heard, now);
+  if (silent_s > config_.lease_s + 0.5) take_over(transport, *active, now);
+}
+
+void FleetCoordinator::take_over(fleet_transport::Transport& transport, const OtherCoordinator& old,
+                                 Clock::time_point now) {
+  uint32_t highest = old.status.term;
+  for (const auto& [id, other] : others_) highest = std::max(highest, other.status.term);
+  if (options_.journal) highest = std::max(highest, options_.journal->highest_term());
+  term_ = highest + 1;
+  claimed_ms_ = fleet_transport::wall_clock_ms();
+  role_ = fleet_transport::CoordinatorRole::kActive;
+  summary_.took_over = true;
+  summary_.term = term_;
+  summary_.tasks_done_before = progress_.tasks_done();
+  spdlog::warn("coordinator {} (term {}) silent for {:.2f} s: taking over as term {} at epoch {}, {} of {} tasks done",
+               hex(old.status.coordinator), old.status.term, seconds_between(old.heard, now), term_, epoch_,
+               progress_.tasks_done(), progress_.task_count());
+  transport.set_command_strength(static_cast<int>(term_));
+  if (options_.journal) {
+    options_.journal->claim(term_, incarnation_, claimed_ms_);
+    for (const fleet_transport::TaskVisit& visit : progress_.done_visits()) {
+      options_.journal->record_visit(visit, progress_.robot_of(visit.role), epoch_);
+    }
+  }
+  // The old coordinator's bindings hold for the robots still here; the others are bound afresh.
+  for (int role = 0; role < mission_.agent_count(); ++role) progress_.unbind(role);
+  for (auto& [id, robot] : robots_) robot.role = -1;
+  std::vector<RobotRecord*> rest;
+  for (RobotRecord* robot : robots_.ready_robots()) {
+    const auto kept = mirrored_roles_.find(robot->id);
+    if (kept != mirrored_roles_.end() && progress_.robot_of(kept->second).empty()) {
+      bind_role(kept->second, *robot);
+    } else {
+      rest.push_back(robot);
+    }
+  }
+  bind_roles(rest);
+  others_.erase(old.status.coordinator);
+  phase_ = Phase::kSettling;
+  settle_deadline_ = now;
+  replan_requested_at_ = now;
+  awaiting_replan_latency_ = true;
+  publish_status(transport);
+}
+
+void FleetCoordinator::finish(fleet_transport::Transport& transport) {
+  if (role_ == fleet_transport::CoordinatorRole::kActive) role_ = fleet_transport::CoordinatorRole::kEnded;
+  if (role_ == fleet_transport::CoordinatorRole::kStandby) role_ = fleet_transport::CoordinatorRole::kEnded;
+  publish_status(transport);
+  if (options_.journal && summary_.completed) {
+    try {
+      options_.journal->finish("completed");
+    } catch (const JournalError& e) {
+      spdlog::error("{}", e.what());
+    }
+  } else if (options_.journal && !summary_.stood_down) {
+    spdlog::info("journal {}: the run stays open; start again with --journal {} to resume it", options_.journal->path(),
+                 options_.journal->path());
+  }
 }
 
 }  // namespace coordinator

@@ -13,14 +13,43 @@ bool MissionProgress::any_role_free() const {
   return std::any_of(robot_of_role_.begin(), robot_of_role_.end(), [](const std::string& id) { return id.empty(); });
 }
 
-void MissionProgress::visit(int role, planner_core::Vertex cell) {
+std::vector<fleet_transport::TaskVisit> MissionProgress::visits_due_at(int role, planner_core::Vertex cell) const {
+  std::vector<fleet_transport::TaskVisit> due;
   for (int t : mission_.tasks_of_agent[role]) {
     const planner_core::Task& task = mission_.tasks[t];
     if (task.at != cell) continue;
     for (size_t k = 0; k < task.agents.size(); ++k) {
-      if (task.agents[k] == role) task_done_[t][k] = 1;
+      if (task.agents[k] == role && !task_done_[t][k]) due.push_back({t, role});
     }
   }
+  return due;
+}
+
+bool MissionProgress::mark(const fleet_transport::TaskVisit& visit) {
+  if (visit.task < 0 || visit.task >= task_count()) return false;
+  const std::vector<int>& agents = mission_.tasks[visit.task].agents;
+  bool found = false;
+  for (size_t k = 0; k < agents.size(); ++k) {
+    if (agents[k] == visit.role) {
+      task_done_[visit.task][k] = 1;
+      found = true;
+    }
+  }
+  return found;
+}
+
+void MissionProgress::visit(int role, planner_core::Vertex cell) {
+  for (const fleet_transport::TaskVisit& due : visits_due_at(role, cell)) mark(due);
+}
+
+std::vector<fleet_transport::TaskVisit> MissionProgress::done_visits() const {
+  std::vector<fleet_transport::TaskVisit> done;
+  for (int t = 0; t < task_count(); ++t) {
+    for (size_t k = 0; k < task_done_[t].size(); ++k) {
+      if (task_done_[t][k]) done.push_back({t, mission_.tasks[t].agents[k]});
+    }
+  }
+  return done;
 }
 
 int MissionProgress::tasks_done() const {

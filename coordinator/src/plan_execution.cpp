@@ -5,8 +5,8 @@
 namespace coordinator {
 
 PlanExecution::PlanExecution(int epoch, std::shared_ptr<const planner_core::Graph> graph,
-                             const planner_core::Solution& plan, std::vector<std::string> robots)
-    : epoch_(epoch), graph_(std::move(graph)), adg_(plan), starts_(plan.empty() ? planner_core::Config{} : plan[0]) {
+                             const planner_core::Solution& plan, std::vector<std::string> robots, uint64_t coordinator)
+    : epoch_(epoch), coordinator_(coordinator), graph_(std::move(graph)), adg_(plan), starts_(plan.empty() ? planner_core::Config{} : plan[0]) {
   agents_.resize(robots.size());
   for (size_t a = 0; a < robots.size(); ++a) agents_[a].robot_id = std::move(robots[a]);
 }
@@ -30,7 +30,7 @@ bool PlanExecution::allows(int a, planner_core::Cell cell) const {
 std::optional<double> PlanExecution::acknowledge(int a, const fleet_transport::RobotState& state,
                                                  Clock::time_point received) {
   Agent& agent = agents_[a];
-  if (state.plan_epoch != epoch_ || agent.sent < 0 || state.action_index != agent.sent || agent.acknowledged) {
+  if (state.coordinator != coordinator_ || state.plan_epoch != epoch_ || agent.sent < 0 || state.action_index != agent.sent || agent.acknowledged) {
     return std::nullopt;
   }
   agent.acknowledged = true;
@@ -41,7 +41,7 @@ std::optional<planner_core::Cell> PlanExecution::confirm(int a, const fleet_tran
   if (!in_flight(a)) return std::nullopt;
   Agent& agent = agents_[a];
   const planner_core::Cell cell = target(a, agent.finished);
-  if (state.plan_epoch != epoch_ || state.action_index != agent.finished ||
+  if (state.coordinator != coordinator_ || state.plan_epoch != epoch_ || state.action_index != agent.finished ||
       state.status == fleet_transport::RobotStatus::kMoving || state.cell_x != cell.x || state.cell_y != cell.y) {
     return std::nullopt;
   }
@@ -67,6 +67,7 @@ std::optional<fleet_transport::StepCommand> PlanExecution::due_command(int a, Cl
   command.target_pose_x = cell.x;
   command.target_pose_y = cell.y;
   command.deadline_ms = deadline_ms;
+  command.coordinator = coordinator_;
   if (!resend) {
     agent.first_sent_at = now;
     agent.acknowledged = false;

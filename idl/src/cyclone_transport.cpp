@@ -39,6 +39,25 @@ RobotStatus from_wire(fleet_RobotStatus s) {
   }
 }
 
+fleet_CoordinatorRole to_wire(CoordinatorRole r) {
+  switch (r) {
+    case CoordinatorRole::kActive: return fleet_COORDINATOR_ACTIVE;
+    case CoordinatorRole::kStandby: return fleet_COORDINATOR_STANDBY;
+    case CoordinatorRole::kStoodDown: return fleet_COORDINATOR_STOOD_DOWN;
+    case CoordinatorRole::kEnded: return fleet_COORDINATOR_ENDED;
+  }
+  return fleet_COORDINATOR_ENDED;
+}
+
+CoordinatorRole from_wire(fleet_CoordinatorRole r) {
+  switch (r) {
+    case fleet_COORDINATOR_ACTIVE: return CoordinatorRole::kActive;
+    case fleet_COORDINATOR_STANDBY: return CoordinatorRole::kStandby;
+    case fleet_COORDINATOR_STOOD_DOWN: return CoordinatorRole::kStoodDown;
+    default: return CoordinatorRole::kEnded;
+  }
+}
+
 void check(dds_return_t rc, const char* what) {
   if (rc < 0) throw std::runtime_error(std::string("Cyclone DDS: ") + what + ": " + dds_strretcode(rc));
 }
@@ -68,6 +87,9 @@ class CycloneTransport : public Transport {
     dds_qos_t* command = command_qos_ = dds_create_qos();
     dds_qset_reliability(command, DDS_RELIABILITY_RELIABLE, DDS_SECS(1));
     dds_qset_history(command, DDS_HISTORY_KEEP_LAST, 8);
+    dds_qset_ownership(command, DDS_OWNERSHIP_EXCLUSIVE);
+    dds_qset_ownership_strength(command, config.command_strength);
+    dds_qset_liveliness(command, DDS_LIVELINESS_AUTOMATIC, lease);  // a dead owner is replaced after a lease
 
     announcement_topic_ = make_topic(&fleet_Announcement_desc, "rt/fleet/announcement");
     state_topic_ = make_topic(&fleet_RobotState_desc, "rt/fleet/robot_state");
@@ -143,6 +165,7 @@ class CycloneTransport : public Transport {
     wire.seq_number = s.seq_number;
     wire.stamp_ms = s.stamp_ms;
     wire.incarnation = s.incarnation;
+    wire.coordinator = s.coordinator;
     check(dds_write(writer(state_writer_, state_topic_, state_qos_), &wire), "write state");
   }
 
@@ -156,10 +179,17 @@ class CycloneTransport : public Transport {
     wire.target_pose_x = c.target_pose_x;
     wire.target_pose_y = c.target_pose_y;
     wire.deadline_ms = c.deadline_ms;
+    wire.coordinator = c.coordinator;
     check(dds_write(command_writer(c.robot_id), &wire), "write command");
   }
 
   void prepare_commands_for(const std::string& robot_id) override { command_writer(robot_id); }
+
+  void set_command_strength(int strength) override {
+    const std::lock_guard<std::mutex> lock(writers_mutex_);
+    dds_qset_ownership_strength(command_qos_, strength);
+    for (const auto& [robot_id, writer] : command_writers_) check(dds_set_qos(writer, command_qos_), "set command strength");
+  }
 
   void publish_fleet_status(const FleetStatus& s) override {
     std::vector<fleet_Assignment> rows(s.assignments.size());
@@ -169,7 +199,14 @@ class CycloneTransport : public Transport {
       rows[i].tasks_done = s.assignments[i].tasks_done;
       rows[i].tasks_total = s.assignments[i].tasks_total;
     }
+    std::vector<fleet_TaskVisit> visits(s.done_visits.size());
+    for (size_t i = 0; i < visits.size(); ++i) visits[i] = {s.done_visits[i].task, s.done_visits[i].role};
     fleet_FleetStatus wire{};
+    wire.coordinator = s.coordinator;
+    wire.term = s.term;
+    wire.claimed_ms = s.claimed_ms;
+    wire.role = to_wire(s.role);
+    copy_string(wire.mission_id, s.mission_id);
     wire.plan_epoch = s.plan_epoch;
     wire.tasks_done = s.tasks_done;
     wire.tasks_total = s.tasks_total;
@@ -177,6 +214,9 @@ class CycloneTransport : public Transport {
     wire.assignments._length = wire.assignments._maximum = static_cast<uint32_t>(rows.size());
     wire.assignments._buffer = rows.data();
     wire.assignments._release = false;
+    wire.done_visits._length = wire.done_visits._maximum = static_cast<uint32_t>(visits.size());
+    wire.done_visits._buffer = visits.data();
+    wire.done_visits._release = false;
     check(dds_write(writer(status_writer_, status_topic_, registry_qos_), &wire), "write fleet status");
   }
 
@@ -268,6 +308,7 @@ class CycloneTransport : public Transport {
       s.seq_number = w.seq_number;
       s.stamp_ms = w.stamp_ms;
       s.incarnation = w.incarnation;
+      s.coordinator = w.coordinator;
       self->handlers_.on_state(s);
     });
   }
@@ -278,7 +319,7 @@ class CycloneTransport : public Transport {
       if (!info.valid_data) return;
       if (!self->commands_for_.empty() && self->commands_for_ != w.robot_id) return;
       self->handlers_.on_command({w.robot_id, w.plan_epoch, w.action_index, w.target_x, w.target_y, w.target_pose_x,
-                                  w.target_pose_y, w.deadline_ms});
+                                  w.target_pose_y, w.deadline_ms, w.coordinator});
     });
   }
 
@@ -286,7 +327,19 @@ class CycloneTransport : public Transport {
     auto* self = static_cast<CycloneTransport*>(arg);
     take_all<fleet_FleetStatus>(reader, [self](const fleet_FleetStatus& w, const dds_sample_info_t& info) {
       if (!info.valid_data) return;
-      FleetStatus s{w.plan_epoch, w.tasks_done, w.tasks_total, w.robots, {}};
+      FleetStatus s;
+      s.coordinator = w.coordinator;
+      s.term = w.term;
+      s.claimed_ms = w.claimed_ms;
+      s.role = from_wire(w.role);
+      s.mission_id = w.mission_id;
+      s.plan_epoch = w.plan_epoch;
+      s.tasks_done = w.tasks_done;
+      s.tasks_total = w.tasks_total;
+      s.robots = w.robots;
+      for (uint32_t i = 0; i < w.done_visits._length; ++i) {
+        s.done_visits.push_back({w.done_visits._buffer[i].task, w.done_visits._buffer[i].role});
+      }
       for (uint32_t i = 0; i < w.assignments._length; ++i) {
         const fleet_Assignment& row = w.assignments._buffer[i];
         s.assignments.push_back({row.robot_id, row.role, row.tasks_done, row.tasks_total});

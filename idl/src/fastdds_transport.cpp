@@ -42,6 +42,25 @@ RobotStatus from_wire(fleet::RobotStatus s) {
   }
 }
 
+fleet::CoordinatorRole to_wire(CoordinatorRole r) {
+  switch (r) {
+    case CoordinatorRole::kActive: return fleet::COORDINATOR_ACTIVE;
+    case CoordinatorRole::kStandby: return fleet::COORDINATOR_STANDBY;
+    case CoordinatorRole::kStoodDown: return fleet::COORDINATOR_STOOD_DOWN;
+    case CoordinatorRole::kEnded: return fleet::COORDINATOR_ENDED;
+  }
+  return fleet::COORDINATOR_ENDED;
+}
+
+CoordinatorRole from_wire(fleet::CoordinatorRole r) {
+  switch (r) {
+    case fleet::COORDINATOR_ACTIVE: return CoordinatorRole::kActive;
+    case fleet::COORDINATOR_STANDBY: return CoordinatorRole::kStandby;
+    case fleet::COORDINATOR_STOOD_DOWN: return CoordinatorRole::kStoodDown;
+    default: return CoordinatorRole::kEnded;
+  }
+}
+
 // A listener that takes every sample of one topic and passes it to `deliver`.
 template <typename Wire>
 class TakeAll : public DataReaderListener {
@@ -125,11 +144,19 @@ class FastDdsTransport : public Transport {
     command_w.history().kind = KEEP_LAST_HISTORY_QOS;
     command_w.history().depth = 8;
     command_w.reliable_writer_qos().times.heartbeatPeriod = heartbeat;
+    command_w.ownership().kind = EXCLUSIVE_OWNERSHIP_QOS;
+    command_w.ownership_strength().value = static_cast<uint32_t>(config.command_strength);
+    command_w.liveliness().kind = AUTOMATIC_LIVELINESS_QOS;  // a dead owner is replaced after a lease
+    command_w.liveliness().lease_duration = lease;
+    command_w.liveliness().announcement_period = announce_every;
     DataReaderQos command_r = DATAREADER_QOS_DEFAULT;
     command_r.reliability().kind = RELIABLE_RELIABILITY_QOS;
     command_r.durability().kind = VOLATILE_DURABILITY_QOS;
     command_r.history().kind = KEEP_LAST_HISTORY_QOS;
     command_r.history().depth = 8;
+    command_r.ownership().kind = EXCLUSIVE_OWNERSHIP_QOS;
+    command_r.liveliness().kind = AUTOMATIC_LIVELINESS_QOS;
+    command_r.liveliness().lease_duration = lease;
 
     room_for_the_fleet(registry_w.resource_limits(), 1);
     room_for_the_fleet(registry_r.resource_limits(), 1);
@@ -176,6 +203,7 @@ class FastDdsTransport : public Transport {
         s.seq_number = w.seq_number();
         s.stamp_ms = w.stamp_ms();
         s.incarnation = w.incarnation();
+        s.coordinator = w.coordinator();
         handlers_.on_state(s);
       });
     }
@@ -190,13 +218,23 @@ class FastDdsTransport : public Transport {
         const std::string id = w.robot_id().to_string();
         if (!commands_for_.empty() && commands_for_ != id) return;
         handlers_.on_command({id, w.plan_epoch(), w.action_index(), w.target_x(), w.target_y(), w.target_pose_x(),
-                              w.target_pose_y(), w.deadline_ms()});
+                              w.target_pose_y(), w.deadline_ms(), w.coordinator()});
       }, command_subscriber);
     }
     if (handlers_.on_fleet_status) {
       listen<fleet::FleetStatus>(status, registry_r, [this](const fleet::FleetStatus& w, const SampleInfo& info) {
         if (!info.valid_data) return;
-        FleetStatus s{w.plan_epoch(), w.tasks_done(), w.tasks_total(), w.robots(), {}};
+        FleetStatus s;
+        s.coordinator = w.coordinator();
+        s.term = w.term();
+        s.claimed_ms = w.claimed_ms();
+        s.role = from_wire(w.role());
+        s.mission_id = w.mission_id().to_string();
+        s.plan_epoch = w.plan_epoch();
+        s.tasks_done = w.tasks_done();
+        s.tasks_total = w.tasks_total();
+        s.robots = w.robots();
+        for (const fleet::TaskVisit& visit : w.done_visits()) s.done_visits.push_back({visit.task(), visit.role()});
         for (const fleet::Assignment& row : w.assignments()) {
           s.assignments.push_back({row.robot_id().to_string(), row.role(), row.tasks_done(), row.tasks_total()});
         }
@@ -247,6 +285,7 @@ class FastDdsTransport : public Transport {
     wire.seq_number(s.seq_number);
     wire.stamp_ms(s.stamp_ms);
     wire.incarnation(s.incarnation);
+    wire.coordinator(s.coordinator);
     writer(state_writer_, state_topic_, state_w_)->write(&wire);
   }
 
@@ -260,13 +299,29 @@ class FastDdsTransport : public Transport {
     wire.target_pose_x(c.target_pose_x);
     wire.target_pose_y(c.target_pose_y);
     wire.deadline_ms(c.deadline_ms);
+    wire.coordinator(c.coordinator);
     command_writer(c.robot_id)->write(&wire);
   }
 
   void prepare_commands_for(const std::string& robot_id) override { command_writer(robot_id); }
 
+  void set_command_strength(int strength) override {
+    const std::lock_guard<std::mutex> lock(writers_mutex_);
+    command_w_.ownership_strength().value = static_cast<uint32_t>(strength);
+    for (const auto& [robot_id, writer] : command_writers_) {
+      if (writer->set_qos(command_w_) != ReturnCode_t::RETCODE_OK) {
+        throw std::runtime_error("Fast DDS: cannot change the command strength of " + robot_id);
+      }
+    }
+  }
+
   void publish_fleet_status(const FleetStatus& s) override {
     fleet::FleetStatus wire;
+    wire.coordinator(s.coordinator);
+    wire.term(s.term);
+    wire.claimed_ms(s.claimed_ms);
+    wire.role(to_wire(s.role));
+    wire.mission_id(s.mission_id);
     wire.plan_epoch(s.plan_epoch);
     wire.tasks_done(s.tasks_done);
     wire.tasks_total(s.tasks_total);
@@ -281,6 +336,14 @@ class FastDdsTransport : public Transport {
       rows.push_back(row);
     }
     wire.assignments(rows);
+    std::vector<fleet::TaskVisit> visits;
+    for (const TaskVisit& v : s.done_visits) {
+      fleet::TaskVisit visit;
+      visit.task(v.task);
+      visit.role(v.role);
+      visits.push_back(visit);
+    }
+    wire.done_visits(visits);
     writer(status_writer_, status_topic_, registry_w_)->write(&wire);
   }
 

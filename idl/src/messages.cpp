@@ -17,6 +17,22 @@ const char* to_string(RobotStatus status) {
   return "unknown";
 }
 
+const char* to_string(CoordinatorRole role) {
+  switch (role) {
+    case CoordinatorRole::kActive: return "active";
+    case CoordinatorRole::kStandby: return "standby";
+    case CoordinatorRole::kStoodDown: return "stood down";
+    case CoordinatorRole::kEnded: return "ended";
+  }
+  return "unknown";
+}
+
+bool outranks(const FleetStatus& a, const FleetStatus& b) {
+  if (a.term != b.term) return a.term > b.term;
+  if (a.claimed_ms != b.claimed_ms) return a.claimed_ms < b.claimed_ms;
+  return a.coordinator < b.coordinator;
+}
+
 int64_t wall_clock_ms() {
   return std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::system_clock::now().time_since_epoch())
       .count();

@@ -102,6 +102,7 @@ int main(int argc, char** argv) {
     auto reporting = [sim_robot] { return sim_robot == nullptr || sim_robot->reporting_enabled(); };
     try {
       RobotBackend& robot = *backend;
+      settings.coordinator_silence_s = lease + 1.0;  // the coordinator publishes its status every 0.25 s
       RobotAgent agent(settings, robot);
       fleet_transport::TransportConfig config;
       config.vendor = fleet_transport::parse_vendor(vendor);
@@ -111,6 +112,7 @@ int main(int argc, char** argv) {
       config.loopback_config_dir = dds_dir;
       fleet_transport::Handlers handlers;
       handlers.on_command = [&agent](const fleet_transport::StepCommand& c) { agent.on_command(c); };
+      handlers.on_fleet_status = [&agent](const fleet_transport::FleetStatus& s) { agent.on_fleet_status(s); };
       auto transport = fleet_transport::make_transport(config, handlers);
       transport->announce(agent.announcement());
       spdlog::info("{}: {} robot on {} domain {}, incarnation {:016x}", settings.robot_id, robot.kind(), vendor, domain,

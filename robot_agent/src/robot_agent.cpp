@@ -45,6 +45,72 @@ void RobotAgent::on_command(const StepCommand& command) {
     return;
   }
   const std::lock_guard<std::mutex> lock(mutex_);
+  consider(command);
+}
+
+void RobotAgent::on_fleet_status(const fleet_transport::FleetStatus& status) {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  KnownCoordinator& known = coordinators_[status.coordinator];
+  known.status = status;
+  known.status.assignments.clear();
+  known.status.done_visits.clear();
+  known.heard = std::chrono::steady_clock::now();
+  choose_coordinator();
+  if (held_) {  // its coordinator or epoch may be announced now
+    const StepCommand command = *held_;
+    held_.reset();
+    consider(command);
+  }
+}
+
+uint64_t RobotAgent::followed_coordinator() const {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  return followed_;
+}
+
+// Follows the highest-ranked active coordinator heard lately. A switch starts a new epoch space:
+// the new coordinator plans from where the robot stands, so nothing of the old one's is kept.
+void RobotAgent::choose_coordinator() {
+  const auto now = std::chrono::steady_clock::now();
+  const auto silence = std::chrono::duration<double>(settings_.coordinator_silence_s);
+  const KnownCoordinator* best = nullptr;
+  for (const auto& [id, known] : coordinators_) {
+    if (known.status.role != fleet_transport::CoordinatorRole::kActive || now - known.heard > silence) continue;
+    if (best == nullptr || fleet_transport::outranks(known.status, best->status)) best = &known;
+  }
+  if (best == nullptr || best->status.coordinator == followed_) return;
+  spdlog::info("{}: follows coordinator {:016x} (term {}, mission {}){}", settings_.robot_id, best->status.coordinator,
+               best->status.term, best->status.mission_id,
+               followed_ == 0 ? "" : fmt::format(" instead of {:016x}", followed_));
+  followed_ = best->status.coordinator;
+  epoch_ = -1;
+  accepted_index_ = -1;
+  fault_epoch_ = in_fault_ ? 0 : -1;  // a robot in fault waits for the new coordinator's replan
+  if (pending_) spdlog::warn("{}: dropped the old coordinator's command not yet started", settings_.robot_id);
+  pending_.reset();
+}
+
+void RobotAgent::consider(const StepCommand& command) {
+  // Checked first, so a late or replayed command can neither be held nor change the epoch.
+  if (command.deadline_ms > 0 && command.deadline_ms < fleet_transport::wall_clock_ms()) {
+    reject(command, "its deadline passed " + std::to_string(fleet_transport::wall_clock_ms() - command.deadline_ms) +
+                        " ms ago (a late or replayed command)");
+    return;
+  }
+  choose_coordinator();
+  const auto sender = coordinators_.find(command.coordinator);
+  if (sender == coordinators_.end() || followed_ == 0) {
+    held_ = command;  // its coordinator's status has not arrived yet
+    return;
+  }
+  if (command.coordinator != followed_) {
+    reject(command, fmt::format("from coordinator {:016x}; this robot follows {:016x}", command.coordinator, followed_));
+    return;
+  }
+  if (command.plan_epoch > sender->second.status.plan_epoch) {
+    held_ = command;  // an epoch its coordinator has not announced (yet): never jumped to
+    return;
+  }
   if (command.plan_epoch < epoch_) {
     reject(command, "stale plan epoch (current epoch " + std::to_string(epoch_) + ")");
     return;
@@ -56,12 +122,6 @@ void RobotAgent::on_command(const StepCommand& command) {
   if (command.plan_epoch <= fault_epoch_) {
     reject(command, "plan epoch " + std::to_string(command.plan_epoch) +
                         " was made before the robot's fault; waiting for a new plan");
-    return;
-  }
-  // Checked before the command can change the epoch, so a bad command cannot lock out good ones.
-  if (command.deadline_ms > 0 && command.deadline_ms < fleet_transport::wall_clock_ms()) {
-    reject(command, "its deadline passed " + std::to_string(fleet_transport::wall_clock_ms() - command.deadline_ms) +
-                        " ms ago (a late or replayed command)");
     return;
   }
   if (std::abs(command.target_x - next_start_.x) + std::abs(command.target_y - next_start_.y) > 1) {
@@ -117,6 +177,7 @@ void RobotAgent::step(fleet_transport::Transport& transport, bool reporting) {
         moving_to_ = {command->target_x, command->target_y};
         executing_epoch_ = command->plan_epoch;
         executing_index_ = command->action_index;
+        executing_coordinator_ = command->coordinator;
         report = backend_.poll();
         publish_now = true;
       }
@@ -150,6 +211,7 @@ void RobotAgent::step(fleet_transport::Transport& transport, bool reporting) {
   state.battery_percent = report.battery_percent;
   state.seq_number = ++seq_;
   state.incarnation = incarnation_;
+  state.coordinator = executing_coordinator_;
   state.stamp_ms = report.arrived_ms;
   transport.publish_state(state);
 }

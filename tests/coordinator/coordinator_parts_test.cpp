@@ -142,7 +142,7 @@ TEST(PlanExecution, SendsWhenReadyResendsWhenSilentAndConfirmsOnTheTarget) {
   const Vertex v0 = graph->vertex_at({0, 0}), v1 = graph->vertex_at({1, 0}), v2 = graph->vertex_at({2, 0});
   // Robot "front" moves 1 -> 2, then "back" follows 0 -> 1: back's move waits for front's.
   const planner_core::Solution plan = {{v1, v0}, {v2, v1}};
-  PlanExecution execution(3, graph, plan, {"front", "back"});
+  PlanExecution execution(3, graph, plan, {"front", "back"}, 77);
   const auto t0 = PlanExecution::Clock::now();
   EXPECT_EQ(execution.agent_of("back"), 1);
   EXPECT_FALSE(execution.due_command(1, t0, 1.0, 0).has_value());  // waits on the ADG
@@ -153,12 +153,14 @@ TEST(PlanExecution, SendsWhenReadyResendsWhenSilentAndConfirmsOnTheTarget) {
   EXPECT_EQ(first->action_index, 0);
   EXPECT_EQ(first->target_x, 2);
   EXPECT_EQ(first->deadline_ms, 99);
+  EXPECT_EQ(first->coordinator, 77u);
   EXPECT_TRUE(execution.in_flight(0));
   EXPECT_FALSE(execution.due_command(0, t0 + std::chrono::milliseconds(500), 1.0, 0).has_value());
   EXPECT_TRUE(execution.due_command(0, t0 + std::chrono::seconds(2), 1.0, 0).has_value());  // resent
 
   fleet_transport::RobotState state;
   state.robot_id = "front";
+  state.coordinator = 77;
   state.plan_epoch = 3;
   state.action_index = 0;
   state.status = fleet_transport::RobotStatus::kMoving;
@@ -172,6 +174,9 @@ TEST(PlanExecution, SendsWhenReadyResendsWhenSilentAndConfirmsOnTheTarget) {
   state.plan_epoch = 2;
   EXPECT_FALSE(execution.confirm(0, state).has_value());          // another epoch's report
   state.plan_epoch = 3;
+  state.coordinator = 78;
+  EXPECT_FALSE(execution.confirm(0, state).has_value());          // another coordinator's epoch 3
+  state.coordinator = 77;
   const auto reached = execution.confirm(0, state);
   ASSERT_TRUE(reached.has_value());
   EXPECT_EQ(*reached, (Cell{2, 0}));

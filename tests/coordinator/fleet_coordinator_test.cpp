@@ -24,6 +24,7 @@ struct FakeRobot {
   uint64_t seq = 0;
   bool silent = false;
   int epoch = -1, action = -1;  // of the last command carried out, repeated in every state
+  uint64_t coordinator = 0;     // its sender
   int moves = 0;
   int teleport_after = -1;       // carried by hand to teleport_to after this many moves
   planner_core::Cell teleport_to{};
@@ -37,6 +38,7 @@ struct FakeRobot {
     s.action_index = action;
     s.status = status;
     s.seq_number = ++seq;
+    s.coordinator = coordinator;
     return s;
   }
 };
@@ -52,6 +54,7 @@ FleetConfig config_for(int robots) {
   config.replan_settle_s = 0.05;
   config.mission_timeout_s = 60;
   config.replacement_timeout_s = 0.5;
+  config.lease_s = 0.05;  // listens this long for another coordinator before planning
   return config;
 }
 
@@ -74,6 +77,7 @@ std::map<std::string, std::vector<planner_core::Cell>> run(FleetCoordinator& coo
         robot.cell = {command.target_x, command.target_y};
         robot.epoch = command.plan_epoch;
         robot.action = command.action_index;
+        robot.coordinator = command.coordinator;
         if (++robot.moves == robot.teleport_after) robot.cell = robot.teleport_to;
         visited[robot.id].push_back(robot.cell);
         coordinator.on_state(robot.state(command.plan_epoch, command.action_index, fleet_transport::RobotStatus::kArrived));
@@ -157,7 +161,7 @@ TEST(FleetCoordinator, ARobotCarriedOffItsPlanIsTakenOutAndPlannedAround) {
 TEST(PlanExecution, AllowsOnlyThePlannedCellAndTheTargetInFlight) {
   const auto graph = std::make_shared<const planner_core::Graph>(3, 1, std::vector<std::string>{"..."});
   const planner_core::Solution plan = {{graph->vertex_at({0, 0})}, {graph->vertex_at({1, 0})}, {graph->vertex_at({2, 0})}};
-  PlanExecution execution(1, graph, plan, {"r"});
+  PlanExecution execution(1, graph, plan, {"r"}, 1);
   EXPECT_TRUE(execution.allows(0, {0, 0}));
   EXPECT_FALSE(execution.allows(0, {1, 0}));  // not sent yet
   ASSERT_TRUE(execution.due_command(0, PlanExecution::Clock::now(), 1.0, 0).has_value());

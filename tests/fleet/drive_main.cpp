@@ -3,7 +3,9 @@
 // Prints what it sees; exits 0 on success, 3 when the robot faults or a deadline passes.
 #include <CLI/CLI.hpp>
 
+#include <atomic>
 #include <chrono>
+#include <thread>
 #include <condition_variable>
 #include <cstdio>
 #include <mutex>
@@ -66,6 +68,29 @@ int main(int argc, char** argv) {
   };
   auto transport = fleet_transport::make_transport(config, handlers);
   transport->prepare_commands_for(robot);
+  // Agents obey an active coordinator that announced the epoch: this tool is one, of term 0, so
+  // any real coordinator outranks it. Its status goes out every 0.25 s while it runs.
+  fleet_transport::FleetStatus status;
+  status.coordinator = 0x7e57d12e0000ull ^ static_cast<uint64_t>(fleet_transport::wall_clock_ms());
+  status.term = 0;
+  status.claimed_ms = fleet_transport::wall_clock_ms();
+  status.mission_id = "test-drive";
+  status.plan_epoch = epoch;
+  std::atomic<bool> done{false};
+  std::thread heartbeat([&] {
+    while (!done.load()) {
+      transport->publish_fleet_status(status);
+      std::this_thread::sleep_for(std::chrono::milliseconds(250));
+    }
+  });
+  struct Join {
+    std::atomic<bool>& done;
+    std::thread& thread;
+    ~Join() {
+      done = true;
+      thread.join();
+    }
+  } join{done, heartbeat};
 
   if (!status_text.empty()) {
     // "ready" = any status but fault (idle or arrived).
@@ -101,7 +126,8 @@ int main(int argc, char** argv) {
     std::optional<RobotState> seen;
     // Resend until the agent acknowledges (the first command may go out before discovery ends).
     while (!seen && std::chrono::steady_clock::now() - start < std::chrono::duration<double>(timeout_s)) {
-      transport->send_command({robot, epoch, index, x, y, static_cast<double>(x), static_cast<double>(y), deadline_ms});
+      transport->send_command({robot, epoch, index, x, y, static_cast<double>(x), static_cast<double>(y), deadline_ms,
+                               status.coordinator});
       seen = wait_for(latest, 1.0, [&](const RobotState& s) {
         return s.status == RobotStatus::kFault ||
                (s.plan_epoch == epoch && s.action_index == index && s.status == RobotStatus::kArrived &&

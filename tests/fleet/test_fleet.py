@@ -356,6 +356,7 @@ class FleetTest(unittest.TestCase):
         victim = read(self.fleet.log("robot0"))
         self.assertIn("not a move to a neighbouring cell", victim)
         self.assertIn("stale plan epoch", victim)
+        self.assertIn("this robot follows", victim)
         for name, process in self.fleet.processes.items():
             if name.startswith("robot"):
                 self.assertIsNone(process.poll(), f"{name} died:\n" + read(self.fleet.log(name))[-2000:])

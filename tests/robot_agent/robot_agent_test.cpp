@@ -13,9 +13,26 @@ namespace {
 
 using testing_support::FakeTransport;
 
-fleet_transport::StepCommand move(int epoch, int index, int x, int y, int64_t deadline_ms) {
-  return {"r1", epoch, index, x, y, static_cast<double>(x), static_cast<double>(y), deadline_ms};
+constexpr uint64_t kCoordinator = 0xC0;
+
+fleet_transport::StepCommand move(int epoch, int index, int x, int y, int64_t deadline_ms,
+                                  uint64_t coordinator = kCoordinator) {
+  return {"r1", epoch, index, x, y, static_cast<double>(x), static_cast<double>(y), deadline_ms, coordinator};
 }
+
+fleet_transport::FleetStatus status_of(uint64_t coordinator, uint32_t term, int epoch, int64_t claimed_ms = 1000,
+                                       fleet_transport::CoordinatorRole role = fleet_transport::CoordinatorRole::kActive) {
+  fleet_transport::FleetStatus status;
+  status.coordinator = coordinator;
+  status.term = term;
+  status.claimed_ms = claimed_ms;
+  status.role = role;
+  status.mission_id = "m";
+  status.plan_epoch = epoch;
+  return status;
+}
+
+int64_t in_5_s() { return fleet_transport::wall_clock_ms() + 5000; }
 
 struct AgentFixture : ::testing::Test {
   SimSettings sim{0.01, 0.0};
@@ -35,6 +52,7 @@ struct AgentFixture : ::testing::Test {
 };
 
 TEST_F(AgentFixture, ACommandPastItsDeadlineIsDroppedAndChangesNothing) {
+  agent.on_fleet_status(status_of(kCoordinator, 1, 7));
   const int64_t now = fleet_transport::wall_clock_ms();
   agent.on_command(move(7, 0, 3, 2, now - 1000));  // late: its plan has moved on
   settle();
@@ -49,12 +67,105 @@ TEST_F(AgentFixture, ACommandPastItsDeadlineIsDroppedAndChangesNothing) {
 TEST_F(AgentFixture, IncarnationIsInEveryAnnouncementAndState) {
   EXPECT_NE(agent.incarnation(), 0u);
   EXPECT_EQ(agent.announcement().incarnation, agent.incarnation());
+  agent.on_fleet_status(status_of(kCoordinator, 1, 1));
   agent.on_command(move(1, 0, 3, 2, fleet_transport::wall_clock_ms() + 5000));
   settle();
   EXPECT_EQ(transport.last_state.incarnation, agent.incarnation());
   SimRobot other_robot({0, 0}, sim);
   RobotAgent restarted(settings, other_robot);
   EXPECT_NE(restarted.incarnation(), agent.incarnation());  // 64 random bits: equal once in 2^64
+}
+
+TEST_F(AgentFixture, AForgedFarFutureEpochIsNeverJumpedTo) {
+  agent.on_fleet_status(status_of(kCoordinator, 1, 2));
+  agent.on_command(move(1000, 0, 3, 2, in_5_s()));  // the followed coordinator's id, an epoch it never announced
+  settle();
+  EXPECT_EQ(robot.poll().cell, (GridCell{2, 2}));
+  // The real epoch-2 command still counts: nothing was locked out.
+  agent.on_command(move(2, 0, 2, 3, in_5_s()));
+  settle();
+  EXPECT_EQ(robot.poll().cell, (GridCell{2, 3}));
+  EXPECT_EQ(transport.last_state.coordinator, kCoordinator);
+  agent.on_fleet_status(status_of(kCoordinator, 1, 3));  // announcing 3 releases nothing of epoch 1000
+  settle();
+  EXPECT_EQ(robot.poll().cell, (GridCell{2, 3}));
+}
+
+TEST_F(AgentFixture, ACommandArrivingBeforeItsEpochIsAnnouncedWaitsForTheStatus) {
+  agent.on_fleet_status(status_of(kCoordinator, 1, 1));
+  agent.on_command(move(2, 0, 3, 2, in_5_s()));  // epoch 2's status is still on its way
+  settle();
+  EXPECT_EQ(robot.poll().cell, (GridCell{2, 2}));
+  agent.on_fleet_status(status_of(kCoordinator, 1, 2));
+  settle();
+  EXPECT_EQ(robot.poll().cell, (GridCell{3, 2}));
+}
+
+TEST_F(AgentFixture, ACommandBeforeAnyCoordinatorIsHeardIsHeldNotObeyed) {
+  agent.on_command(move(1, 0, 3, 2, in_5_s()));
+  settle();
+  EXPECT_EQ(robot.poll().cell, (GridCell{2, 2}));
+  EXPECT_EQ(agent.followed_coordinator(), 0u);
+  agent.on_fleet_status(status_of(kCoordinator, 1, 1));
+  settle();
+  EXPECT_EQ(robot.poll().cell, (GridCell{3, 2}));
+}
+
+TEST_F(AgentFixture, OnlyTheFollowedCoordinatorIsObeyed) {
+  constexpr uint64_t kSecond = 0xD0;
+  agent.on_fleet_status(status_of(kCoordinator, 1, 1, 1000));
+  agent.on_fleet_status(status_of(kSecond, 1, 5, 2000));  // same term, claimed later: ranks lower
+  EXPECT_EQ(agent.followed_coordinator(), kCoordinator);
+  agent.on_command(move(5, 0, 3, 2, in_5_s(), kSecond));
+  settle();
+  EXPECT_EQ(robot.poll().cell, (GridCell{2, 2}));
+  // A standby never drives, whatever its term.
+  agent.on_fleet_status(status_of(0xE0, 9, 1, 500, fleet_transport::CoordinatorRole::kStandby));
+  EXPECT_EQ(agent.followed_coordinator(), kCoordinator);
+  agent.on_command(move(1, 0, 2, 3, in_5_s()));
+  settle();
+  EXPECT_EQ(robot.poll().cell, (GridCell{2, 3}));
+}
+
+TEST_F(AgentFixture, AHigherTermTakesOverAndItsSmallerEpochsCount) {
+  agent.on_fleet_status(status_of(kCoordinator, 1, 40));
+  agent.on_command(move(40, 0, 3, 2, in_5_s()));
+  settle();
+  ASSERT_EQ(robot.poll().cell, (GridCell{3, 2}));
+  constexpr uint64_t kStandby = 0xD0;  // took over: term 2, its own epochs
+  agent.on_fleet_status(status_of(kStandby, 2, 1, 5000));
+  EXPECT_EQ(agent.followed_coordinator(), kStandby);
+  agent.on_command(move(1, 0, 3, 3, in_5_s(), kStandby));
+  settle();
+  EXPECT_EQ(robot.poll().cell, (GridCell{3, 3}));
+  agent.on_command(move(41, 0, 4, 3, in_5_s()));  // the old one, back from a pause: not followed
+  settle();
+  EXPECT_EQ(robot.poll().cell, (GridCell{3, 3}));
+}
+
+TEST_F(AgentFixture, ACoordinatorThatEndedIsReplacedByTheNextMissionsAtOnce) {
+  agent.on_fleet_status(status_of(kCoordinator, 3, 9));
+  agent.on_command(move(9, 0, 3, 2, in_5_s()));
+  settle();
+  agent.on_fleet_status(status_of(kCoordinator, 3, 9, 1000, fleet_transport::CoordinatorRole::kEnded));
+  constexpr uint64_t kNext = 0xD0;  // a new mission: term 1, epochs from 1
+  agent.on_fleet_status(status_of(kNext, 1, 1, 9000));
+  EXPECT_EQ(agent.followed_coordinator(), kNext);
+  agent.on_command(move(1, 0, 3, 3, in_5_s(), kNext));
+  settle();
+  EXPECT_EQ(robot.poll().cell, (GridCell{3, 3}));
+}
+
+TEST(AgentCoordinatorSilence, ASilentCoordinatorIsReplacedByAnyActiveOne) {
+  SimSettings sim{0.01, 0.0};
+  SimRobot robot{{2, 2}, sim};
+  AgentSettings settings{"r1"};
+  settings.coordinator_silence_s = 0.2;
+  RobotAgent agent{settings, robot};
+  agent.on_fleet_status(status_of(kCoordinator, 5, 3));
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));  // longer than the silence, by design of the test
+  agent.on_fleet_status(status_of(0xD0, 1, 1, 9000));
+  EXPECT_EQ(agent.followed_coordinator(), 0xD0u);
 }
 
 TEST(SimRobot, CarriedByHandAfterItsMoves) {

@@ -4,6 +4,13 @@
 // MissionProgress (roles and task visits), build_plan_instance (what to plan) and PlanExecution
 // (the plan being carried out). All state lives on the thread that calls step(); the transport's
 // handlers only queue events.
+//
+// One coordinator drives a fleet at a time. Each has an incarnation (random per process) and a
+// term, and publishes its status (FleetStatus) several times per second: an active coordinator that
+// hears a higher-ranked active one stands down (fleet_transport::outranks). A standby mirrors the
+// active one's progress from its status and takes over, with the next term, when that status falls
+// silent. With a MissionJournal, every epoch, role binding and task visit is committed to it before
+// it counts, and a restarted coordinator resumes the unfinished run it finds there.
 #pragma once
 
 #include <atomic>
@@ -18,6 +25,7 @@
 #include <vector>
 
 #include "coordinator/fleet_config.hpp"
+#include "coordinator/mission_journal.hpp"
 #include "coordinator/mission_progress.hpp"
 #include "coordinator/plan_execution.hpp"
 #include "coordinator/robot_registry.hpp"
@@ -43,18 +51,30 @@ struct MissionSummary {
   int64_t states_received = 0;
   std::vector<double> replan_latencies_s;  // from a loss/join to the first command of the new plan
   std::vector<double> round_trips_ms;      // command sent -> the robot's state acknowledging it
+  uint32_t term = 0;                       // this coordinator's term when it ended
+  bool stood_down = false;                 // it yielded to a higher-ranked active coordinator
+  std::string stood_down_because;
+  bool took_over = false;                  // a standby that became active
+  int tasks_done_before = 0;               // done when it started driving (resumed or taken over)
+  int64_t first_command_wall_ms = 0;       // wall clock of its first command (0: none)
+};
+
+struct CoordinatorOptions {
+  bool standby = false;              // follow the active coordinator, take over when it falls silent
+  MissionJournal* journal = nullptr; // not owned; resumes its unfinished run
 };
 
 class FleetCoordinator {
  public:
   using Clock = std::chrono::steady_clock;
 
-  FleetCoordinator(const FleetConfig& config, planner_core::Instance mission);
+  FleetCoordinator(const FleetConfig& config, planner_core::Instance mission, CoordinatorOptions options = {});
 
   // Event inputs, callable from any thread.
   void on_announcement(const fleet_transport::Announcement& announcement);
   void on_state(const fleet_transport::RobotState& state);
   void on_robot_gone(const std::string& robot_id, fleet_transport::GoneReason reason);
+  void on_fleet_status(const fleet_transport::FleetStatus& status);
 
   // One iteration; false once the mission has ended (completed, or timed out).
   bool step(fleet_transport::Transport& transport);
@@ -62,11 +82,19 @@ class FleetCoordinator {
   // A flag (Ctrl-C) that cuts a running solve short; the mission then ends at the next step.
   void set_interrupt(const std::atomic<bool>* interrupt) { interrupt_ = interrupt; }
   std::string progress_line() const;
+  // The last word: publishes the final status (ended, or stood down) and, when the mission
+  // completed, closes the run in the journal.
+  void finish(fleet_transport::Transport& transport);
+
+  uint64_t incarnation() const { return incarnation_; }
+  const std::string& mission_id() const { return mission_id_; }
+  fleet_transport::CoordinatorRole role() const { return role_; }
 
  private:
-  enum class Phase { kWaiting, kExecuting, kSettling, kDone };
+  enum class Phase { kWaiting, kStandby, kExecuting, kSettling, kDone };
   struct Event {
-    enum class Kind { kAnnouncement, kState, kGone } kind = Kind::kAnnouncement;
+    enum class Kind { kAnnouncement, kState, kGone, kStatus } kind = Kind::kAnnouncement;
+    fleet_transport::FleetStatus status;
     fleet_transport::Announcement announcement;
     fleet_transport::RobotState state;
     std::string robot_id;
@@ -74,7 +102,26 @@ class FleetCoordinator {
     Clock::time_point received{};
   };
 
+  struct OtherCoordinator {
+    fleet_transport::FleetStatus status;
+    Clock::time_point heard;
+  };
+
   void handle(const Event& event);
+  void handle_status(const fleet_transport::FleetStatus& status, Clock::time_point received);
+  fleet_transport::FleetStatus own_status() const;
+  // An active coordinator that outranks this one and was heard lately, or nullptr.
+  const OtherCoordinator* stronger_active(Clock::time_point now) const;
+  void stand_down(const OtherCoordinator& other, fleet_transport::Transport& transport);
+  // Standby: the active coordinator followed, or nullptr.
+  const OtherCoordinator* followed() const;
+  void follow(fleet_transport::Transport& transport, Clock::time_point now);
+  void take_over(fleet_transport::Transport& transport, const OtherCoordinator& old, Clock::time_point now);
+  void bind_role(int role, RobotRecord& robot);
+  void unbind_role(int role);
+  // Credits the visits `role` owes at `cell`, each committed to the journal first.
+  void credit_visits(int role, planner_core::Vertex cell, const std::string& robot_id);
+  bool driving() const { return phase_ == Phase::kExecuting || phase_ == Phase::kSettling; }
   void handle_announcement(RobotRecord& robot, const fleet_transport::Announcement& announcement);
   void handle_state(RobotRecord& robot, const fleet_transport::RobotState& state, Clock::time_point received);
   bool accept_incarnation(RobotRecord& robot, const fleet_transport::RobotState& state, Clock::time_point now);
@@ -92,6 +139,19 @@ class FleetCoordinator {
 
   FleetConfig config_;
   planner_core::Instance mission_;
+  CoordinatorOptions options_;
+  uint64_t incarnation_ = 0;
+  uint32_t term_ = 1;
+  int64_t claimed_ms_ = 0;
+  fleet_transport::CoordinatorRole role_ = fleet_transport::CoordinatorRole::kActive;
+  std::string mission_id_;
+  std::map<uint64_t, OtherCoordinator> others_;
+  uint64_t mirrored_ = 0;                          // standby: the coordinator whose progress it mirrors
+  std::map<std::string, int> mirrored_roles_;      // standby: robot -> role, from that coordinator
+  std::map<int, std::string> resumed_bindings_;    // from the journal: role -> robot, for the first binding
+  bool status_changed_ = false;
+  bool logged_no_active_ = false;
+  int plans_made_ = 0;
   std::mutex events_mutex_;
   std::deque<Event> events_;
 
@@ -110,7 +170,7 @@ class FleetCoordinator {
   std::optional<Clock::time_point> waiting_for_robot_since_;
   bool replanned_after_finish_ = false;  // the plan in hand was made because the last one left work
 
-  int epoch_ = 0;
+  int epoch_ = 0;  // grows across restarts (journal) and takeovers (the mirrored epoch)
   double plan_limit_factor_ = 1;
   const std::atomic<bool>* interrupt_ = nullptr;  // grows after each failed planning attempt, back to 1 on success
   std::unique_ptr<PlanExecution> plan_;  // the plan being executed

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "fleet_transport/messages.hpp"
 #include "planner_core/instance.hpp"
 
 namespace coordinator {
@@ -22,8 +23,14 @@ class MissionProgress {
   void bind(int role, const std::string& robot_id) { robot_of_role_[role] = robot_id; }
   void unbind(int role) { robot_of_role_[role].clear(); }
 
+  // The visits `role` owes at `cell` and has not made yet.
+  std::vector<fleet_transport::TaskVisit> visits_due_at(int role, planner_core::Vertex cell) const;
+  // Marks a visit done; false when it names no task or role of the mission (nothing changes).
+  bool mark(const fleet_transport::TaskVisit& visit);
   // The robot of `role` stands on `cell` under the plan: its visits to tasks there are done.
   void visit(int role, planner_core::Vertex cell);
+  // Every visit done, for the fleet status and the journal.
+  std::vector<fleet_transport::TaskVisit> done_visits() const;
   // Whether task t's k-th role (mission.tasks[t].agents[k]) has visited.
   bool visited(int task, size_t k) const { return task_done_[task][k] != 0; }
   int task_count() const { return static_cast<int>(task_done_.size()); }

@@ -31,9 +31,10 @@ class PlanExecution {
     bool acknowledged = false;       // the robot reported that move (round trip measured)
   };
 
-  // `robots[a]` carries plan agent a of `plan` (on `graph`, the plan's own map).
+  // `robots[a]` carries plan agent a of `plan` (on `graph`, the plan's own map). Commands carry
+  // `coordinator` (the sender's incarnation); only states naming it acknowledge or confirm moves.
   PlanExecution(int epoch, std::shared_ptr<const planner_core::Graph> graph, const planner_core::Solution& plan,
-                std::vector<std::string> robots);
+                std::vector<std::string> robots, uint64_t coordinator);
 
   int epoch() const { return epoch_; }
   int agent_count() const { return static_cast<int>(agents_.size()); }
@@ -68,6 +69,7 @@ class PlanExecution {
 
  private:
   int epoch_;
+  uint64_t coordinator_;
   std::shared_ptr<const planner_core::Graph> graph_;
   ActionDependencyGraph adg_;
   std::vector<Agent> agents_;

@@ -34,6 +34,7 @@ struct RobotState {
   uint64_t seq_number = 0;
   int64_t stamp_ms = 0;  // wall clock of the arrival at (cell_x, cell_y)
   uint64_t incarnation = 0;  // of the publishing process; seq_number counts within one incarnation
+  uint64_t coordinator = 0;  // whose command it executes or executed last; 0 before any
 };
 
 struct StepCommand {
@@ -45,6 +46,7 @@ struct StepCommand {
   double target_pose_x = 0;
   double target_pose_y = 0;
   int64_t deadline_ms = 0;
+  uint64_t coordinator = 0;  // the sender's incarnation
 };
 
 struct Assignment {
@@ -54,13 +56,33 @@ struct Assignment {
   int tasks_total = 0;
 };
 
+enum class CoordinatorRole { kActive, kStandby, kStoodDown, kEnded };
+const char* to_string(CoordinatorRole role);
+
+struct TaskVisit {
+  int task = 0;
+  int role = 0;
+  bool operator==(const TaskVisit&) const = default;
+};
+
+// A coordinator's status: who it is, how it ranks, what it has announced and done.
 struct FleetStatus {
+  uint64_t coordinator = 0;  // incarnation of the publishing coordinator
+  uint32_t term = 0;
+  int64_t claimed_ms = 0;
+  CoordinatorRole role = CoordinatorRole::kActive;
+  std::string mission_id;
   int plan_epoch = 0;
   int tasks_done = 0;
   int tasks_total = 0;
   int robots = 0;
   std::vector<Assignment> assignments;
+  std::vector<TaskVisit> done_visits;
 };
+
+// The order among active coordinators that every process applies alike: a higher term wins, then
+// the earlier claim, then the lower incarnation. True when `a` outranks `b`.
+bool outranks(const FleetStatus& a, const FleetStatus& b);
 
 // Longest robot id the wire types carry.
 constexpr size_t kMaxRobotIdLength = 32;

@@ -2,7 +2,9 @@
 // Cyclone DDS or Fast DDS chosen at run time. Topics are keyed by robot id (one DDS instance per
 // robot). QoS: commands reliable; state best-effort keep-last 1 with a deadline of two leases
 // (missed deadlines are acted on by the coordinator's silence timeout); announcements and fleet status
-// reliable transient-local keep-last 1; liveliness automatic with the configured lease.
+// reliable transient-local keep-last 1 (fleet status: one instance per coordinator); liveliness
+// automatic with the configured lease; commands with exclusive ownership (strength = the sending
+// coordinator's term), so a robot hears one coordinator's commands.
 #pragma once
 
 #include <functional>
@@ -27,6 +29,9 @@ struct TransportConfig {
   std::string loopback_config_dir;
   // An agent passes its own id: commands for other robots are dropped in the transport.
   std::string commands_for;
+  // Step commands have exclusive ownership: of several live coordinators writing to one robot,
+  // only the strongest is heard (a coordinator uses its term).
+  int command_strength = 0;
 };
 
 enum class GoneReason { kGoodbye, kLivelinessLost };
@@ -53,6 +58,8 @@ class Transport {
   // does not go out before the robot's agent is matched (volatile data would be lost).
   virtual void prepare_commands_for(const std::string& robot_id) = 0;
   virtual void publish_fleet_status(const FleetStatus& status) = 0;
+  // Changes the ownership strength of this process's command writers (a standby taking over).
+  virtual void set_command_strength(int strength) = 0;
 };
 
 // Throws std::runtime_error when the middleware cannot be set up.

@@ -4,6 +4,7 @@
 
 #include <chrono>
 #include <condition_variable>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -19,14 +20,22 @@ struct AgentSettings {
   double state_rate_hz = 10;  // periodic state, besides one at every arrival
   std::string version = "0.1.0";
   uint64_t first_seq_number = 1;  // of the first state (a test starts high to play a long-running robot)
+  // A coordinator not heard for this long is no longer followed once another one is active.
+  double coordinator_silence_s = 2.0;
 };
 
 class RobotAgent {
  public:
   RobotAgent(const AgentSettings& settings, RobotBackend& backend);
 
-  // Call from the transport's command handler (any thread).
+  // Call from the transport's handlers (any thread). Commands are obeyed only from the coordinator
+  // the robot follows (the highest-ranked active one heard), and only for epochs it has announced
+  // in its status; a command that cannot be judged yet (its coordinator or epoch not yet heard) is
+  // held, the newest one, until the next status.
   void on_command(const fleet_transport::StepCommand& command);
+  void on_fleet_status(const fleet_transport::FleetStatus& status);
+  // The coordinator followed now (0: none yet).
+  uint64_t followed_coordinator() const;
   // One iteration of the agent's loop: advance the backend, start commands, publish state when due.
   // Returns false when the agent must stop (crash fault).
   void step(fleet_transport::Transport& transport, bool reporting);
@@ -39,19 +48,30 @@ class RobotAgent {
   std::chrono::steady_clock::duration idle_time() const;
 
  private:
+  struct KnownCoordinator {
+    fleet_transport::FleetStatus status;  // without assignments and visits
+    std::chrono::steady_clock::time_point heard;
+  };
   void reject(const fleet_transport::StepCommand& command, const std::string& why);
+  // Both under mutex_.
+  void consider(const fleet_transport::StepCommand& command);
+  void choose_coordinator();
 
   AgentSettings settings_;
   RobotBackend& backend_;
-  std::mutex mutex_;
+  mutable std::mutex mutex_;
   std::condition_variable command_arrived_;
   std::optional<fleet_transport::StepCommand> pending_;  // the newest accepted command not yet started
+  std::optional<fleet_transport::StepCommand> held_;     // the newest command not judged yet
+  std::map<uint64_t, KnownCoordinator> coordinators_;
+  uint64_t followed_ = 0;
   GridCell next_start_{};  // where the robot will be when it starts its next command
   int epoch_ = -1;
   int accepted_index_ = -1;  // highest action index accepted in epoch_
   // The command executing or executed last.
   int executing_epoch_ = -1;
   int executing_index_ = -1;
+  uint64_t executing_coordinator_ = 0;
   bool was_moving_ = false;
   bool in_fault_ = false;  // written by step() under mutex_: commands are refused meanwhile
   bool has_stood_on_a_cell_ = false;  // until then the robot has no cell to report

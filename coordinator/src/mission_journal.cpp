@@ -1,0 +1,246 @@
+#include "coordinator/mission_journal.hpp"
+
+#include <sqlite3.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <variant>
+
+namespace coordinator {
+
+namespace {
+
+constexpr const char* kFormat = "ctsfleet-journal-1";
+
+// FNV-1a, 64 bits: stable across builds and machines, unlike std::hash.
+struct Fingerprint {
+  uint64_t hash = 1469598103934665603ull;
+  void add(int64_t value) {
+    for (int i = 0; i < 8; ++i) {
+      hash ^= static_cast<uint64_t>(value >> (8 * i)) & 0xff;
+      hash *= 1099511628211ull;
+    }
+  }
+};
+
+}  // namespace
+
+std::string mission_fingerprint(const planner_core::Instance& mission) {
+  Fingerprint fingerprint;
+  const planner_core::Graph& graph = *mission.graph;
+  fingerprint.add(graph.width());
+  fingerprint.add(graph.height());
+  for (int y = 0; y < graph.height(); ++y) {
+    for (int x = 0; x < graph.width(); ++x) fingerprint.add(graph.is_free({x, y}) ? 1 : 0);
+  }
+  for (planner_core::Vertex v : mission.starts) fingerprint.add(v);
+  fingerprint.add(-1);
+  for (planner_core::Vertex v : mission.goals) fingerprint.add(v);
+  fingerprint.add(-2);
+  for (const planner_core::Task& task : mission.tasks) {
+    fingerprint.add(task.at);
+    for (int agent : task.agents) fingerprint.add(agent);
+    fingerprint.add(-3);
+  }
+  char text[17];
+  std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(fingerprint.hash));
+  return text;
+}
+
+// One prepared statement with its parameters bound, stepped to the end or row by row.
+class MissionJournal::Statement {
+ public:
+  using Value = std::variant<int64_t, std::string>;
+  Statement(const MissionJournal& journal, const std::string& sql, const std::vector<Value>& values = {})
+      : journal_(journal) {
+    if (sqlite3_prepare_v2(journal.db_, sql.c_str(), -1, &statement_, nullptr) != SQLITE_OK) journal.fail(sql);
+    for (size_t i = 0; i < values.size(); ++i) {
+      const int index = static_cast<int>(i) + 1;
+      if (const auto* number = std::get_if<int64_t>(&values[i])) {
+        sqlite3_bind_int64(statement_, index, *number);
+      } else {
+        sqlite3_bind_text(statement_, index, std::get<std::string>(values[i]).c_str(), -1, SQLITE_TRANSIENT);
+      }
+    }
+  }
+  ~Statement() { sqlite3_finalize(statement_); }
+  Statement(const Statement&) = delete;
+  Statement& operator=(const Statement&) = delete;
+
+  // The next row, false at the end.
+  bool next() {
+    const int rc = sqlite3_step(statement_);
+    if (rc == SQLITE_ROW) return true;
+    if (rc != SQLITE_DONE) journal_.fail(sqlite3_sql(statement_));
+    return false;
+  }
+  void run() {
+    while (next()) {
+    }
+  }
+  int64_t number(int column) const { return sqlite3_column_int64(statement_, column); }
+  std::string text(int column) const {
+    const unsigned char* value = sqlite3_column_text(statement_, column);
+    return value == nullptr ? std::string() : reinterpret_cast<const char*>(value);
+  }
+
+ private:
+  const MissionJournal& journal_;
+  sqlite3_stmt* statement_ = nullptr;
+};
+
+void MissionJournal::fail(const std::string& what) const {
+  const int code = db_ ? sqlite3_errcode(db_) : SQLITE_CANTOPEN;
+  const std::string message = db_ ? sqlite3_errmsg(db_) : "cannot open";
+  if (code == SQLITE_BUSY || code == SQLITE_LOCKED) {
+    throw JournalError("--journal " + path_ + ": the journal is in use by another coordinator (" + message +
+                       "); one coordinator writes a mission's journal: run this one with --standby, or stop the other");
+  }
+  if (code == SQLITE_NOTADB || code == SQLITE_CORRUPT) {
+    throw JournalError("--journal " + path_ + ": not a readable journal (" + message +
+                       "); it is left as it is: move it away to start afresh, or give the right file");
+  }
+  throw JournalError("--journal " + path_ + ": " + message + " (in: " + what + ")");
+}
+
+void MissionJournal::execute(const std::string& sql) {
+  char* error = nullptr;
+  if (sqlite3_exec(db_, sql.c_str(), nullptr, nullptr, &error) != SQLITE_OK) {
+    sqlite3_free(error);
+    fail(sql);
+  }
+}
+
+MissionJournal::MissionJournal(const std::string& path, const std::string& fingerprint, const std::string& description)
+    : path_(path) {
+  if (sqlite3_open_v2(path.c_str(), &db_, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE, nullptr) != SQLITE_OK) {
+    const std::string message = db_ ? sqlite3_errmsg(db_) : "out of memory";
+    sqlite3_close(db_);
+    db_ = nullptr;
+    throw JournalError("--journal " + path + ": cannot open or create it (" + message + ")");
+  }
+  try {
+    // Exclusive locking: the first write takes the lock and keeps it while this coordinator lives
+    // (the operating system drops it if the process dies), so a second coordinator is refused.
+    execute("PRAGMA locking_mode=EXCLUSIVE");
+    execute("PRAGMA journal_mode=WAL");
+    execute("PRAGMA synchronous=FULL");
+    execute("BEGIN IMMEDIATE");
+    execute(
+        "CREATE TABLE IF NOT EXISTS meta(key TEXT PRIMARY KEY, value TEXT NOT NULL);"
+        "CREATE TABLE IF NOT EXISTS runs(run INTEGER PRIMARY KEY, started_ms INTEGER NOT NULL, ended_ms INTEGER,"
+        " outcome TEXT);"
+        "CREATE TABLE IF NOT EXISTS claims(run INTEGER NOT NULL, term INTEGER NOT NULL, coordinator TEXT NOT NULL,"
+        " claimed_ms INTEGER NOT NULL);"
+        "CREATE TABLE IF NOT EXISTS epochs(run INTEGER NOT NULL, epoch INTEGER NOT NULL, term INTEGER NOT NULL,"
+        " planned_ms INTEGER NOT NULL);"
+        "CREATE TABLE IF NOT EXISTS bindings(run INTEGER NOT NULL, role INTEGER NOT NULL, robot TEXT NOT NULL,"
+        " PRIMARY KEY(run, role));"
+        "CREATE TABLE IF NOT EXISTS visits(run INTEGER NOT NULL, task INTEGER NOT NULL, role INTEGER NOT NULL,"
+        " robot TEXT NOT NULL, epoch INTEGER NOT NULL, at_ms INTEGER NOT NULL, PRIMARY KEY(run, task, role));");
+    std::string format, recorded;
+    {
+      Statement meta(*this, "SELECT key, value FROM meta");
+      while (meta.next()) {
+        if (meta.text(0) == "format") format = meta.text(1);
+        if (meta.text(0) == "mission") recorded = meta.text(1);
+      }
+    }
+    if (format.empty() && recorded.empty()) {
+      Statement(*this, "INSERT INTO meta VALUES('format', ?1), ('mission', ?2), ('description', ?3)",
+                {std::string(kFormat), fingerprint, description})
+          .run();
+    } else if (format != kFormat) {
+      throw JournalError("--journal " + path + ": not a ctsfleet journal (format '" + format + "', expected '" +
+                         kFormat + "')");
+    } else if (recorded != fingerprint) {
+      std::string other;
+      Statement described(*this, "SELECT value FROM meta WHERE key = 'description'");
+      if (described.next()) other = described.text(0);
+      throw JournalError("--journal " + path + ": the journal of another mission (" + recorded + ": " + other +
+                         "), not of this one (" + fingerprint + ": " + description +
+                         "); give each mission its own journal file");
+    }
+    read_resumable();
+    execute("COMMIT");
+  } catch (...) {
+    sqlite3_close(db_);
+    db_ = nullptr;
+    throw;
+  }
+}
+
+MissionJournal::~MissionJournal() { sqlite3_close(db_); }
+
+void MissionJournal::read_resumable() {
+  {
+    Statement term(*this, "SELECT coalesce(max(term), 0) FROM claims");
+    if (term.next()) highest_term_ = static_cast<uint32_t>(term.number(0));
+  }
+  Statement open_run(*this, "SELECT run FROM runs WHERE ended_ms IS NULL ORDER BY run DESC LIMIT 1");
+  if (!open_run.next()) return;
+  JournalResume resume;
+  resume.run = open_run.number(0);
+  {
+    Statement last(*this, "SELECT coalesce(max(term), 0) FROM claims WHERE run = ?1", {resume.run});
+    if (last.next()) resume.last_term = static_cast<uint32_t>(last.number(0));
+  }
+  {
+    Statement epoch(*this, "SELECT coalesce(max(epoch), 0) FROM epochs WHERE run = ?1", {resume.run});
+    if (epoch.next()) resume.last_epoch = static_cast<int>(epoch.number(0));
+  }
+  {
+    Statement bindings(*this, "SELECT role, robot FROM bindings WHERE run = ?1 AND robot != ''", {resume.run});
+    while (bindings.next()) resume.bindings[static_cast<int>(bindings.number(0))] = bindings.text(1);
+  }
+  Statement visits(*this, "SELECT task, role FROM visits WHERE run = ?1 ORDER BY task, role", {resume.run});
+  while (visits.next()) {
+    resume.visits.push_back({static_cast<int>(visits.number(0)), static_cast<int>(visits.number(1))});
+  }
+  resumable_ = resume;
+}
+
+void MissionJournal::claim(uint32_t term, uint64_t coordinator, int64_t claimed_ms) {
+  char id[17];
+  std::snprintf(id, sizeof id, "%016llx", static_cast<unsigned long long>(coordinator));
+  execute("BEGIN IMMEDIATE");
+  if (resumable_) {
+    run_ = resumable_->run;
+  } else if (run_ == 0) {
+    Statement(*this, "INSERT INTO runs(started_ms) VALUES(?1)", {claimed_ms}).run();
+    run_ = sqlite3_last_insert_rowid(db_);
+  }
+  Statement(*this, "INSERT INTO claims VALUES(?1, ?2, ?3, ?4)",
+            {run_, static_cast<int64_t>(term), std::string(id), claimed_ms})
+      .run();
+  execute("COMMIT");
+  highest_term_ = std::max(highest_term_, term);
+}
+
+void MissionJournal::record_epoch(int epoch, uint32_t term) {
+  Statement(*this, "INSERT INTO epochs VALUES(?1, ?2, ?3, ?4)",
+            {run_, static_cast<int64_t>(epoch), static_cast<int64_t>(term), fleet_transport::wall_clock_ms()})
+      .run();
+}
+
+void MissionJournal::record_binding(int role, const std::string& robot_id) {
+  Statement(*this, "INSERT OR REPLACE INTO bindings VALUES(?1, ?2, ?3)", {run_, static_cast<int64_t>(role), robot_id})
+      .run();
+}
+
+void MissionJournal::record_visit(const fleet_transport::TaskVisit& visit, const std::string& robot_id, int epoch) {
+  Statement(*this, "INSERT OR IGNORE INTO visits VALUES(?1, ?2, ?3, ?4, ?5, ?6)",
+            {run_, static_cast<int64_t>(visit.task), static_cast<int64_t>(visit.role), robot_id,
+             static_cast<int64_t>(epoch), fleet_transport::wall_clock_ms()})
+      .run();
+}
+
+void MissionJournal::finish(const std::string& outcome) {
+  if (run_ == 0) return;
+  Statement(*this, "UPDATE runs SET ended_ms = ?1, outcome = ?2 WHERE run = ?3",
+            {fleet_transport::wall_clock_ms(), outcome, run_})
+      .run();
+  resumable_.reset();
+}
+
+}  // namespace coordinator
