@@ -67,9 +67,10 @@ FleetCoordinator::FleetCoordinator(const FleetConfig& config, planner_core::Inst
       for (const fleet_transport::TaskVisit& visit : resume->visits) progress_.mark(visit);
       epoch_ = resume->last_epoch;
       resumed_bindings_ = resume->bindings;
-      spdlog::info("journal {}: resuming run {} of mission {}: {} of {} tasks done, last epoch {}, term {}",
-                   journal->path(), resume->run, mission_id_, progress_.tasks_done(), progress_.task_count(), epoch_,
-                   resume->last_term);
+      spdlog::info("journal {}: resuming run {} of mission {}: {} task visits and {} of {} tasks done, last epoch {}, "
+                   "term {}",
+                   journal->path(), resume->run, mission_id_, resume->visits.size(), progress_.tasks_done(),
+                   progress_.task_count(), epoch_, resume->last_term);
     }
     if (!options_.standby) journal->claim(term_, incarnation_, claimed_ms_);
   }
@@ -398,7 +399,9 @@ bool FleetCoordinator::replan(fleet_transport::Transport& transport) {
   }
 
   planner_core::SolverConfig solver_config;
-  const bool first_plan = plans_made_ == 0;
+  // The mission's first plan gets the full solver and budget; a resumed or taken-over mission is a
+  // replan (robots wait meanwhile), so it gets the fast one.
+  const bool first_plan = plans_made_ == 0 && epoch_ == 0 && !summary_.took_over;
   solver_config.solver = first_plan ? config_.solver : config_.replan_solver;
   solver_config.forbid_rotations = true;  // robots execute one move at a time
   solver_config.pibt.swap = config_.pibt_swap;
@@ -780,9 +783,10 @@ void FleetCoordinator::take_over(fleet_transport::Transport& transport, const Ot
   summary_.took_over = true;
   summary_.term = term_;
   summary_.tasks_done_before = progress_.tasks_done();
-  spdlog::warn("coordinator {} (term {}) silent for {:.2f} s: taking over as term {} at epoch {}, {} of {} tasks done",
+  spdlog::warn("coordinator {} (term {}) silent for {:.2f} s: taking over as term {} at epoch {}; {} task visits "
+               "and {} of {} tasks done",
                hex(old.status.coordinator), old.status.term, seconds_between(old.heard, now), term_, epoch_,
-               progress_.tasks_done(), progress_.task_count());
+               progress_.done_visits().size(), progress_.tasks_done(), progress_.task_count());
   transport.set_command_strength(static_cast<int>(term_));
   if (options_.journal) {
     options_.journal->claim(term_, incarnation_, claimed_ms_);

@@ -63,8 +63,9 @@ def read(path):
 class Fleet:
     """The processes of one test; everything is stopped by close()."""
 
-    def __init__(self, test_name):
-        self.domain = 40 + 2 * TESTS.index(test_name)  # apart, so no test ever hears another
+    def __init__(self, test_name, domain=None):
+        # Apart, so no test ever hears another: 40-79 here, 100-139 in test_failover.py.
+        self.domain = 40 + 2 * TESTS.index(test_name) if domain is None else domain
         self.dir = tempfile.mkdtemp(prefix=f"ctsfleet-{test_name}-")
         self.processes = {}
         self.files = []
