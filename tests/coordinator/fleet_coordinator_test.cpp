@@ -158,6 +158,90 @@ TEST(FleetCoordinator, ARobotCarriedOffItsPlanIsTakenOutAndPlannedAround) {
   EXPECT_TRUE(summary.completed);
 }
 
+std::vector<FakeRobot> robots_on_their_starts(const planner_core::Instance& mission) {
+  std::vector<FakeRobot> robots;
+  for (int r = 0; r < mission.agent_count(); ++r) {
+    robots.push_back({"robot" + std::to_string(r), mission.graph->cell_of(mission.starts[r])});
+  }
+  return robots;
+}
+
+TEST(FleetCoordinator, OfTwoActiveCoordinatorsTheLaterOneStandsDownBeforeItCommands) {
+  const planner_core::Instance mission = planner_core::load_instance(CTSFLEET_CONFIG_DIR "/default/mission-8.yaml");
+  FleetCoordinator first(config_for(mission.agent_count()), mission);
+  std::this_thread::sleep_for(std::chrono::milliseconds(5));  // claims 5 ms later
+  FleetCoordinator second(config_for(mission.agent_count()), mission);
+  FakeTransport first_wire, second_wire;
+  for (FakeRobot& robot : robots_on_their_starts(mission)) {
+    for (FleetCoordinator* c : {&first, &second}) {
+      c->on_announcement({robot.id, "sim", "", "test", false});
+      c->on_state(robot.state(-1, -1, fleet_transport::RobotStatus::kIdle));
+    }
+  }
+  bool first_running = first.step(first_wire), second_running = second.step(second_wire);
+  // Each hears the other's status (published at its first step, before any plan).
+  first.on_fleet_status(second_wire.last_status);
+  second.on_fleet_status(first_wire.last_status);
+  for (int i = 0; i < 5 && second_running; ++i) {
+    first_running = first.step(first_wire);
+    second_running = second.step(second_wire);
+  }
+  EXPECT_TRUE(first_running);
+  EXPECT_FALSE(second_running);
+  EXPECT_TRUE(second.summary().stood_down);
+  EXPECT_NE(second.summary().stood_down_because.find("claimed the fleet first"), std::string::npos);
+  EXPECT_TRUE(second_wire.commands.empty());
+  EXPECT_EQ(second_wire.last_status.role, fleet_transport::CoordinatorRole::kStoodDown);
+  EXPECT_FALSE(first.summary().stood_down);
+}
+
+TEST(FleetCoordinator, AStandbyMirrorsTheActiveOneAndTakesOverWhenItFallsSilent) {
+  planner_core::Instance mission = planner_core::load_instance(CTSFLEET_CONFIG_DIR "/default/mission-8.yaml");
+  std::vector<FakeRobot> robots = robots_on_their_starts(mission);
+  // The active coordinator, as its last status told it: term 4, epoch 9, role r on robot r, and the
+  // visits of task 0 done.
+  fleet_transport::FleetStatus active;
+  active.coordinator = 0xAC;
+  active.term = 4;
+  active.claimed_ms = 1;
+  active.mission_id = mission_fingerprint(mission);
+  active.plan_epoch = 9;
+  for (int r = 0; r < mission.agent_count(); ++r) active.assignments.push_back({"robot" + std::to_string(r), r, 0, 0});
+  for (int role : mission.tasks[0].agents) active.done_visits.push_back({0, role});
+  FleetCoordinator standby(config_for(mission.agent_count()), std::move(mission), {true, nullptr});
+  standby.on_fleet_status(active);
+  run(standby, robots);  // the active one never speaks again: the standby takes over and finishes
+  const MissionSummary& summary = standby.summary();
+  EXPECT_TRUE(summary.took_over);
+  EXPECT_EQ(summary.term, 5u);
+  EXPECT_EQ(summary.tasks_done_before, 1);
+  EXPECT_TRUE(summary.completed);
+}
+
+TEST(FleetCoordinator, AStandbyNeverCommandsWhileTheActiveOneIsHeard) {
+  planner_core::Instance mission = planner_core::load_instance(CTSFLEET_CONFIG_DIR "/default/mission-8.yaml");
+  fleet_transport::FleetStatus active;
+  active.coordinator = 0xAC;
+  active.term = 1;
+  active.mission_id = mission_fingerprint(mission);
+  const std::vector<FakeRobot> robots = robots_on_their_starts(mission);
+  FleetCoordinator standby(config_for(mission.agent_count()), std::move(mission), {true, nullptr});
+  FakeTransport wire;
+  for (FakeRobot robot : robots) {
+    standby.on_announcement({robot.id, "sim", "", "test", false});
+    standby.on_state(robot.state(-1, -1, fleet_transport::RobotStatus::kIdle));
+  }
+  const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(2);  // > lease + 0.5 s, several times
+  while (std::chrono::steady_clock::now() < until) {
+    standby.on_fleet_status(active);
+    ASSERT_TRUE(standby.step(wire));
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  EXPECT_TRUE(wire.commands.empty());
+  EXPECT_EQ(wire.last_status.role, fleet_transport::CoordinatorRole::kStandby);
+  EXPECT_FALSE(standby.summary().took_over);
+}
+
 TEST(PlanExecution, AllowsOnlyThePlannedCellAndTheTargetInFlight) {
   const auto graph = std::make_shared<const planner_core::Graph>(3, 1, std::vector<std::string>{"..."});
   const planner_core::Solution plan = {{graph->vertex_at({0, 0})}, {graph->vertex_at({1, 0})}, {graph->vertex_at({2, 0})}};

@@ -1,0 +1,126 @@
+// MissionJournal on real SQLite files in a temporary folder: what a restarted coordinator finds,
+// and the files it must refuse.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "coordinator/mission_journal.hpp"
+
+namespace coordinator {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct JournalTest : ::testing::Test {
+  fs::path dir = fs::temp_directory_path() / ("ctsfleet-journal-" + std::to_string(::getpid()) + "-" +
+                                              ::testing::UnitTest::GetInstance()->current_test_info()->name());
+  std::string path = (dir / "mission.journal").string();
+  void SetUp() override { fs::create_directories(dir); }
+  void TearDown() override { fs::remove_all(dir); }
+};
+
+// The message of the JournalError `open` throws ("" when it throws none).
+template <typename Open>
+std::string error_of(Open open) {
+  try {
+    open();
+  } catch (const JournalError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST_F(JournalTest, AnUnfinishedRunIsFoundAgainWithItsVisitsBindingsAndEpoch) {
+  {
+    MissionJournal journal(path, "aaaa", "test mission");
+    EXPECT_FALSE(journal.resumable().has_value());
+    EXPECT_EQ(journal.highest_term(), 0u);
+    journal.claim(1, 0x11, 1000);
+    journal.record_binding(0, "robot0");
+    journal.record_binding(1, "robot1");
+    journal.record_epoch(1, 1);
+    journal.record_visit({3, 0}, "robot0", 1);
+    journal.record_binding(1, "");  // robot1 lost
+    journal.record_epoch(2, 1);
+    journal.record_visit({5, 1}, "robot2", 2);
+    journal.record_visit({5, 1}, "robot2", 2);  // recorded once
+  }  // the process "dies" here: nothing closes the run
+  MissionJournal journal(path, "aaaa", "test mission");
+  ASSERT_TRUE(journal.resumable().has_value());
+  const JournalResume& resume = *journal.resumable();
+  EXPECT_EQ(resume.run, 1);
+  EXPECT_EQ(resume.last_term, 1u);
+  EXPECT_EQ(resume.last_epoch, 2);
+  EXPECT_EQ(resume.bindings, (std::map<int, std::string>{{0, "robot0"}}));
+  EXPECT_EQ(resume.visits, (std::vector<fleet_transport::TaskVisit>{{3, 0}, {5, 1}}));
+  EXPECT_EQ(journal.highest_term(), 1u);
+}
+
+TEST_F(JournalTest, AFinishedRunIsNotResumedButTermsKeepGrowing) {
+  {
+    MissionJournal journal(path, "aaaa", "test mission");
+    journal.claim(1, 0x11, 1000);
+    journal.claim(2, 0x22, 2000);  // a takeover within the run
+    journal.finish("completed");
+  }
+  MissionJournal journal(path, "aaaa", "test mission");
+  EXPECT_FALSE(journal.resumable().has_value());
+  EXPECT_EQ(journal.highest_term(), 2u);
+}
+
+TEST_F(JournalTest, AJournalOfAnotherMissionIsRefused) {
+  { MissionJournal journal(path, "aaaa", "the first mission"); }
+  const std::string error = error_of([&] { MissionJournal journal(path, "bbbb", "the second mission"); });
+  EXPECT_NE(error.find("--journal " + path + ": the journal of another mission (aaaa: the first mission)"),
+            std::string::npos)
+      << error;
+}
+
+TEST_F(JournalTest, AJournalInUseByALiveCoordinatorIsRefused) {
+  MissionJournal holder(path, "aaaa", "test mission");
+  holder.claim(1, 0x11, 1000);
+  const std::string error = error_of([&] { MissionJournal second(path, "aaaa", "test mission"); });
+  EXPECT_NE(error.find("in use by another coordinator"), std::string::npos) << error;
+  holder.record_visit({0, 0}, "robot0", 1);  // the holder is unharmed
+}
+
+TEST_F(JournalTest, AFileThatIsNoJournalIsRefusedAndLeftAlone) {
+  {
+    std::ofstream out(path);
+    out << "robots: [1, 2, 3]\n";  // a YAML file given by mistake
+  }
+  const std::string error = error_of([&] { MissionJournal journal(path, "aaaa", "test mission"); });
+  EXPECT_NE(error.find("not a readable journal"), std::string::npos) << error;
+  std::ifstream in(path);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(text, "robots: [1, 2, 3]\n");
+}
+
+TEST_F(JournalTest, AFolderThatCannotHoldTheFileIsNamed) {
+  const std::string missing = (dir / "no-such-folder" / "mission.journal").string();
+  const std::string error = error_of([&] { MissionJournal journal(missing, "aaaa", "test mission"); });
+  EXPECT_NE(error.find("--journal " + missing), std::string::npos) << error;
+}
+
+TEST(MissionFingerprint, SameMissionSameFingerprintAnyChangeAnother) {
+  auto graph = std::make_shared<const planner_core::Graph>(3, 2, std::vector<std::string>{"...", ".@."});
+  planner_core::Instance mission;
+  mission.graph = graph;
+  mission.starts = {graph->vertex_at({0, 0})};
+  mission.goals = {graph->vertex_at({2, 1})};
+  mission.tasks = {{graph->vertex_at({1, 0}), {0}}};
+  mission.index_tasks();
+  const std::string fingerprint = mission_fingerprint(mission);
+  EXPECT_EQ(fingerprint.size(), 16u);
+  EXPECT_EQ(mission_fingerprint(mission), fingerprint);
+  planner_core::Instance moved = mission;
+  moved.tasks[0].at = graph->vertex_at({2, 0});
+  EXPECT_NE(mission_fingerprint(moved), fingerprint);
+  planner_core::Instance other_goal = mission;
+  other_goal.goals = {graph->vertex_at({0, 1})};
+  EXPECT_NE(mission_fingerprint(other_goal), fingerprint);
+}
+
+}  // namespace
+}  // namespace coordinator
