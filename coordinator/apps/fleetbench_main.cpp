@@ -1,13 +1,21 @@
 // ctsfleet-fleetbench: measures the fleet runtime on one host with N simulated agents (separate
-// processes): command -> state round trip (p50, p99), coordinator CPU, and the replanning latency
-// after one robot is killed (from the loss to the first command of the new plan).
+// processes). Scenarios:
+//   robot-loss  command -> state round trip (p50, p99), coordinator CPU, and the replanning latency
+//               after one robot is killed (from the loss to the first command of the new plan);
+//   failover    an active coordinator and a standby; the active one is SIGKILLed --kills times in
+//               a row (each time a new standby is started): time from the kill to the standby's
+//               first command, task visits planned twice, collisions seen by the safety monitor;
+//   restart     the coordinator is SIGKILLed and started again with its journal: time from the
+//               new process's start to its first command, task visits planned twice.
 #include <nlohmann/json.hpp>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstring>
+#include <map>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -37,6 +45,73 @@ nlohmann::json read_summary(const std::string& path) {
   return summary.is_object() ? summary : nlohmann::json::object();
 }
 
+// The wall-clock ms of each "first command of term T" line in a coordinator log, by term.
+std::map<int, int64_t> first_commands(const std::string& log) {
+  std::map<int, int64_t> by_term;
+  std::istringstream lines(read_file(log));
+  for (std::string line; std::getline(lines, line);) {
+    int term = 0;
+    long long ms = 0;
+    const size_t at = line.find("first command of term ");
+    if (at != std::string::npos &&
+        std::sscanf(line.c_str() + at, "first command of term %d sent at wall-clock ms %lld", &term, &ms) == 2) {
+      by_term[term] = ms;
+    }
+  }
+  return by_term;
+}
+
+// Task visits a coordinator planned again although they were done: for each "taking over ... V
+// task visits" or "resuming ... V task visits" line, the next plan line must plan total - V.
+int visits_planned_twice(const std::string& log, int total_visits) {
+  std::istringstream lines(read_file(log));
+  int done = -1, twice = 0;
+  for (std::string line; std::getline(lines, line);) {
+    int visits = 0;
+    size_t at = line.find("; ");
+    if (line.find("taking over as term") != std::string::npos && at != std::string::npos &&
+        std::sscanf(line.c_str() + at, "; %d task visits", &visits) == 1) {
+      done = visits;
+    } else if (line.find("resuming run") != std::string::npos &&
+               (at = line.find(": ", line.find("of mission"))) != std::string::npos &&
+               std::sscanf(line.c_str() + at, ": %d task visits", &visits) == 1) {
+      done = visits;
+    } else if (done >= 0 && (at = line.find("robots, ")) != std::string::npos &&
+               line.find("plan epoch") != std::string::npos && std::sscanf(line.c_str() + at, "robots, %d task visits", &visits) == 1) {
+      twice += std::max(0, visits - (total_visits - done));
+      done = -1;
+    }
+  }
+  return twice;
+}
+
+int64_t wall_ms() {
+  return std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::system_clock::now().time_since_epoch())
+      .count();
+}
+
+// Waits until `log` contains `text`, the process `pid` ended, `timeout_s` passed or Ctrl-C.
+bool wait_for_line(const std::string& log, const std::string& text, pid_t pid, double timeout_s,
+                   const std::atomic<bool>& stop) {
+  const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
+  while (std::chrono::steady_clock::now() < until && !stop.load()) {
+    if (read_file(log).find(text) != std::string::npos) return true;
+    if (pid > 0 && waitpid(pid, nullptr, WNOHANG) == pid) return false;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  return false;
+}
+
+std::string median_ms(std::vector<double> values) {
+  if (values.empty()) return "-";
+  std::sort(values.begin(), values.end());
+  return std::to_string(static_cast<int>(values[values.size() / 2]));
+}
+
+std::string max_ms(const std::vector<double>& values) {
+  return values.empty() ? "-" : std::to_string(static_cast<int>(*std::max_element(values.begin(), values.end())));
+}
+
 // "12.3" from a JSON number, "-" when absent.
 std::string figure(const nlohmann::json& summary, const std::string& key, double scale = 1, const char* format = "%.2f") {
   if (!summary.contains(key) || !summary[key].is_number()) return "-";
@@ -57,6 +132,14 @@ int main(int argc, char** argv) {
   double step = 0.2, kill_after = 8;
   int domain = 90;
   bool json = false;
+  std::string scenario = "robot-loss";
+  int kills = 1;
+  app.add_option("--scenario", scenario, "robot-loss, failover or restart (see the program's header)")
+      ->check(CLI::IsMember({"robot-loss", "failover", "restart"}))
+      ->capture_default_str();
+  app.add_option("--kills", kills, "failover: coordinators killed in a row in one mission (a soak)")
+      ->check(ctsfleet::count_in(1, 1000))
+      ->capture_default_str();
   app.add_option("-n,--robots", sizes, "fleet sizes to run")->check(ctsfleet::count_in(2, 1000))->capture_default_str();
   app.add_option("--map", map, "map of the generated missions (default: config/default/random-64-64-20.map)")
       ->check(CLI::ExistingFile);
@@ -81,11 +164,22 @@ int main(int argc, char** argv) {
     const std::atomic<bool>& stop = ctsfleet::stop_requested();
     const fs::path work = fs::temp_directory_path() / ("ctsfleet-fleetbench-" + std::to_string(getpid()));
     fs::create_directories(work);
-    if (!json) std::printf("| robots | mission | round trip p50 (ms) | p99 (ms) | max (ms) | coordinator CPU (%% of one core) | "
-                "replan latency after a loss (ms) |\n|---|---|---|---|---|---|---|\n");
+    if (!json && scenario == "robot-loss") {
+      std::printf("| robots | mission | round trip p50 (ms) | p99 (ms) | max (ms) | coordinator CPU (%% of one core) | "
+                  "replan latency after a loss (ms) |\n|---|---|---|---|---|---|---|\n");
+    } else if (!json) {
+      std::printf("| robots | mission | %s | median (ms) | max (ms) | visits planned twice | collisions |\n"
+                  "|---|---|---|---|---|---|---|\n",
+                  scenario == "failover" ? "kills" : "restarts");
+    }
     for (int n : sizes) {
       auto graph = std::make_shared<const planner_core::Graph>(planner_core::load_movingai_map(map));
-      const planner_core::Instance mission = planner_core::generate_instance(graph, {n, n, 2, static_cast<uint32_t>(n)});
+      // The coordinator scenarios need a mission long enough for their kills: more tasks per robot.
+      const int tasks = scenario == "robot-loss" ? n : std::max(n, n * kills);
+      const planner_core::Instance mission =
+          planner_core::generate_instance(graph, {n, tasks, 2, static_cast<uint32_t>(n)});
+      int total_visits = 0;
+      for (const planner_core::Task& task : mission.tasks) total_visits += static_cast<int>(task.agents.size());
       const fs::path mission_file = work / ("mission-" + std::to_string(n) + ".yaml");
       std::ofstream(mission_file) << planner_core::instance_to_yaml(mission, fs::absolute(map).string());
       const fs::path config_file = work / ("fleet-" + std::to_string(n) + ".yaml");
@@ -103,6 +197,97 @@ int main(int argc, char** argv) {
                                 std::to_string(domain), "--step", std::to_string(step), "--jitter", "0.1",
                                 "--dds-config-dir", dds_config_dir},
                                (work / ("robot" + std::to_string(r) + ".log")).string()));
+      }
+      if (scenario != "robot-loss") {
+        const std::string tag = std::to_string(n);
+        const pid_t monitor = coordinator::start_child(
+            {(here / "ctsfleet-monitor").string(), "--dds", vendor, "--domain", std::to_string(domain),
+             "--dds-config-dir", dds_config_dir},
+            (work / ("monitor-" + tag + ".log")).string());
+        const std::string journal = (work / ("mission-" + tag + ".journal")).string();
+        const auto coordinator_args = [&](const std::vector<std::string>& extra) {
+          std::vector<std::string> args{(here / "ctsfleet-coordinator").string(), "--config", config_file.string(),
+                                        "--json"};
+          args.insert(args.end(), extra.begin(), extra.end());
+          return args;
+        };
+        std::vector<double> latencies_ms;
+        int twice = 0, generation = 0;
+        const auto log_of = [&](int g) { return (work / ("coordinator-" + tag + "-" + std::to_string(g) + ".log")).string(); };
+        const auto summary_of = [&](int g) { return (work / ("coordinator-" + tag + "-" + std::to_string(g) + ".json")).string(); };
+        std::vector<std::string> extra;
+        if (scenario == "restart") extra = {"--journal", journal};
+        pid_t active = coordinator::start_child(coordinator_args(extra), log_of(0), summary_of(0));
+        pid_t standby = -1;
+        std::string active_log = log_of(0);
+        bool mission_over = false;
+        for (int kill_number = 0; kill_number < kills && !mission_over && !stop.load(); ++kill_number) {
+          if (!wait_for_line(active_log, "first command of term", active, 180, stop)) {
+            mission_over = true;
+            break;
+          }
+          if (scenario == "failover") {
+            ++generation;
+            standby = coordinator::start_child(coordinator_args({"--standby"}), log_of(generation), summary_of(generation));
+            if (!wait_for_line(log_of(generation), "standby: follows coordinator", standby, 60, stop)) {
+              mission_over = true;
+              break;
+            }
+          }
+          std::this_thread::sleep_for(std::chrono::duration<double>(kill_after));
+          if (waitpid(active, nullptr, WNOHANG) == active) {  // the mission ended first
+            mission_over = true;
+            break;
+          }
+          kill(active, SIGKILL);
+          waitpid(active, nullptr, 0);
+          const int64_t killed_ms = wall_ms();
+          if (scenario == "restart") {
+            ++generation;
+            active = coordinator::start_child(coordinator_args(extra), log_of(generation), summary_of(generation));
+          } else {
+            active = standby;
+          }
+          active_log = log_of(generation);
+          if (!wait_for_line(active_log, "first command of term", active, 60, stop)) {
+            mission_over = true;
+            break;
+          }
+          const auto firsts = first_commands(active_log);
+          if (!firsts.empty()) latencies_ms.push_back(static_cast<double>(firsts.rbegin()->second - killed_ms));
+          twice += visits_planned_twice(active_log, total_visits);
+        }
+        int status = 0;
+        while (waitpid(active, &status, WNOHANG) == 0) {
+          if (stop.load()) kill(active, SIGINT);
+          std::this_thread::sleep_for(std::chrono::milliseconds(50));
+        }
+        if (standby > 0 && standby != active) {
+          kill(standby, SIGTERM);
+          waitpid(standby, nullptr, 0);
+        }
+        for (pid_t pid : agents) kill(pid, SIGTERM);
+        for (pid_t pid : agents) waitpid(pid, nullptr, 0);
+        kill(monitor, SIGINT);
+        waitpid(monitor, nullptr, 0);
+        const std::string monitor_text = read_file((work / ("monitor-" + tag + ".log")).string());
+        const size_t at = monitor_text.find("overlaps ");
+        const std::string collisions = at == std::string::npos ? "-" : std::to_string(std::atoi(monitor_text.c_str() + at + 9));
+        const nlohmann::json summary = read_summary(summary_of(generation));
+        if (json) {
+          nlohmann::json row = {{"robots", n}, {"scenario", scenario}, {"latencies_ms", latencies_ms},
+                                {"visits_planned_twice", twice}, {"collisions", collisions},
+                                {"summary", summary}, {"logs", work.string()}};
+          std::printf("%s\n", row.dump().c_str());
+        } else {
+          const std::string outcome = summary.empty() ? "no summary" : summary.value("completed", false) ? "completed" : "NOT completed";
+          std::printf("| %d | %s | %zu | %s | %s | %d | %s |\n", n, outcome.c_str(), latencies_ms.size(),
+                      median_ms(latencies_ms).c_str(), max_ms(latencies_ms).c_str(), twice, collisions.c_str());
+        }
+        std::fflush(stdout);
+        ++domain;
+        if (stop.load()) return ctsfleet::kExitInterrupted;
+        continue;
       }
       const std::string coordinator_log = (work / ("coordinator-" + std::to_string(n) + ".log")).string();
       const std::string coordinator_summary = (work / ("coordinator-" + std::to_string(n) + ".json")).string();

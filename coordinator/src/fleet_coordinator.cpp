@@ -485,6 +485,7 @@ void FleetCoordinator::dispatch(fleet_transport::Transport& transport) {
       first_command_sent_ = true;
       first_command_ = now;
       summary_.first_command_wall_ms = fleet_transport::wall_clock_ms();
+      spdlog::info("first command of term {} sent at wall-clock ms {}", term_, summary_.first_command_wall_ms);
     }
     if (awaiting_replan_latency_) {
       awaiting_replan_latency_ = false;
