@@ -70,8 +70,9 @@ else()
 endif()
 
 # planner_core for other CMake projects.
-install(TARGETS planner_core EXPORT ctsfleetTargets ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
-install(DIRECTORY planner_core/include/planner_core DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+install(TARGETS planner_core ctsfleet_common EXPORT ctsfleetTargets ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
+install(DIRECTORY planner_core/include/planner_core planner_core/common/include/planner_core
+        DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
 set(CTSFLEET_CMAKE_DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/ctsfleet)
 install(EXPORT ctsfleetTargets NAMESPACE ctsfleet:: DESTINATION ${CTSFLEET_CMAKE_DESTINATION})
 configure_package_config_file(cmake/ctsfleetConfig.cmake.in ${CMAKE_BINARY_DIR}/ctsfleetConfig.cmake

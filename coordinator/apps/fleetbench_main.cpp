@@ -21,7 +21,7 @@
 #include <sstream>
 #include <thread>
 
-#include "coordinator/child_process.hpp"
+#include "child_process.hpp"
 #include "ctsfleet/data_dir.hpp"
 #include "ctsfleet/program.hpp"
 #include "planner_core/input_error.hpp"

@@ -18,7 +18,7 @@
 #include <set>
 #include <thread>
 
-#include "coordinator/child_process.hpp"
+#include "child_process.hpp"
 #include "coordinator/fleet_config.hpp"
 #include "ctsfleet/data_dir.hpp"
 #include "ctsfleet/program.hpp"

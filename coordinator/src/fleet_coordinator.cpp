@@ -769,6 +769,13 @@ void FleetCoordinator::follow(fleet_transport::Transport& transport, Clock::time
   }
   epoch_ = std::max(epoch_, active->status.plan_epoch);
   summary_.tasks_done = progress_.tasks_done();
+  // The command writers get the strength of the term a takeover would have now, so that changing
+  // it (which DDS announces per writer) is not on the takeover's path.
+  const int next_term = static_cast<int>(active->status.term) + 1;
+  if (command_strength_ != next_term) {
+    transport.set_command_strength(next_term);
+    command_strength_ = next_term;
+  }
   const double silent_s = seconds_between(active->heard, now);
   if (silent_s > config_.lease_s + 0.5) take_over(transport, *active, now);
 }
@@ -788,7 +795,12 @@ void FleetCoordinator::take_over(fleet_transport::Transport& transport, const Ot
                "and {} of {} tasks done",
                hex(old.status.coordinator), old.status.term, seconds_between(old.heard, now), term_, epoch_,
                progress_.done_visits().size(), progress_.tasks_done(), progress_.task_count());
-  transport.set_command_strength(static_cast<int>(term_));
+  if (command_strength_ != static_cast<int>(term_)) {  // set ahead while following, normally
+    const Clock::time_point before = Clock::now();
+    transport.set_command_strength(static_cast<int>(term_));
+    command_strength_ = static_cast<int>(term_);
+    spdlog::info("command strength set to {} in {:.0f} ms", term_, 1000 * seconds_between(before, Clock::now()));
+  }
   if (options_.journal) {
     options_.journal->claim(term_, incarnation_, claimed_ms_);
     for (const fleet_transport::TaskVisit& visit : progress_.done_visits()) {

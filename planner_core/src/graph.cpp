@@ -9,11 +9,6 @@
 
 namespace planner_core {
 
-std::string to_string(Cell cell) {
-  std::string text = "(";
-  text.append(std::to_string(cell.x)).append(",").append(std::to_string(cell.y)).append(")");
-  return text;
-}
 
 static bool is_free_symbol(char c) { return c == '.' || c == 'G'; }
 

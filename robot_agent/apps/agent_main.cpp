@@ -74,7 +74,7 @@ int main(int argc, char** argv) {
     if (settings.robot_id.empty() || settings.robot_id.size() > fleet_transport::kMaxRobotIdLength) {
       throw InputError("--id: must have 1 to " + std::to_string(fleet_transport::kMaxRobotIdLength) + " characters");
     }
-    GridCell start;
+    Cell start;
     char trailing = 0;
     if (std::sscanf(start_text.c_str(), "%d,%d%c", &start.x, &start.y, &trailing) != 2 || start.x < 0 || start.y < 0 ||
         start.x > 100000 || start.y > 100000) {

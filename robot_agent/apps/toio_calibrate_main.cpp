@@ -34,8 +34,8 @@ bool wait_until(Condition done, double timeout_s) {
   return true;
 }
 
-GridCell parse_cell(const std::string& text) {
-  GridCell cell;
+Cell parse_cell(const std::string& text) {
+  Cell cell;
   if (std::sscanf(text.c_str(), "%d,%d", &cell.x, &cell.y) != 2) throw planner_core::InputError("'" + text + "' is not x,y");
   return cell;
 }
@@ -92,7 +92,7 @@ int fit(const std::string& mat_file, const std::string& out_file, const std::vec
     }
     std::istringstream cells(cells_text);
     for (std::string text; cells >> text;) {
-      const GridCell cell = parse_cell(text);
+      const Cell cell = parse_cell(text);
       std::printf("place %s on cell (%d,%d), then press Enter\n", cube.c_str(), cell.x, cell.y);
       std::fflush(stdout);
       std::string line;
@@ -143,7 +143,7 @@ int corners(const std::string& mat_file, const std::string& cube, const std::str
   }
   const int w = mat.grid_width() - 1, h = mat.grid_height() - 1;
   bool all_good = true;
-  for (GridCell corner : {GridCell{0, 0}, GridCell{w, 0}, GridCell{w, h}, GridCell{0, h}}) {
+  for (Cell corner : {Cell{0, 0}, Cell{w, 0}, Cell{w, h}, Cell{0, h}}) {
     if (!robot.start_move(corner)) {
       std::printf("%s refused the move to (%d,%d): %s\n", cube.c_str(), corner.x, corner.y, robot.fault_reason().c_str());
       return 1;

@@ -42,7 +42,7 @@ MatCalibration MatCalibration::from_pitch(MatArea mat, int grid_width, int grid_
   return MatCalibration(std::move(mat), grid_width, grid_height, pitch * linear, origin, tolerance);
 }
 
-Eigen::Vector2d MatCalibration::cell_centre(GridCell cell) const {
+Eigen::Vector2d MatCalibration::cell_centre(Cell cell) const {
   return linear_ * Eigen::Vector2d(cell.x, cell.y) + offset_;
 }
 
@@ -82,8 +82,8 @@ std::vector<std::string> MatCalibration::problems() const {
          << " mat units: a turning cube (about 32 wide) would touch its neighbour";
     found.push_back(text.str());
   }
-  for (GridCell corner : {GridCell{0, 0}, GridCell{grid_width_ - 1, 0}, GridCell{0, grid_height_ - 1},
-                          GridCell{grid_width_ - 1, grid_height_ - 1}}) {
+  for (Cell corner : {Cell{0, 0}, Cell{grid_width_ - 1, 0}, Cell{0, grid_height_ - 1},
+                          Cell{grid_width_ - 1, grid_height_ - 1}}) {
     const Eigen::Vector2d centre = cell_centre(corner);
     if (!mat_.contains(centre, kCubeHalfWidth)) {
       std::ostringstream corner_text;

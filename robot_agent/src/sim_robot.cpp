@@ -3,7 +3,7 @@
 
 namespace robot_agent {
 
-SimRobot::SimRobot(GridCell start, const SimSettings& settings)
+SimRobot::SimRobot(Cell start, const SimSettings& settings)
     : settings_(settings),
       rng_(settings.seed),
       started_(Clock::now()),
@@ -16,7 +16,7 @@ bool SimRobot::reporting_enabled() const { return settings_.silent_at_s < 0 || s
 
 bool SimRobot::should_crash() const { return settings_.crash_at_s >= 0 && since_start_s() >= settings_.crash_at_s; }
 
-bool SimRobot::start_move(GridCell target) {
+bool SimRobot::start_move(Cell target) {
   if (target_) return false;
   double seconds = settings_.step_s * (1.0 + std::uniform_real_distribution<double>(0.0, settings_.jitter)(rng_));
   if (settings_.delay_probability > 0 && std::bernoulli_distribution(settings_.delay_probability)(rng_)) {

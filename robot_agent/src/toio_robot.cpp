@@ -18,7 +18,7 @@ std::chrono::milliseconds millis(double seconds) {
 // The spec's "target reached": within 15 mat units of it.
 constexpr double kReachedDistance = 15;
 
-std::string cell_text(GridCell cell) { return "(" + std::to_string(cell.x) + "," + std::to_string(cell.y) + ")"; }
+std::string cell_text(Cell cell) { return "(" + std::to_string(cell.x) + "," + std::to_string(cell.y) + ")"; }
 
 }  // namespace
 
@@ -39,7 +39,7 @@ ToioRobot::~ToioRobot() {
 
 // ---- Agent side -------------------------------------------------------------------------------
 
-bool ToioRobot::start_move(GridCell target) {
+bool ToioRobot::start_move(Cell target) {
   const std::lock_guard<std::mutex> lock(mutex_);
   if (!fault_.empty() || !have_cell_ || move_) return false;
   if (target == cell_) {  // a wait: nothing to drive
@@ -125,7 +125,7 @@ void ToioRobot::set_fault(const std::string& reason, bool sticky) {
   fault_ = reason;
 }
 
-void ToioRobot::stand_on(GridCell cell) {
+void ToioRobot::stand_on(Cell cell) {
   if (!have_cell_ || cell_ != cell) arrived_ms_ = wall_clock_ms();  // found (or put) there now
   cell_ = cell;
   have_cell_ = true;
@@ -148,7 +148,7 @@ void ToioRobot::start_recovery_if_needed() {
   move_ = Move{lookup_.cell, next_control_id_++, Clock::now(), false, true};
 }
 
-void ToioRobot::finish_move(GridCell at) {
+void ToioRobot::finish_move(Cell at) {
   cell_ = at;
   have_cell_ = true;
   move_.reset();

@@ -83,14 +83,20 @@ int main(int argc, char** argv) {
       std::this_thread::sleep_for(std::chrono::milliseconds(250));
     }
   });
-  struct Join {
+  // On the way out: no more heartbeat, and a last status "ended" so the robot follows the next
+  // coordinator (or test tool) at once.
+  struct End {
     std::atomic<bool>& done;
     std::thread& thread;
-    ~Join() {
+    fleet_transport::Transport& transport;
+    fleet_transport::FleetStatus& status;
+    ~End() {
       done = true;
       thread.join();
+      status.role = fleet_transport::CoordinatorRole::kEnded;
+      transport.publish_fleet_status(status);
     }
-  } join{done, heartbeat};
+  } end{done, heartbeat, *transport, status};
 
   if (!status_text.empty()) {
     // "ready" = any status but fault (idle or arrived).

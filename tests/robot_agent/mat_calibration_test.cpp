@@ -54,7 +54,7 @@ TEST(MatCalibration, ShippedMatFilesLoadAndRoundTripEveryCell) {
       for (int x = 0; x < mat.grid_width(); ++x) {
         const CellLookup lookup = mat.cell_at(mat.cell_centre({x, y}));
         EXPECT_EQ(lookup.status, CellLookup::Status::kOnCell) << file;
-        EXPECT_EQ(lookup.cell, (GridCell{x, y})) << file;
+        EXPECT_EQ(lookup.cell, (Cell{x, y})) << file;
         EXPECT_NEAR(lookup.distance, 0, 1e-9);
       }
     }
@@ -72,7 +72,7 @@ TEST(MatCalibration, RotatedGridRoundTripsAndHeadsAlongItsAxis) {
   EXPECT_TRUE(mat.cell_centre({0, 1}).isApprox(Eigen::Vector2d(205, 100)));
   EXPECT_NEAR(mat.grid_heading_deg(), 90, 1e-9);
   for (int x = 0; x < 4; ++x) {
-    for (int y = 0; y < 4; ++y) EXPECT_EQ(mat.cell_at(mat.cell_centre({x, y})).cell, (GridCell{x, y}));
+    for (int y = 0; y < 4; ++y) EXPECT_EQ(mat.cell_at(mat.cell_centre({x, y})).cell, (Cell{x, y}));
   }
 }
 
@@ -95,7 +95,7 @@ TEST(MatCalibration, FitRecoversAnAffineTransformFromThreeOrMoreCells) {
     const MatCalibration truth = MatCalibration::from_pitch(kRing, 5, 5, {offset(rng), offset(rng)}, pitch(rng),
                                                             angle(rng), 15);
     std::vector<CalibrationPoint> points;
-    for (GridCell cell : {GridCell{0, 0}, GridCell{4, 0}, GridCell{0, 4}, GridCell{4, 4}}) {
+    for (Cell cell : {Cell{0, 0}, Cell{4, 0}, Cell{0, 4}, Cell{4, 4}}) {
       points.push_back({cell, truth.cell_centre(cell)});
     }
     const CalibrationFit exact = fit_grid_to_mat(points);

@@ -56,11 +56,11 @@ TEST_F(AgentFixture, ACommandPastItsDeadlineIsDroppedAndChangesNothing) {
   const int64_t now = fleet_transport::wall_clock_ms();
   agent.on_command(move(7, 0, 3, 2, now - 1000));  // late: its plan has moved on
   settle();
-  EXPECT_EQ(robot.poll().cell, (GridCell{2, 2}));
+  EXPECT_EQ(robot.poll().cell, (Cell{2, 2}));
   // Its epoch was not taken: a command of an older epoch, in time, still counts.
   agent.on_command(move(5, 0, 2, 3, now + 5000));
   settle();
-  EXPECT_EQ(robot.poll().cell, (GridCell{2, 3}));
+  EXPECT_EQ(robot.poll().cell, (Cell{2, 3}));
   EXPECT_EQ(transport.last_state.plan_epoch, 5);
 }
 
@@ -80,35 +80,35 @@ TEST_F(AgentFixture, AForgedFarFutureEpochIsNeverJumpedTo) {
   agent.on_fleet_status(status_of(kCoordinator, 1, 2));
   agent.on_command(move(1000, 0, 3, 2, in_5_s()));  // the followed coordinator's id, an epoch it never announced
   settle();
-  EXPECT_EQ(robot.poll().cell, (GridCell{2, 2}));
+  EXPECT_EQ(robot.poll().cell, (Cell{2, 2}));
   // The real epoch-2 command still counts: nothing was locked out.
   agent.on_command(move(2, 0, 2, 3, in_5_s()));
   settle();
-  EXPECT_EQ(robot.poll().cell, (GridCell{2, 3}));
+  EXPECT_EQ(robot.poll().cell, (Cell{2, 3}));
   EXPECT_EQ(transport.last_state.coordinator, kCoordinator);
   agent.on_fleet_status(status_of(kCoordinator, 1, 3));  // announcing 3 releases nothing of epoch 1000
   settle();
-  EXPECT_EQ(robot.poll().cell, (GridCell{2, 3}));
+  EXPECT_EQ(robot.poll().cell, (Cell{2, 3}));
 }
 
 TEST_F(AgentFixture, ACommandArrivingBeforeItsEpochIsAnnouncedWaitsForTheStatus) {
   agent.on_fleet_status(status_of(kCoordinator, 1, 1));
   agent.on_command(move(2, 0, 3, 2, in_5_s()));  // epoch 2's status is still on its way
   settle();
-  EXPECT_EQ(robot.poll().cell, (GridCell{2, 2}));
+  EXPECT_EQ(robot.poll().cell, (Cell{2, 2}));
   agent.on_fleet_status(status_of(kCoordinator, 1, 2));
   settle();
-  EXPECT_EQ(robot.poll().cell, (GridCell{3, 2}));
+  EXPECT_EQ(robot.poll().cell, (Cell{3, 2}));
 }
 
 TEST_F(AgentFixture, ACommandBeforeAnyCoordinatorIsHeardIsHeldNotObeyed) {
   agent.on_command(move(1, 0, 3, 2, in_5_s()));
   settle();
-  EXPECT_EQ(robot.poll().cell, (GridCell{2, 2}));
+  EXPECT_EQ(robot.poll().cell, (Cell{2, 2}));
   EXPECT_EQ(agent.followed_coordinator(), 0u);
   agent.on_fleet_status(status_of(kCoordinator, 1, 1));
   settle();
-  EXPECT_EQ(robot.poll().cell, (GridCell{3, 2}));
+  EXPECT_EQ(robot.poll().cell, (Cell{3, 2}));
 }
 
 TEST_F(AgentFixture, OnlyTheFollowedCoordinatorIsObeyed) {
@@ -118,29 +118,29 @@ TEST_F(AgentFixture, OnlyTheFollowedCoordinatorIsObeyed) {
   EXPECT_EQ(agent.followed_coordinator(), kCoordinator);
   agent.on_command(move(5, 0, 3, 2, in_5_s(), kSecond));
   settle();
-  EXPECT_EQ(robot.poll().cell, (GridCell{2, 2}));
+  EXPECT_EQ(robot.poll().cell, (Cell{2, 2}));
   // A standby never drives, whatever its term.
   agent.on_fleet_status(status_of(0xE0, 9, 1, 500, fleet_transport::CoordinatorRole::kStandby));
   EXPECT_EQ(agent.followed_coordinator(), kCoordinator);
   agent.on_command(move(1, 0, 2, 3, in_5_s()));
   settle();
-  EXPECT_EQ(robot.poll().cell, (GridCell{2, 3}));
+  EXPECT_EQ(robot.poll().cell, (Cell{2, 3}));
 }
 
 TEST_F(AgentFixture, AHigherTermTakesOverAndItsSmallerEpochsCount) {
   agent.on_fleet_status(status_of(kCoordinator, 1, 40));
   agent.on_command(move(40, 0, 3, 2, in_5_s()));
   settle();
-  ASSERT_EQ(robot.poll().cell, (GridCell{3, 2}));
+  ASSERT_EQ(robot.poll().cell, (Cell{3, 2}));
   constexpr uint64_t kStandby = 0xD0;  // took over: term 2, its own epochs
   agent.on_fleet_status(status_of(kStandby, 2, 1, 5000));
   EXPECT_EQ(agent.followed_coordinator(), kStandby);
   agent.on_command(move(1, 0, 3, 3, in_5_s(), kStandby));
   settle();
-  EXPECT_EQ(robot.poll().cell, (GridCell{3, 3}));
+  EXPECT_EQ(robot.poll().cell, (Cell{3, 3}));
   agent.on_command(move(41, 0, 4, 3, in_5_s()));  // the old one, back from a pause: not followed
   settle();
-  EXPECT_EQ(robot.poll().cell, (GridCell{3, 3}));
+  EXPECT_EQ(robot.poll().cell, (Cell{3, 3}));
 }
 
 TEST_F(AgentFixture, ACoordinatorThatEndedIsReplacedByTheNextMissionsAtOnce) {
@@ -153,7 +153,7 @@ TEST_F(AgentFixture, ACoordinatorThatEndedIsReplacedByTheNextMissionsAtOnce) {
   EXPECT_EQ(agent.followed_coordinator(), kNext);
   agent.on_command(move(1, 0, 3, 3, in_5_s(), kNext));
   settle();
-  EXPECT_EQ(robot.poll().cell, (GridCell{3, 3}));
+  EXPECT_EQ(robot.poll().cell, (Cell{3, 3}));
 }
 
 TEST(AgentCoordinatorSilence, ASilentCoordinatorIsReplacedByAnyActiveOne) {
@@ -175,7 +175,7 @@ TEST(SimRobot, CarriedByHandAfterItsMoves) {
   SimRobot robot({0, 0}, sim);
   ASSERT_TRUE(robot.start_move({1, 0}));
   std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  EXPECT_EQ(robot.poll().cell, (GridCell{9, 9}));
+  EXPECT_EQ(robot.poll().cell, (Cell{9, 9}));
 }
 
 }  // namespace

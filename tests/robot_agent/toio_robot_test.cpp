@@ -25,7 +25,7 @@ ToioSettings settings_for(const std::string& cube) {
 
 bool ready(ToioRobot& robot) { return !robot.poll().fault; }
 
-void move_and_arrive(ToioRobot& robot, EmulatedBluez& bluez, const std::string& cube, GridCell target) {
+void move_and_arrive(ToioRobot& robot, EmulatedBluez& bluez, const std::string& cube, Cell target) {
   ASSERT_TRUE(robot.start_move(target));
   EXPECT_TRUE(robot.poll().moving);
   ASSERT_TRUE(eventually([&] { return !robot.poll().moving; })) << "no arrival at " << target.x << "," << target.y;
@@ -47,7 +47,7 @@ TEST(ToioRobot, ConnectsThenMovesACubeThreeCells) {
   ToioRobot robot(settings_for("toio-a"), MatCalibration::load(kRing));
   ASSERT_TRUE(eventually([&] { return ready(robot); })) << robot.fault_reason() << "\n" << bluez.log();
   EXPECT_TRUE(robot.connected());
-  EXPECT_EQ(robot.poll().cell, (GridCell{1, 1}));
+  EXPECT_EQ(robot.poll().cell, (Cell{1, 1}));
   EXPECT_EQ(robot.poll().battery_percent, 90);
   EXPECT_GE(bluez.pose("toio-a").light_writes, 1);  // identified itself with its light
   EXPECT_FALSE(bluez.pose("toio-b").connected);      // the other cube is left alone
@@ -68,7 +68,7 @@ TEST(ToioRobot, FindsACubeByAddress) {
   EmulatedBluez bluez({"toio-a@cell:1,1", "toio-b@cell:5,5"});
   ToioRobot robot(settings_for("e0:7c:00:00:00:01"), MatCalibration::load(kRing));
   ASSERT_TRUE(eventually([&] { return ready(robot); })) << robot.fault_reason();
-  EXPECT_EQ(robot.poll().cell, (GridCell{5, 5}));
+  EXPECT_EQ(robot.poll().cell, (Cell{5, 5}));
 }
 
 TEST(ToioRobot, LiftedCubeIsAFaultUntilPutBackOnACell) {
@@ -82,7 +82,7 @@ TEST(ToioRobot, LiftedCubeIsAFaultUntilPutBackOnACell) {
   const Eigen::Vector2d cell = robot.calibration().cell_centre({4, 3});
   bluez.place("toio-a", cell.x(), cell.y());
   ASSERT_TRUE(eventually([&] { return ready(robot); })) << robot.fault_reason();
-  EXPECT_EQ(robot.poll().cell, (GridCell{4, 3}));
+  EXPECT_EQ(robot.poll().cell, (Cell{4, 3}));
 }
 
 TEST(ToioRobot, CubeLiftedMidMoveFailsTheMoveAndIsHeldAsAFault) {
@@ -98,7 +98,7 @@ TEST(ToioRobot, CubeLiftedMidMoveFailsTheMoveAndIsHeldAsAFault) {
   ASSERT_TRUE(eventually([&] { return ready(robot); })) << robot.fault_reason();
   // The failed move stays visible as a fault for at least fault_hold_s (1 s by default).
   EXPECT_GE(std::chrono::steady_clock::now() - placed, std::chrono::milliseconds(500));
-  EXPECT_EQ(robot.poll().cell, (GridCell{1, 1}));
+  EXPECT_EQ(robot.poll().cell, (Cell{1, 1}));
 }
 
 TEST(ToioRobot, BlockedCubeTimesOutAsAFaultThenRejoinsFromWhereItStands) {
@@ -114,7 +114,7 @@ TEST(ToioRobot, BlockedCubeTimesOutAsAFaultThenRejoinsFromWhereItStands) {
   EXPECT_FALSE(robot.poll().moving);
   bluez.block("toio-a", false);
   ASSERT_TRUE(eventually([&] { return ready(robot); })) << robot.fault_reason();
-  EXPECT_EQ(robot.poll().cell, (GridCell{1, 1}));  // it never left
+  EXPECT_EQ(robot.poll().cell, (Cell{1, 1}));  // it never left
 }
 
 TEST(ToioRobot, MovePreemptedByAnotherProgramIsAFault) {
@@ -165,7 +165,7 @@ TEST(ToioRobot, LinkLostMidMoveThenTheCubeIsDrivenOntoTheNearerOfItsTwoCells) {
   ASSERT_GT(stopped_x, 143) << "the cube must stop between the cells for this test";
   ASSERT_LT(stopped_x, 157) << "the cube must stop between the cells for this test";
   ASSERT_TRUE(eventually([&] { return ready(robot); })) << robot.fault_reason() << bluez.log();
-  const GridCell nearer = stopped_x < 150 ? GridCell{1, 1} : GridCell{2, 1};
+  const Cell nearer = stopped_x < 150 ? Cell{1, 1} : Cell{2, 1};
   EXPECT_EQ(robot.poll().cell, nearer);
   EXPECT_TRUE(eventually([&] {
     return std::abs(bluez.pose("toio-a").x - robot.calibration().cell_centre(nearer).x()) < 2;

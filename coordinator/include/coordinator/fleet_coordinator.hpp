@@ -151,6 +151,7 @@ class FleetCoordinator {
   std::map<int, std::string> resumed_bindings_;    // from the journal: role -> robot, for the first binding
   bool status_changed_ = false;
   bool logged_no_active_ = false;
+  int command_strength_ = -1;  // of this process's command writers (a standby starts with 0)
   int plans_made_ = 0;
   std::mutex events_mutex_;
   std::deque<Event> events_;

@@ -7,6 +7,8 @@
 #include <utility>
 #include <vector>
 
+#include "planner_core/cell.hpp"
+
 namespace planner_core {
 
 using Vertex = int;  // dense id of a free cell, 0 .. vertex_count()-1
@@ -27,14 +29,6 @@ inline void sort_by_key(Moves& moves, MoveKeys& keys, int count) {
     }
   }
 }
-
-struct Cell {
-  int x = 0;  // column
-  int y = 0;  // row
-  bool operator==(const Cell&) const = default;
-};
-
-std::string to_string(Cell cell);
 
 class Graph {
  public:

@@ -31,14 +31,14 @@ struct MatArea {
 struct CellLookup {
   enum class Status { kOnCell, kBetweenCells, kOffGrid, kOffMat };
   Status status = Status::kOffMat;
-  GridCell cell;            // the nearest cell (meaningful for kOnCell and kBetweenCells)
+  Cell cell;            // the nearest cell (meaningful for kOnCell and kBetweenCells)
   double distance = 0;      // mat units from that cell's centre
   Eigen::Vector2d grid{0, 0};  // continuous grid coordinates (cell units)
 };
 const char* describe(CellLookup::Status status);
 
 struct CalibrationPoint {
-  GridCell cell;
+  Cell cell;
   Eigen::Vector2d mat;
 };
 
@@ -55,7 +55,7 @@ class MatCalibration {
   static MatCalibration load(const std::string& path);
   void save(const std::string& path, const std::string& comment = "") const;
 
-  Eigen::Vector2d cell_centre(GridCell cell) const;
+  Eigen::Vector2d cell_centre(Cell cell) const;
   CellLookup cell_at(const Eigen::Vector2d& mat_pose) const;
   // Heading on the mat (degrees, clockwise from +x) that points along the grid's +x axis.
   double grid_heading_deg() const;

@@ -65,7 +65,7 @@ class RobotAgent {
   std::optional<fleet_transport::StepCommand> held_;     // the newest command not judged yet
   std::map<uint64_t, KnownCoordinator> coordinators_;
   uint64_t followed_ = 0;
-  GridCell next_start_{};  // where the robot will be when it starts its next command
+  Cell next_start_{};  // where the robot will be when it starts its next command
   int epoch_ = -1;
   int accepted_index_ = -1;  // highest action index accepted in epoch_
   // The command executing or executed last.
@@ -76,7 +76,7 @@ class RobotAgent {
   bool in_fault_ = false;  // written by step() under mutex_: commands are refused meanwhile
   bool has_stood_on_a_cell_ = false;  // until then the robot has no cell to report
   int fault_epoch_ = -1;  // commands of this epoch or older were issued before a fault
-  GridCell moving_to_{};
+  Cell moving_to_{};
   uint64_t seq_ = 0;
   uint64_t incarnation_ = 0;
   std::chrono::steady_clock::time_point next_publish_{};

@@ -7,6 +7,8 @@
 #include <optional>
 #include <string>
 
+#include "planner_core/cell.hpp"
+
 namespace robot_agent {
 
 // Wall-clock milliseconds since the epoch: the time stamp of arrivals, comparable across hosts.
@@ -15,14 +17,10 @@ inline int64_t wall_clock_ms() {
       .count();
 }
 
-struct GridCell {
-  int x = 0;
-  int y = 0;
-  bool operator==(const GridCell&) const = default;
-};
+using planner_core::Cell;  // the project's one cell type
 
 struct BackendReport {
-  GridCell cell;          // the last cell the robot arrived at
+  Cell cell;          // the last cell the robot arrived at
   double pose_x = 0;      // continuous position in cell units
   double pose_y = 0;
   double pose_theta = 0;
@@ -37,7 +35,7 @@ class RobotBackend {
   virtual ~RobotBackend() = default;
   virtual std::string kind() const = 0;
   // Starts a move to a neighbouring cell (or a wait on the current one); false if busy.
-  virtual bool start_move(GridCell target) = 0;
+  virtual bool start_move(Cell target) = 0;
   // Advances the backend to the present and reports.
   virtual BackendReport poll() = 0;
   // While moving: the expected time until arrival (so the agent knows when to look again).

@@ -22,14 +22,14 @@ struct SimSettings {
   double silent_at_s = -1;      // stop reporting (the agent checks reporting_enabled)
   double crash_at_s = -1;       // the process aborts
   int teleport_after_moves = -1;  // after this many moves the robot is carried by hand to teleport_to
-  GridCell teleport_to{};
+  Cell teleport_to{};
 };
 
 class SimRobot : public RobotBackend {
  public:
-  SimRobot(GridCell start, const SimSettings& settings);
+  SimRobot(Cell start, const SimSettings& settings);
   std::string kind() const override { return "sim"; }
-  bool start_move(GridCell target) override;
+  bool start_move(Cell target) override;
   BackendReport poll() override;
   std::optional<std::chrono::steady_clock::duration> time_to_arrival() const override;
   bool reporting_enabled() const;
@@ -42,9 +42,9 @@ class SimRobot : public RobotBackend {
   SimSettings settings_;
   std::mt19937 rng_;
   Clock::time_point started_;
-  GridCell cell_;
+  Cell cell_;
   int64_t arrived_ms_;
-  std::optional<GridCell> target_;
+  std::optional<Cell> target_;
   Clock::time_point move_started_, move_ends_;
   bool teleported_ = false;
   int moves_done_ = 0;

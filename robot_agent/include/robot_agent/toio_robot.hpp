@@ -49,7 +49,7 @@ class ToioRobot : public RobotBackend {
   ToioRobot& operator=(const ToioRobot&) = delete;
 
   std::string kind() const override { return "toio"; }
-  bool start_move(GridCell target) override;
+  bool start_move(Cell target) override;
   BackendReport poll() override;
   std::optional<std::chrono::steady_clock::duration> time_to_arrival() const override;
 
@@ -65,7 +65,7 @@ class ToioRobot : public RobotBackend {
  private:
   using Clock = std::chrono::steady_clock;
   struct Move {
-    GridCell target;
+    Cell target;
     uint8_t control_id = 0;
     Clock::time_point started;
     bool written = false;
@@ -73,7 +73,7 @@ class ToioRobot : public RobotBackend {
   };
   // A move that failed part way: the two cells the cube may stand between.
   struct InterruptedMove {
-    GridCell from, to;
+    Cell from, to;
   };
 
   struct CubeLink;
@@ -89,11 +89,11 @@ class ToioRobot : public RobotBackend {
   void on_battery(const toio::Bytes& bytes);
   // Both with mutex_ held.
   void set_fault(const std::string& reason, bool sticky);
-  void finish_move(GridCell at);
+  void finish_move(Cell at);
   // After an interrupted move the cube may stand between its two cells, both of which the
   // coordinator keeps clear for it; drive it onto the nearer one (once) so it can rejoin.
   void start_recovery_if_needed();
-  void stand_on(GridCell cell);
+  void stand_on(Cell cell);
   bool link_open() const { return client_ != nullptr; }  // seen standing on a cell while not moving
 
   const ToioSettings settings_;
@@ -106,7 +106,7 @@ class ToioRobot : public RobotBackend {
   bool identify_requested_ = false;
   std::optional<toio::PositionId> position_;
   bool have_cell_ = false;
-  GridCell cell_;
+  Cell cell_;
   CellLookup lookup_;
   std::optional<Move> move_;
   std::optional<InterruptedMove> interrupted_;

@@ -1,4 +1,4 @@
-#include "coordinator/child_process.hpp"
+#include "child_process.hpp"
 
 #include <fcntl.h>
 #include <spawn.h>

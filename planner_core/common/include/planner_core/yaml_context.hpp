@@ -7,7 +7,7 @@
 #include <set>
 #include <string>
 
-#include "planner_core/graph.hpp"
+#include "planner_core/cell.hpp"
 #include "planner_core/input_error.hpp"
 
 namespace planner_core {
