@@ -15,6 +15,9 @@ class FakeTransport : public fleet_transport::Transport {
   void publish_state(const fleet_transport::RobotState& state) override { last_state = state; }
   void send_command(const fleet_transport::StepCommand& command) override { commands.push_back(command); }
   void prepare_commands_for(const std::string&) override {}
+  void publish_coordinator_status(const fleet_transport::CoordinatorStatus& status) override {
+    last_coordinator_status = status;
+  }
   void publish_fleet_status(const fleet_transport::FleetStatus& status) override {
     last_status = status;
     ++statuses;
@@ -24,6 +27,7 @@ class FakeTransport : public fleet_transport::Transport {
   std::vector<fleet_transport::StepCommand> commands;
   fleet_transport::RobotState last_state;
   fleet_transport::FleetStatus last_status;
+  fleet_transport::CoordinatorStatus last_coordinator_status;
   int statuses = 0;
   int strength = 0;
 };

@@ -66,7 +66,12 @@ int main(int argc, char** argv) {
     };
     handlers.on_state = [&](const fleet_transport::RobotState& s) { coordinator.on_state(s); };
     handlers.on_robot_gone = [&](const std::string& id, fleet_transport::GoneReason r) { coordinator.on_robot_gone(id, r); };
-    handlers.on_fleet_status = [&](const fleet_transport::FleetStatus& s) { coordinator.on_fleet_status(s); };
+    handlers.on_coordinator_status = [&](const fleet_transport::CoordinatorStatus& s) {
+      coordinator.on_coordinator_status(s);
+    };
+    if (standby) {  // only a standby mirrors another coordinator's progress
+      handlers.on_fleet_status = [&](const fleet_transport::FleetStatus& s) { coordinator.on_fleet_status(s); };
+    }
     auto transport = fleet_transport::make_transport(transport_config, handlers);
 
     const bool tty = isatty(STDERR_FILENO);

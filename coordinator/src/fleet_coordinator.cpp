@@ -41,8 +41,11 @@ uint64_t new_incarnation() {
 
 std::string hex(uint64_t value) { return fmt::format("{:016x}", value); }
 
-// How often the status goes out when nothing changed.
+// How often the heartbeat goes out, and the progress when nothing changed; progress changes go out
+// at most every kProgressGapS.
 constexpr double kStatusPeriodS = 0.25;
+constexpr double kProgressPeriodS = 0.5;
+constexpr double kProgressGapS = 0.05;
 
 }  // namespace
 
@@ -80,13 +83,22 @@ FleetCoordinator::FleetCoordinator(const FleetConfig& config, planner_core::Inst
                mission_id_);
 }
 
-void FleetCoordinator::on_fleet_status(const fleet_transport::FleetStatus& status) {
+void FleetCoordinator::on_coordinator_status(const fleet_transport::CoordinatorStatus& status) {
   if (status.coordinator == incarnation_) return;  // our own, heard back
   const std::lock_guard<std::mutex> lock(events_mutex_);
   Event event;
   event.kind = Event::Kind::kStatus;
   event.status = status;
   event.received = Clock::now();
+  events_.push_back(std::move(event));
+}
+
+void FleetCoordinator::on_fleet_status(const fleet_transport::FleetStatus& progress) {
+  if (progress.coordinator == incarnation_ || role_ != fleet_transport::CoordinatorRole::kStandby) return;
+  const std::lock_guard<std::mutex> lock(events_mutex_);
+  Event event;
+  event.kind = Event::Kind::kProgress;
+  event.progress = progress;
   events_.push_back(std::move(event));
 }
 
@@ -162,6 +174,10 @@ void FleetCoordinator::handle(const Event& event) {
     handle_status(event.status, event.received);
     return;
   }
+  if (event.kind == Event::Kind::kProgress) {
+    others_[event.progress.coordinator].progress = event.progress;
+    return;
+  }
   RobotRecord& robot = robots_[event.robot_id];
   switch (event.kind) {
     case Event::Kind::kAnnouncement: handle_announcement(robot, event.announcement); return;
@@ -169,7 +185,8 @@ void FleetCoordinator::handle(const Event& event) {
       lose(robot, event.reason == fleet_transport::GoneReason::kGoodbye ? "said goodbye" : "liveliness lost");
       return;
     case Event::Kind::kState: handle_state(robot, event.state, event.received); return;
-    case Event::Kind::kStatus: return;
+    case Event::Kind::kStatus:
+    case Event::Kind::kProgress: return;
   }
 }
 
@@ -304,7 +321,7 @@ bool FleetCoordinator::accept_incarnation(RobotRecord& robot, const fleet_transp
 void FleetCoordinator::bind_role(int role, RobotRecord& robot) {
   robot.role = role;
   progress_.bind(role, robot.id);
-  status_changed_ = true;
+  progress_changed_ = true;
   if (options_.journal && role_ == fleet_transport::CoordinatorRole::kActive) {
     options_.journal->record_binding(role, robot.id);
   }
@@ -312,7 +329,7 @@ void FleetCoordinator::bind_role(int role, RobotRecord& robot) {
 
 void FleetCoordinator::unbind_role(int role) {
   progress_.unbind(role);
-  status_changed_ = true;
+  progress_changed_ = true;
   if (options_.journal && role_ == fleet_transport::CoordinatorRole::kActive) options_.journal->record_binding(role, "");
 }
 
@@ -514,8 +531,8 @@ bool FleetCoordinator::mission_complete() const {
   return plan_finished();
 }
 
-fleet_transport::FleetStatus FleetCoordinator::own_status() const {
-  fleet_transport::FleetStatus status;
+fleet_transport::CoordinatorStatus FleetCoordinator::own_status() const {
+  fleet_transport::CoordinatorStatus status;
   status.coordinator = incarnation_;
   status.term = term_;
   status.claimed_ms = claimed_ms_;
@@ -526,7 +543,14 @@ fleet_transport::FleetStatus FleetCoordinator::own_status() const {
 }
 
 void FleetCoordinator::publish_status(fleet_transport::Transport& transport) {
-  fleet_transport::FleetStatus status = own_status();
+  transport.publish_coordinator_status(own_status());
+  next_status_ = Clock::now() + seconds(kStatusPeriodS);
+}
+
+void FleetCoordinator::publish_progress(fleet_transport::Transport& transport) {
+  fleet_transport::FleetStatus status;
+  status.coordinator = incarnation_;
+  status.plan_epoch = epoch_;
   status.tasks_total = summary_.tasks_total;
   status.tasks_done = progress_.tasks_done();
   status.done_visits = progress_.done_visits();
@@ -538,8 +562,9 @@ void FleetCoordinator::publish_status(fleet_transport::Transport& transport) {
     status.assignments.push_back(row);
   }
   transport.publish_fleet_status(status);
-  status_changed_ = false;
-  next_status_ = Clock::now() + seconds(kStatusPeriodS);
+  progress_changed_ = false;
+  last_progress_ = Clock::now();
+  next_progress_ = last_progress_ + seconds(kProgressPeriodS);
 }
 
 std::string FleetCoordinator::progress_line() const {
@@ -646,7 +671,10 @@ bool FleetCoordinator::step(fleet_transport::Transport& transport) {
     }
     case Phase::kDone: break;
   }
-  if (now >= next_status_ || status_changed_) publish_status(transport);
+  if (now >= next_status_) publish_status(transport);
+  if (now >= next_progress_ || (progress_changed_ && seconds_between(last_progress_, now) >= kProgressGapS)) {
+    publish_progress(transport);
+  }
   if (first_command_sent_) summary_.seconds = seconds_between(first_command_, now);
   if (phase_ == Phase::kDone) return false;
   if (phase_ != Phase::kStandby && seconds_between(started_, now) > config_.mission_timeout_s) {
@@ -683,11 +711,11 @@ void FleetCoordinator::credit_visits(int role, Vertex cell, const std::string& r
       }
     }
     progress_.mark(visit);
-    status_changed_ = true;
+    progress_changed_ = true;
   }
 }
 
-void FleetCoordinator::handle_status(const fleet_transport::FleetStatus& status, Clock::time_point received) {
+void FleetCoordinator::handle_status(const fleet_transport::CoordinatorStatus& status, Clock::time_point received) {
   OtherCoordinator& other = others_[status.coordinator];
   const bool first = other.status.coordinator == 0;
   other.status = status;
@@ -699,7 +727,7 @@ void FleetCoordinator::handle_status(const fleet_transport::FleetStatus& status,
 }
 
 const FleetCoordinator::OtherCoordinator* FleetCoordinator::stronger_active(Clock::time_point now) const {
-  const fleet_transport::FleetStatus mine = own_status();
+  const fleet_transport::CoordinatorStatus mine = own_status();
   for (const auto& [id, other] : others_) {
     if (other.status.role != fleet_transport::CoordinatorRole::kActive) continue;
     if (seconds_between(other.heard, now) > config_.lease_s + 1.0) continue;  // gone
@@ -709,7 +737,7 @@ const FleetCoordinator::OtherCoordinator* FleetCoordinator::stronger_active(Cloc
 }
 
 void FleetCoordinator::stand_down(const OtherCoordinator& other, fleet_transport::Transport& transport) {
-  const fleet_transport::FleetStatus& s = other.status;
+  const fleet_transport::CoordinatorStatus& s = other.status;
   const std::string why =
       s.term > term_
           ? fmt::format("it has a higher term ({} > {})", s.term, term_)
@@ -742,7 +770,7 @@ void FleetCoordinator::follow(fleet_transport::Transport& transport, Clock::time
   // The followed coordinator ended the mission (completed or not): so does its standby.
   if (const auto it = others_.find(mirrored_);
       it != others_.end() && it->second.status.role == fleet_transport::CoordinatorRole::kEnded) {
-    for (const fleet_transport::TaskVisit& visit : it->second.status.done_visits) progress_.mark(visit);
+    for (const fleet_transport::TaskVisit& visit : it->second.progress.done_visits) progress_.mark(visit);
     summary_.tasks_done = progress_.tasks_done();
     summary_.completed = progress_.all_tasks_done();
     spdlog::info("standby: coordinator {} ended the mission ({} of {} tasks done); the standby ends too", hex(mirrored_),
@@ -762,9 +790,9 @@ void FleetCoordinator::follow(fleet_transport::Transport& transport, Clock::time
     mirrored_ = active->status.coordinator;
     spdlog::info("standby: follows coordinator {} (term {})", hex(mirrored_), active->status.term);
   }
-  for (const fleet_transport::TaskVisit& visit : active->status.done_visits) progress_.mark(visit);
+  for (const fleet_transport::TaskVisit& visit : active->progress.done_visits) progress_.mark(visit);
   mirrored_roles_.clear();
-  for (const fleet_transport::Assignment& row : active->status.assignments) {
+  for (const fleet_transport::Assignment& row : active->progress.assignments) {
     if (row.role >= 0 && row.role < mission_.agent_count()) mirrored_roles_[row.robot_id] = row.role;
   }
   epoch_ = std::max(epoch_, active->status.plan_epoch);
@@ -826,12 +854,14 @@ void FleetCoordinator::take_over(fleet_transport::Transport& transport, const Ot
   replan_requested_at_ = now;
   awaiting_replan_latency_ = true;
   publish_status(transport);
+  publish_progress(transport);
 }
 
 void FleetCoordinator::finish(fleet_transport::Transport& transport) {
   if (role_ == fleet_transport::CoordinatorRole::kActive) role_ = fleet_transport::CoordinatorRole::kEnded;
   if (role_ == fleet_transport::CoordinatorRole::kStandby) role_ = fleet_transport::CoordinatorRole::kEnded;
   publish_status(transport);
+  publish_progress(transport);
   if (options_.journal && summary_.completed) {
     try {
       options_.journal->finish("completed");

@@ -95,6 +95,7 @@ class CycloneTransport : public Transport {
     state_topic_ = make_topic(&fleet_RobotState_desc, "rt/fleet/robot_state");
     command_topic_ = make_topic(&fleet_StepCommand_desc, "rt/fleet/step_command");
     status_topic_ = make_topic(&fleet_FleetStatus_desc, "rt/fleet/fleet_status");
+    coordinator_topic_ = make_topic(&fleet_CoordinatorStatus_desc, "rt/fleet/coordinator_status");
 
     // Writers are made on first use: a process writes few of the topics, and every idle writer
     // would still be matched with every reader of the fleet. The ones a role surely writes are
@@ -121,6 +122,9 @@ class CycloneTransport : public Transport {
       make_reader(command_topic_, command, &CycloneTransport::commands_available, subscriber);
     }
     if (handlers_.on_fleet_status) make_reader(status_topic_, registry, &CycloneTransport::statuses_available);
+    if (handlers_.on_coordinator_status) {
+      make_reader(coordinator_topic_, registry, &CycloneTransport::coordinator_statuses_available);
+    }
   }
 
   ~CycloneTransport() override {
@@ -191,6 +195,17 @@ class CycloneTransport : public Transport {
     for (const auto& [robot_id, writer] : command_writers_) check(dds_set_qos(writer, command_qos_), "set command strength");
   }
 
+  void publish_coordinator_status(const CoordinatorStatus& s) override {
+    fleet_CoordinatorStatus wire{};
+    wire.coordinator = s.coordinator;
+    wire.term = s.term;
+    wire.claimed_ms = s.claimed_ms;
+    wire.role = to_wire(s.role);
+    copy_string(wire.mission_id, s.mission_id);
+    wire.plan_epoch = s.plan_epoch;
+    check(dds_write(writer(coordinator_writer_, coordinator_topic_, registry_qos_), &wire), "write coordinator status");
+  }
+
   void publish_fleet_status(const FleetStatus& s) override {
     std::vector<fleet_Assignment> rows(s.assignments.size());
     for (size_t i = 0; i < rows.size(); ++i) {
@@ -203,10 +218,6 @@ class CycloneTransport : public Transport {
     for (size_t i = 0; i < visits.size(); ++i) visits[i] = {s.done_visits[i].task, s.done_visits[i].role};
     fleet_FleetStatus wire{};
     wire.coordinator = s.coordinator;
-    wire.term = s.term;
-    wire.claimed_ms = s.claimed_ms;
-    wire.role = to_wire(s.role);
-    copy_string(wire.mission_id, s.mission_id);
     wire.plan_epoch = s.plan_epoch;
     wire.tasks_done = s.tasks_done;
     wire.tasks_total = s.tasks_total;
@@ -323,16 +334,21 @@ class CycloneTransport : public Transport {
     });
   }
 
+  static void coordinator_statuses_available(dds_entity_t reader, void* arg) {
+    auto* self = static_cast<CycloneTransport*>(arg);
+    take_all<fleet_CoordinatorStatus>(reader, [self](const fleet_CoordinatorStatus& w, const dds_sample_info_t& info) {
+      if (!info.valid_data) return;
+      self->handlers_.on_coordinator_status(
+          {w.coordinator, w.term, w.claimed_ms, from_wire(w.role), w.mission_id, w.plan_epoch});
+    });
+  }
+
   static void statuses_available(dds_entity_t reader, void* arg) {
     auto* self = static_cast<CycloneTransport*>(arg);
     take_all<fleet_FleetStatus>(reader, [self](const fleet_FleetStatus& w, const dds_sample_info_t& info) {
       if (!info.valid_data) return;
       FleetStatus s;
       s.coordinator = w.coordinator;
-      s.term = w.term;
-      s.claimed_ms = w.claimed_ms;
-      s.role = from_wire(w.role);
-      s.mission_id = w.mission_id;
       s.plan_epoch = w.plan_epoch;
       s.tasks_done = w.tasks_done;
       s.tasks_total = w.tasks_total;
@@ -351,8 +367,8 @@ class CycloneTransport : public Transport {
   Handlers handlers_;
   std::string commands_for_;
   dds_entity_t participant_ = 0;
-  dds_entity_t announcement_topic_ = 0, state_topic_ = 0, command_topic_ = 0, status_topic_ = 0;
-  dds_entity_t announcement_writer_ = 0, state_writer_ = 0, status_writer_ = 0;
+  dds_entity_t announcement_topic_ = 0, state_topic_ = 0, command_topic_ = 0, status_topic_ = 0, coordinator_topic_ = 0;
+  dds_entity_t announcement_writer_ = 0, state_writer_ = 0, status_writer_ = 0, coordinator_writer_ = 0;
   std::map<std::string, dds_entity_t> command_writers_;  // robot id -> writer in its partition
   dds_qos_t *registry_qos_ = nullptr, *state_qos_ = nullptr, *command_qos_ = nullptr;
   std::mutex writers_mutex_;

@@ -169,6 +169,7 @@ class FastDdsTransport : public Transport {
     Topic* state = make_topic<fleet::RobotStatePubSubType>("rt/fleet/robot_state");
     Topic* command = make_topic<fleet::StepCommandPubSubType>("rt/fleet/step_command");
     Topic* status = make_topic<fleet::FleetStatusPubSubType>("rt/fleet/fleet_status");
+    coordinator_topic_ = make_topic<fleet::CoordinatorStatusPubSubType>("rt/fleet/coordinator_status");
     // Writers are made on first use: a process writes few of the topics, and every idle writer
     // would still be matched with every reader of the fleet.
     announcement_topic_ = announcement;
@@ -221,15 +222,19 @@ class FastDdsTransport : public Transport {
                               w.target_pose_y(), w.deadline_ms(), w.coordinator()});
       }, command_subscriber);
     }
+    if (handlers_.on_coordinator_status) {
+      listen<fleet::CoordinatorStatus>(coordinator_topic_, registry_r,
+                                       [this](const fleet::CoordinatorStatus& w, const SampleInfo& info) {
+        if (!info.valid_data) return;
+        handlers_.on_coordinator_status({w.coordinator(), w.term(), w.claimed_ms(), from_wire(w.role()),
+                                         w.mission_id().to_string(), w.plan_epoch()});
+      });
+    }
     if (handlers_.on_fleet_status) {
       listen<fleet::FleetStatus>(status, registry_r, [this](const fleet::FleetStatus& w, const SampleInfo& info) {
         if (!info.valid_data) return;
         FleetStatus s;
         s.coordinator = w.coordinator();
-        s.term = w.term();
-        s.claimed_ms = w.claimed_ms();
-        s.role = from_wire(w.role());
-        s.mission_id = w.mission_id().to_string();
         s.plan_epoch = w.plan_epoch();
         s.tasks_done = w.tasks_done();
         s.tasks_total = w.tasks_total();
@@ -315,13 +320,20 @@ class FastDdsTransport : public Transport {
     }
   }
 
-  void publish_fleet_status(const FleetStatus& s) override {
-    fleet::FleetStatus wire;
+  void publish_coordinator_status(const CoordinatorStatus& s) override {
+    fleet::CoordinatorStatus wire;
     wire.coordinator(s.coordinator);
     wire.term(s.term);
     wire.claimed_ms(s.claimed_ms);
     wire.role(to_wire(s.role));
     wire.mission_id(s.mission_id);
+    wire.plan_epoch(s.plan_epoch);
+    writer(coordinator_writer_, coordinator_topic_, registry_w_)->write(&wire);
+  }
+
+  void publish_fleet_status(const FleetStatus& s) override {
+    fleet::FleetStatus wire;
+    wire.coordinator(s.coordinator);
     wire.plan_epoch(s.plan_epoch);
     wire.tasks_done(s.tasks_done);
     wire.tasks_total(s.tasks_total);
@@ -425,7 +437,9 @@ class FastDdsTransport : public Transport {
   DomainParticipant* participant_ = nullptr;
   Publisher* publisher_ = nullptr;
   Subscriber* subscriber_ = nullptr;
-  DataWriter *announcement_writer_ = nullptr, *state_writer_ = nullptr, *status_writer_ = nullptr;
+  DataWriter *announcement_writer_ = nullptr, *state_writer_ = nullptr, *status_writer_ = nullptr,
+             *coordinator_writer_ = nullptr;
+  Topic* coordinator_topic_ = nullptr;
   std::map<std::string, DataWriter*> command_writers_;  // robot id -> writer in its partition
   Topic *announcement_topic_ = nullptr, *state_topic_ = nullptr, *command_topic_ = nullptr, *status_topic_ = nullptr;
   DataWriterQos registry_w_ = DATAWRITER_QOS_DEFAULT, state_w_ = DATAWRITER_QOS_DEFAULT,

@@ -27,7 +27,7 @@ const char* to_string(CoordinatorRole role) {
   return "unknown";
 }
 
-bool outranks(const FleetStatus& a, const FleetStatus& b) {
+bool outranks(const CoordinatorStatus& a, const CoordinatorStatus& b) {
   if (a.term != b.term) return a.term > b.term;
   if (a.claimed_ms != b.claimed_ms) return a.claimed_ms < b.claimed_ms;
   return a.coordinator < b.coordinator;

@@ -112,7 +112,9 @@ int main(int argc, char** argv) {
       config.loopback_config_dir = dds_dir;
       fleet_transport::Handlers handlers;
       handlers.on_command = [&agent](const fleet_transport::StepCommand& c) { agent.on_command(c); };
-      handlers.on_fleet_status = [&agent](const fleet_transport::FleetStatus& s) { agent.on_fleet_status(s); };
+      handlers.on_coordinator_status = [&agent](const fleet_transport::CoordinatorStatus& s) {
+        agent.on_coordinator_status(s);
+      };
       auto transport = fleet_transport::make_transport(config, handlers);
       transport->announce(agent.announcement());
       spdlog::info("{}: {} robot on {} domain {}, incarnation {:016x}", settings.robot_id, robot.kind(), vendor, domain,

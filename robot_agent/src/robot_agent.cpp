@@ -48,12 +48,10 @@ void RobotAgent::on_command(const StepCommand& command) {
   consider(command);
 }
 
-void RobotAgent::on_fleet_status(const fleet_transport::FleetStatus& status) {
+void RobotAgent::on_coordinator_status(const fleet_transport::CoordinatorStatus& status) {
   const std::lock_guard<std::mutex> lock(mutex_);
   KnownCoordinator& known = coordinators_[status.coordinator];
   known.status = status;
-  known.status.assignments.clear();
-  known.status.done_visits.clear();
   known.heard = std::chrono::steady_clock::now();
   choose_coordinator();
   if (held_) {  // its coordinator or epoch may be announced now

@@ -180,8 +180,8 @@ TEST(FleetCoordinator, OfTwoActiveCoordinatorsTheLaterOneStandsDownBeforeItComma
   }
   bool first_running = first.step(first_wire), second_running = second.step(second_wire);
   // Each hears the other's status (published at its first step, before any plan).
-  first.on_fleet_status(second_wire.last_status);
-  second.on_fleet_status(first_wire.last_status);
+  first.on_coordinator_status(second_wire.last_coordinator_status);
+  second.on_coordinator_status(first_wire.last_coordinator_status);
   for (int i = 0; i < 5 && second_running; ++i) {
     first_running = first.step(first_wire);
     second_running = second.step(second_wire);
@@ -191,7 +191,7 @@ TEST(FleetCoordinator, OfTwoActiveCoordinatorsTheLaterOneStandsDownBeforeItComma
   EXPECT_TRUE(second.summary().stood_down);
   EXPECT_NE(second.summary().stood_down_because.find("claimed the fleet first"), std::string::npos);
   EXPECT_TRUE(second_wire.commands.empty());
-  EXPECT_EQ(second_wire.last_status.role, fleet_transport::CoordinatorRole::kStoodDown);
+  EXPECT_EQ(second_wire.last_coordinator_status.role, fleet_transport::CoordinatorRole::kStoodDown);
   EXPECT_FALSE(first.summary().stood_down);
 }
 
@@ -200,16 +200,20 @@ TEST(FleetCoordinator, AStandbyMirrorsTheActiveOneAndTakesOverWhenItFallsSilent)
   std::vector<FakeRobot> robots = robots_on_their_starts(mission);
   // The active coordinator, as its last status told it: term 4, epoch 9, role r on robot r, and the
   // visits of task 0 done.
-  fleet_transport::FleetStatus active;
+  fleet_transport::CoordinatorStatus active;
   active.coordinator = 0xAC;
   active.term = 4;
   active.claimed_ms = 1;
   active.mission_id = mission_fingerprint(mission);
   active.plan_epoch = 9;
-  for (int r = 0; r < mission.agent_count(); ++r) active.assignments.push_back({"robot" + std::to_string(r), r, 0, 0});
-  for (int role : mission.tasks[0].agents) active.done_visits.push_back({0, role});
+  fleet_transport::FleetStatus progress;
+  progress.coordinator = 0xAC;
+  progress.plan_epoch = 9;
+  for (int r = 0; r < mission.agent_count(); ++r) progress.assignments.push_back({"robot" + std::to_string(r), r, 0, 0});
+  for (int role : mission.tasks[0].agents) progress.done_visits.push_back({0, role});
   FleetCoordinator standby(config_for(mission.agent_count()), std::move(mission), {true, nullptr});
-  standby.on_fleet_status(active);
+  standby.on_coordinator_status(active);
+  standby.on_fleet_status(progress);
   run(standby, robots);  // the active one never speaks again: the standby takes over and finishes
   const MissionSummary& summary = standby.summary();
   EXPECT_TRUE(summary.took_over);
@@ -220,7 +224,7 @@ TEST(FleetCoordinator, AStandbyMirrorsTheActiveOneAndTakesOverWhenItFallsSilent)
 
 TEST(FleetCoordinator, AStandbyNeverCommandsWhileTheActiveOneIsHeard) {
   planner_core::Instance mission = planner_core::load_instance(CTSFLEET_CONFIG_DIR "/default/mission-8.yaml");
-  fleet_transport::FleetStatus active;
+  fleet_transport::CoordinatorStatus active;
   active.coordinator = 0xAC;
   active.term = 1;
   active.mission_id = mission_fingerprint(mission);
@@ -233,12 +237,12 @@ TEST(FleetCoordinator, AStandbyNeverCommandsWhileTheActiveOneIsHeard) {
   }
   const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(2);  // > lease + 0.5 s, several times
   while (std::chrono::steady_clock::now() < until) {
-    standby.on_fleet_status(active);
+    standby.on_coordinator_status(active);
     ASSERT_TRUE(standby.step(wire));
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
   EXPECT_TRUE(wire.commands.empty());
-  EXPECT_EQ(wire.last_status.role, fleet_transport::CoordinatorRole::kStandby);
+  EXPECT_EQ(wire.last_coordinator_status.role, fleet_transport::CoordinatorRole::kStandby);
   EXPECT_FALSE(standby.summary().took_over);
 }
 

@@ -70,7 +70,7 @@ int main(int argc, char** argv) {
   transport->prepare_commands_for(robot);
   // Agents obey an active coordinator that announced the epoch: this tool is one, of term 0, so
   // any real coordinator outranks it. Its status goes out every 0.25 s while it runs.
-  fleet_transport::FleetStatus status;
+  fleet_transport::CoordinatorStatus status;
   status.coordinator = 0x7e57d12e0000ull ^ static_cast<uint64_t>(fleet_transport::wall_clock_ms());
   status.term = 0;
   status.claimed_ms = fleet_transport::wall_clock_ms();
@@ -79,7 +79,7 @@ int main(int argc, char** argv) {
   std::atomic<bool> done{false};
   std::thread heartbeat([&] {
     while (!done.load()) {
-      transport->publish_fleet_status(status);
+      transport->publish_coordinator_status(status);
       std::this_thread::sleep_for(std::chrono::milliseconds(250));
     }
   });
@@ -89,12 +89,12 @@ int main(int argc, char** argv) {
     std::atomic<bool>& done;
     std::thread& thread;
     fleet_transport::Transport& transport;
-    fleet_transport::FleetStatus& status;
+    fleet_transport::CoordinatorStatus& status;
     ~End() {
       done = true;
       thread.join();
       status.role = fleet_transport::CoordinatorRole::kEnded;
-      transport.publish_fleet_status(status);
+      transport.publish_coordinator_status(status);
     }
   } end{done, heartbeat, *transport, status};
 

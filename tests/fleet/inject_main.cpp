@@ -28,7 +28,7 @@ int main(int argc, char** argv) {
   std::atomic<uint64_t> coordinator{0};
   std::atomic<int> epoch{0};
   fleet_transport::Handlers handlers;
-  handlers.on_fleet_status = [&](const fleet_transport::FleetStatus& status) {
+  handlers.on_coordinator_status = [&](const fleet_transport::CoordinatorStatus& status) {
     if (status.role != fleet_transport::CoordinatorRole::kActive) return;
     coordinator = status.coordinator;
     epoch = status.plan_epoch;
@@ -46,14 +46,14 @@ int main(int argc, char** argv) {
   const uint64_t real = coordinator.load();
   const int now_epoch = epoch.load();
   // A second "coordinator" of term 0: ranks below the real one, so the robot does not follow it.
-  fleet_transport::FleetStatus rival;
+  fleet_transport::CoordinatorStatus rival;
   rival.coordinator = real ^ 1;
   rival.term = 0;
   rival.claimed_ms = fleet_transport::wall_clock_ms();
   rival.mission_id = "rival";
   rival.plan_epoch = now_epoch;
   for (int round = 0; round < 3; ++round) {
-    transport->publish_fleet_status(rival);
+    transport->publish_coordinator_status(rival);
     transport->send_command({"ghost", 1, 0, 3, 3, 3, 3, later, real});               // unknown robot
     transport->send_command({victim, 1000, 0, -5, -5, -5, -5, later, real});         // far-future epoch
     transport->send_command({victim, now_epoch, 1, 30, 30, 30, 30, later, real});    // not a neighbour

@@ -20,16 +20,10 @@ fleet_transport::StepCommand move(int epoch, int index, int x, int y, int64_t de
   return {"r1", epoch, index, x, y, static_cast<double>(x), static_cast<double>(y), deadline_ms, coordinator};
 }
 
-fleet_transport::FleetStatus status_of(uint64_t coordinator, uint32_t term, int epoch, int64_t claimed_ms = 1000,
-                                       fleet_transport::CoordinatorRole role = fleet_transport::CoordinatorRole::kActive) {
-  fleet_transport::FleetStatus status;
-  status.coordinator = coordinator;
-  status.term = term;
-  status.claimed_ms = claimed_ms;
-  status.role = role;
-  status.mission_id = "m";
-  status.plan_epoch = epoch;
-  return status;
+fleet_transport::CoordinatorStatus status_of(uint64_t coordinator, uint32_t term, int epoch, int64_t claimed_ms = 1000,
+                                             fleet_transport::CoordinatorRole role =
+                                                 fleet_transport::CoordinatorRole::kActive) {
+  return {coordinator, term, claimed_ms, role, std::string("m"), epoch};
 }
 
 int64_t in_5_s() { return fleet_transport::wall_clock_ms() + 5000; }
@@ -52,7 +46,7 @@ struct AgentFixture : ::testing::Test {
 };
 
 TEST_F(AgentFixture, ACommandPastItsDeadlineIsDroppedAndChangesNothing) {
-  agent.on_fleet_status(status_of(kCoordinator, 1, 7));
+  agent.on_coordinator_status(status_of(kCoordinator, 1, 7));
   const int64_t now = fleet_transport::wall_clock_ms();
   agent.on_command(move(7, 0, 3, 2, now - 1000));  // late: its plan has moved on
   settle();
@@ -67,7 +61,7 @@ TEST_F(AgentFixture, ACommandPastItsDeadlineIsDroppedAndChangesNothing) {
 TEST_F(AgentFixture, IncarnationIsInEveryAnnouncementAndState) {
   EXPECT_NE(agent.incarnation(), 0u);
   EXPECT_EQ(agent.announcement().incarnation, agent.incarnation());
-  agent.on_fleet_status(status_of(kCoordinator, 1, 1));
+  agent.on_coordinator_status(status_of(kCoordinator, 1, 1));
   agent.on_command(move(1, 0, 3, 2, fleet_transport::wall_clock_ms() + 5000));
   settle();
   EXPECT_EQ(transport.last_state.incarnation, agent.incarnation());
@@ -77,7 +71,7 @@ TEST_F(AgentFixture, IncarnationIsInEveryAnnouncementAndState) {
 }
 
 TEST_F(AgentFixture, AForgedFarFutureEpochIsNeverJumpedTo) {
-  agent.on_fleet_status(status_of(kCoordinator, 1, 2));
+  agent.on_coordinator_status(status_of(kCoordinator, 1, 2));
   agent.on_command(move(1000, 0, 3, 2, in_5_s()));  // the followed coordinator's id, an epoch it never announced
   settle();
   EXPECT_EQ(robot.poll().cell, (Cell{2, 2}));
@@ -86,17 +80,17 @@ TEST_F(AgentFixture, AForgedFarFutureEpochIsNeverJumpedTo) {
   settle();
   EXPECT_EQ(robot.poll().cell, (Cell{2, 3}));
   EXPECT_EQ(transport.last_state.coordinator, kCoordinator);
-  agent.on_fleet_status(status_of(kCoordinator, 1, 3));  // announcing 3 releases nothing of epoch 1000
+  agent.on_coordinator_status(status_of(kCoordinator, 1, 3));  // announcing 3 releases nothing of epoch 1000
   settle();
   EXPECT_EQ(robot.poll().cell, (Cell{2, 3}));
 }
 
 TEST_F(AgentFixture, ACommandArrivingBeforeItsEpochIsAnnouncedWaitsForTheStatus) {
-  agent.on_fleet_status(status_of(kCoordinator, 1, 1));
+  agent.on_coordinator_status(status_of(kCoordinator, 1, 1));
   agent.on_command(move(2, 0, 3, 2, in_5_s()));  // epoch 2's status is still on its way
   settle();
   EXPECT_EQ(robot.poll().cell, (Cell{2, 2}));
-  agent.on_fleet_status(status_of(kCoordinator, 1, 2));
+  agent.on_coordinator_status(status_of(kCoordinator, 1, 2));
   settle();
   EXPECT_EQ(robot.poll().cell, (Cell{3, 2}));
 }
@@ -106,21 +100,21 @@ TEST_F(AgentFixture, ACommandBeforeAnyCoordinatorIsHeardIsHeldNotObeyed) {
   settle();
   EXPECT_EQ(robot.poll().cell, (Cell{2, 2}));
   EXPECT_EQ(agent.followed_coordinator(), 0u);
-  agent.on_fleet_status(status_of(kCoordinator, 1, 1));
+  agent.on_coordinator_status(status_of(kCoordinator, 1, 1));
   settle();
   EXPECT_EQ(robot.poll().cell, (Cell{3, 2}));
 }
 
 TEST_F(AgentFixture, OnlyTheFollowedCoordinatorIsObeyed) {
   constexpr uint64_t kSecond = 0xD0;
-  agent.on_fleet_status(status_of(kCoordinator, 1, 1, 1000));
-  agent.on_fleet_status(status_of(kSecond, 1, 5, 2000));  // same term, claimed later: ranks lower
+  agent.on_coordinator_status(status_of(kCoordinator, 1, 1, 1000));
+  agent.on_coordinator_status(status_of(kSecond, 1, 5, 2000));  // same term, claimed later: ranks lower
   EXPECT_EQ(agent.followed_coordinator(), kCoordinator);
   agent.on_command(move(5, 0, 3, 2, in_5_s(), kSecond));
   settle();
   EXPECT_EQ(robot.poll().cell, (Cell{2, 2}));
   // A standby never drives, whatever its term.
-  agent.on_fleet_status(status_of(0xE0, 9, 1, 500, fleet_transport::CoordinatorRole::kStandby));
+  agent.on_coordinator_status(status_of(0xE0, 9, 1, 500, fleet_transport::CoordinatorRole::kStandby));
   EXPECT_EQ(agent.followed_coordinator(), kCoordinator);
   agent.on_command(move(1, 0, 2, 3, in_5_s()));
   settle();
@@ -128,12 +122,12 @@ TEST_F(AgentFixture, OnlyTheFollowedCoordinatorIsObeyed) {
 }
 
 TEST_F(AgentFixture, AHigherTermTakesOverAndItsSmallerEpochsCount) {
-  agent.on_fleet_status(status_of(kCoordinator, 1, 40));
+  agent.on_coordinator_status(status_of(kCoordinator, 1, 40));
   agent.on_command(move(40, 0, 3, 2, in_5_s()));
   settle();
   ASSERT_EQ(robot.poll().cell, (Cell{3, 2}));
   constexpr uint64_t kStandby = 0xD0;  // took over: term 2, its own epochs
-  agent.on_fleet_status(status_of(kStandby, 2, 1, 5000));
+  agent.on_coordinator_status(status_of(kStandby, 2, 1, 5000));
   EXPECT_EQ(agent.followed_coordinator(), kStandby);
   agent.on_command(move(1, 0, 3, 3, in_5_s(), kStandby));
   settle();
@@ -144,12 +138,12 @@ TEST_F(AgentFixture, AHigherTermTakesOverAndItsSmallerEpochsCount) {
 }
 
 TEST_F(AgentFixture, ACoordinatorThatEndedIsReplacedByTheNextMissionsAtOnce) {
-  agent.on_fleet_status(status_of(kCoordinator, 3, 9));
+  agent.on_coordinator_status(status_of(kCoordinator, 3, 9));
   agent.on_command(move(9, 0, 3, 2, in_5_s()));
   settle();
-  agent.on_fleet_status(status_of(kCoordinator, 3, 9, 1000, fleet_transport::CoordinatorRole::kEnded));
+  agent.on_coordinator_status(status_of(kCoordinator, 3, 9, 1000, fleet_transport::CoordinatorRole::kEnded));
   constexpr uint64_t kNext = 0xD0;  // a new mission: term 1, epochs from 1
-  agent.on_fleet_status(status_of(kNext, 1, 1, 9000));
+  agent.on_coordinator_status(status_of(kNext, 1, 1, 9000));
   EXPECT_EQ(agent.followed_coordinator(), kNext);
   agent.on_command(move(1, 0, 3, 3, in_5_s(), kNext));
   settle();
@@ -162,9 +156,9 @@ TEST(AgentCoordinatorSilence, ASilentCoordinatorIsReplacedByAnyActiveOne) {
   AgentSettings settings{"r1"};
   settings.coordinator_silence_s = 0.2;
   RobotAgent agent{settings, robot};
-  agent.on_fleet_status(status_of(kCoordinator, 5, 3));
+  agent.on_coordinator_status(status_of(kCoordinator, 5, 3));
   std::this_thread::sleep_for(std::chrono::milliseconds(300));  // longer than the silence, by design of the test
-  agent.on_fleet_status(status_of(0xD0, 1, 1, 9000));
+  agent.on_coordinator_status(status_of(0xD0, 1, 1, 9000));
   EXPECT_EQ(agent.followed_coordinator(), 0xD0u);
 }
 

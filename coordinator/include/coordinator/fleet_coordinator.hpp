@@ -6,7 +6,8 @@
 // handlers only queue events.
 //
 // One coordinator drives a fleet at a time. Each has an incarnation (random per process) and a
-// term, and publishes its status (FleetStatus) several times per second: an active coordinator that
+// term, and publishes its heartbeat (CoordinatorStatus) four times per second and its progress
+// (FleetStatus) on every change: an active coordinator that
 // hears a higher-ranked active one stands down (fleet_transport::outranks). A standby mirrors the
 // active one's progress from its status and takes over, with the next term, when that status falls
 // silent. With a MissionJournal, every epoch, role binding and task visit is committed to it before
@@ -74,7 +75,8 @@ class FleetCoordinator {
   void on_announcement(const fleet_transport::Announcement& announcement);
   void on_state(const fleet_transport::RobotState& state);
   void on_robot_gone(const std::string& robot_id, fleet_transport::GoneReason reason);
-  void on_fleet_status(const fleet_transport::FleetStatus& status);
+  void on_coordinator_status(const fleet_transport::CoordinatorStatus& status);
+  void on_fleet_status(const fleet_transport::FleetStatus& progress);
 
   // One iteration; false once the mission has ended (completed, or timed out).
   bool step(fleet_transport::Transport& transport);
@@ -93,8 +95,9 @@ class FleetCoordinator {
  private:
   enum class Phase { kWaiting, kStandby, kExecuting, kSettling, kDone };
   struct Event {
-    enum class Kind { kAnnouncement, kState, kGone, kStatus } kind = Kind::kAnnouncement;
-    fleet_transport::FleetStatus status;
+    enum class Kind { kAnnouncement, kState, kGone, kStatus, kProgress } kind = Kind::kAnnouncement;
+    fleet_transport::CoordinatorStatus status;
+    fleet_transport::FleetStatus progress;
     fleet_transport::Announcement announcement;
     fleet_transport::RobotState state;
     std::string robot_id;
@@ -103,13 +106,14 @@ class FleetCoordinator {
   };
 
   struct OtherCoordinator {
-    fleet_transport::FleetStatus status;
-    Clock::time_point heard;
+    fleet_transport::CoordinatorStatus status;
+    fleet_transport::FleetStatus progress;  // its last progress report
+    Clock::time_point heard;                // its last heartbeat
   };
 
   void handle(const Event& event);
-  void handle_status(const fleet_transport::FleetStatus& status, Clock::time_point received);
-  fleet_transport::FleetStatus own_status() const;
+  void handle_status(const fleet_transport::CoordinatorStatus& status, Clock::time_point received);
+  fleet_transport::CoordinatorStatus own_status() const;
   // An active coordinator that outranks this one and was heard lately, or nullptr.
   const OtherCoordinator* stronger_active(Clock::time_point now) const;
   void stand_down(const OtherCoordinator& other, fleet_transport::Transport& transport);
@@ -132,7 +136,9 @@ class FleetCoordinator {
   void dispatch(fleet_transport::Transport& transport);
   bool mission_complete() const;
   bool plan_finished() const;
+  // The heartbeat (at once: a new epoch or role must be announced before it is used).
   void publish_status(fleet_transport::Transport& transport);
+  void publish_progress(fleet_transport::Transport& transport);
   void request_replan(const std::string& why);
   void list_pending();
   planner_core::Vertex mission_vertex(int x, int y) const;
@@ -149,7 +155,7 @@ class FleetCoordinator {
   uint64_t mirrored_ = 0;                          // standby: the coordinator whose progress it mirrors
   std::map<std::string, int> mirrored_roles_;      // standby: robot -> role, from that coordinator
   std::map<int, std::string> resumed_bindings_;    // from the journal: role -> robot, for the first binding
-  bool status_changed_ = false;
+  bool progress_changed_ = false;
   bool logged_no_active_ = false;
   int command_strength_ = -1;  // of this process's command writers (a standby starts with 0)
   int plans_made_ = 0;
@@ -163,7 +169,8 @@ class FleetCoordinator {
   std::map<std::string, planner_core::Vertex> unknown_cells_;  // robots heard but not announced
 
   Phase phase_ = Phase::kWaiting;
-  Clock::time_point started_, first_command_, settle_deadline_, next_status_, replan_requested_at_;
+  Clock::time_point started_, first_command_, settle_deadline_, next_status_, next_progress_, last_progress_,
+      replan_requested_at_;
   bool replan_requested_ = false;
   bool first_command_sent_ = false;
   bool awaiting_replan_latency_ = false;

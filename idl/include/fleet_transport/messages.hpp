@@ -65,13 +65,19 @@ struct TaskVisit {
   bool operator==(const TaskVisit&) const = default;
 };
 
-// A coordinator's status: who it is, how it ranks, what it has announced and done.
-struct FleetStatus {
+// A coordinator's heartbeat: who it is, how it ranks, the newest epoch it has announced.
+struct CoordinatorStatus {
   uint64_t coordinator = 0;  // incarnation of the publishing coordinator
   uint32_t term = 0;
   int64_t claimed_ms = 0;
   CoordinatorRole role = CoordinatorRole::kActive;
   std::string mission_id;
+  int plan_epoch = 0;
+};
+
+// A coordinator's mission progress: bindings and task visits done.
+struct FleetStatus {
+  uint64_t coordinator = 0;
   int plan_epoch = 0;
   int tasks_done = 0;
   int tasks_total = 0;
@@ -82,7 +88,7 @@ struct FleetStatus {
 
 // The order among active coordinators that every process applies alike: a higher term wins, then
 // the earlier claim, then the lower incarnation. True when `a` outranks `b`.
-bool outranks(const FleetStatus& a, const FleetStatus& b);
+bool outranks(const CoordinatorStatus& a, const CoordinatorStatus& b);
 
 // Longest robot id the wire types carry.
 constexpr size_t kMaxRobotIdLength = 32;

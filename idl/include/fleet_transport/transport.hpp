@@ -2,7 +2,8 @@
 // Cyclone DDS or Fast DDS chosen at run time. Topics are keyed by robot id (one DDS instance per
 // robot). QoS: commands reliable; state best-effort keep-last 1 with a deadline of two leases
 // (missed deadlines are acted on by the coordinator's silence timeout); announcements and fleet status
-// reliable transient-local keep-last 1 (fleet status: one instance per coordinator); liveliness
+// reliable transient-local keep-last 1 (coordinator and fleet status: one instance per
+// coordinator); liveliness
 // automatic with the configured lease; commands with exclusive ownership (strength = the sending
 // coordinator's term), so a robot hears one coordinator's commands.
 #pragma once
@@ -42,6 +43,7 @@ struct Handlers {
   std::function<void(const Announcement&)> on_announcement;
   std::function<void(const RobotState&)> on_state;
   std::function<void(const StepCommand&)> on_command;
+  std::function<void(const CoordinatorStatus&)> on_coordinator_status;
   std::function<void(const FleetStatus&)> on_fleet_status;
   // A robot's announcement instance lost its writer (process died: lease expired) or was disposed.
   std::function<void(const std::string& robot_id, GoneReason reason)> on_robot_gone;
@@ -57,6 +59,7 @@ class Transport {
   // Readies the command channel to a robot ahead of its first command, so that the first command
   // does not go out before the robot's agent is matched (volatile data would be lost).
   virtual void prepare_commands_for(const std::string& robot_id) = 0;
+  virtual void publish_coordinator_status(const CoordinatorStatus& status) = 0;
   virtual void publish_fleet_status(const FleetStatus& status) = 0;
   // Changes the ownership strength of this process's command writers (a standby taking over).
   virtual void set_command_strength(int strength) = 0;

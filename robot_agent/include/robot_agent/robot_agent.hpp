@@ -33,7 +33,7 @@ class RobotAgent {
   // in its status; a command that cannot be judged yet (its coordinator or epoch not yet heard) is
   // held, the newest one, until the next status.
   void on_command(const fleet_transport::StepCommand& command);
-  void on_fleet_status(const fleet_transport::FleetStatus& status);
+  void on_coordinator_status(const fleet_transport::CoordinatorStatus& status);
   // The coordinator followed now (0: none yet).
   uint64_t followed_coordinator() const;
   // One iteration of the agent's loop: advance the backend, start commands, publish state when due.
@@ -49,7 +49,7 @@ class RobotAgent {
 
  private:
   struct KnownCoordinator {
-    fleet_transport::FleetStatus status;  // without assignments and visits
+    fleet_transport::CoordinatorStatus status;
     std::chrono::steady_clock::time_point heard;
   };
   void reject(const fleet_transport::StepCommand& command, const std::string& why);
