@@ -51,11 +51,7 @@ int main(int argc, char** argv) {
     }
     FleetCoordinator coordinator(config, std::move(mission), {standby, journal.get()});
     coordinator.set_interrupt(&ctsfleet::stop_requested());  // Ctrl-C cuts a running solve short
-    fleet_transport::TransportConfig transport_config;
-    transport_config.vendor = fleet_transport::parse_vendor(config.dds_vendor);
-    transport_config.domain_id = config.domain_id;
-    transport_config.lease_s = config.lease_s;
-    transport_config.loopback_config_dir = config.dds_config_dir;
+    fleet_transport::TransportConfig transport_config = config.transport_config();
     // Of several live coordinators' commands, a robot hears the highest term's (a standby has none yet).
     transport_config.command_strength = standby ? 0 : static_cast<int>(coordinator.summary().term);
     fleet_transport::Handlers handlers;

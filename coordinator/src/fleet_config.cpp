@@ -120,4 +120,21 @@ FleetConfig load_fleet_config(const std::string& path) {
   return config;
 }
 
+planner_core::SolverConfig FleetConfig::solver_config(bool first_plan) const {
+  planner_core::SolverConfig config;
+  config.solver = first_plan ? solver : replan_solver;
+  config.forbid_rotations = true;
+  config.pibt.swap = pibt_swap;
+  return config;
+}
+
+fleet_transport::TransportConfig FleetConfig::transport_config() const {
+  fleet_transport::TransportConfig config;
+  config.vendor = fleet_transport::parse_vendor(dds_vendor);
+  config.domain_id = domain_id;
+  config.lease_s = lease_s;
+  config.loopback_config_dir = dds_config_dir;
+  return config;
+}
+
 }  // namespace coordinator

@@ -415,19 +415,16 @@ bool FleetCoordinator::replan(fleet_transport::Transport& transport) {
     robot.finished_plan = false;
   }
 
-  planner_core::SolverConfig solver_config;
   // The mission's first plan gets the full solver and budget; a resumed or taken-over mission is a
   // replan (robots wait meanwhile), so it gets the fast one.
   const bool first_plan = plans_made_ == 0 && epoch_ == 0 && !summary_.took_over;
-  solver_config.solver = first_plan ? config_.solver : config_.replan_solver;
-  solver_config.forbid_rotations = true;  // robots execute one move at a time
-  solver_config.pibt.swap = config_.pibt_swap;
+  const planner_core::SolverConfig solver_config = config_.solver_config(first_plan);
   // After a failure the robots hold (no new moves) and the next try gets a longer limit, up to 8x.
-  const double limit_s = (first_plan ? config_.plan_time_s : config_.replan_time_s) * plan_limit_factor_;
+  const double limit_s = config_.plan_limit_s(first_plan) * plan_limit_factor_;
   const auto failed = [&](const std::string& why) {
     plan_limit_factor_ = std::min(8.0, plan_limit_factor_ * 2);
     spdlog::error("planning failed ({}); the robots hold; retrying in 1 s with a limit of {:.1f} s", why,
-                  (first_plan ? config_.plan_time_s : config_.replan_time_s) * plan_limit_factor_);
+                  config_.plan_limit_s(first_plan) * plan_limit_factor_);
     return false;
   };
   planner_core::SolveResult result;

@@ -5,6 +5,9 @@
 #include <string>
 #include <vector>
 
+#include "fleet_transport/transport.hpp"
+#include "planner_core/solver.hpp"
+
 namespace coordinator {
 
 struct FleetConfig {
@@ -31,6 +34,13 @@ struct FleetConfig {
   // When only tasks of roles without a robot are left, wait this long for a robot to join, then
   // end the mission with those tasks reported as pending.
   double replacement_timeout_s = 10;
+
+  // What the settings above mean for the solver and the middleware: the one place they are mapped.
+  // The mission's first plan (full budget) or a replan (first feasible plan, fast); both
+  // rotation-free, as robots execute one move at a time.
+  planner_core::SolverConfig solver_config(bool first_plan) const;
+  double plan_limit_s(bool first_plan) const { return first_plan ? plan_time_s : replan_time_s; }
+  fleet_transport::TransportConfig transport_config() const;
 };
 
 // Throws planner_core::InputError naming the file and field.
