@@ -38,29 +38,26 @@ PlanInstance build_plan_instance(const planner_core::Instance& mission, const Mi
     }
   }
 
-  std::vector<std::string> rows = map.rows();
-  for (Vertex v : blocked) {
-    const Cell c = map.cell_of(v);
-    rows[c.y][c.x] = '@';
-  }
-  auto graph = std::make_shared<const planner_core::Graph>(map.width(), map.height(), rows);
+  // The planning map is the mission's with the blocked cells walled: the same vertex ids, so the
+  // instance's starts, goals and tasks are mission vertices.
+  auto graph = std::make_shared<const planner_core::Graph>(map.with_walls(blocked));
   planner_core::DistTable dist(*graph);
   planner_core::Instance& instance = out.instance;
   instance.graph = graph;
   instance.source = "replan";
-  const auto on_plan_map = [&](Vertex mission_vertex) { return graph->vertex_at(map.cell_of(mission_vertex)); };
+  const auto open = [&](Vertex v) { return graph->is_open(v); };
 
   std::set<Vertex> goals_taken;
   for (const PlanMember* member : planned) {
-    if (member->role >= 0) goals_taken.insert(on_plan_map(mission.goals[member->role]));
+    if (member->role >= 0) goals_taken.insert(mission.goals[member->role]);
   }
   std::vector<int> plan_role;
   for (const PlanMember* member : planned) {
     const Vertex start = graph->vertex_at(member->cell);
     Vertex goal = planner_core::kNoVertex;
     if (member->role >= 0) {
-      goal = on_plan_map(mission.goals[member->role]);
-      if (goal == planner_core::kNoVertex || dist.get(goal, start) >= planner_core::kUnreachable) {
+      goal = mission.goals[member->role];
+      if (!open(goal) || dist.get(goal, start) >= planner_core::kUnreachable) {
         out.notes.push_back("role " + std::to_string(member->role) + ": goal blocked or unreachable for robot " +
                             member->robot_id + "; it holds its cell");
         goal = planner_core::kNoVertex;
@@ -84,12 +81,12 @@ PlanInstance build_plan_instance(const planner_core::Instance& mission, const Mi
   for (int t = 0; t < mission.task_count(); ++t) {
     const planner_core::Task& task = mission.tasks[t];
     planner_core::Task remaining;
-    remaining.at = on_plan_map(task.at);
+    remaining.at = task.at;
     for (size_t k = 0; k < task.agents.size(); ++k) {
       if (progress.visited(t, k)) continue;
       for (int a = 0; a < instance.agent_count(); ++a) {
         if (plan_role[a] != task.agents[k]) continue;
-        if (remaining.at == planner_core::kNoVertex || dist.get(remaining.at, instance.starts[a]) >= planner_core::kUnreachable) {
+        if (!open(task.at) || dist.get(task.at, instance.starts[a]) >= planner_core::kUnreachable) {
           out.notes.push_back("task " + std::to_string(t) + " unreachable for robot " + out.robots[a] +
                               " (blocked by a lost robot): left pending");
           continue;

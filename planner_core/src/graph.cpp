@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <stdexcept>
 
 #include "planner_core/input_error.hpp"
 
@@ -48,6 +49,31 @@ Vertex Graph::vertex_at(Cell cell) const {
 bool Graph::adjacent(Vertex a, Vertex b) const {
   const auto around = neighbours(a);
   return std::find(around.begin(), around.end(), b) != around.end();
+}
+
+bool Graph::is_open(Vertex v) const {
+  if (v < 0 || v >= vertex_count()) return false;
+  const Cell c = cells_[v];
+  return vertex_of_index_[c.y * width_ + c.x] == v;
+}
+
+Graph Graph::with_walls(const std::set<Vertex>& walls) const {
+  Graph walled = *this;
+  for (Vertex w : walls) {
+    if (w < 0 || w >= vertex_count()) throw std::out_of_range("with_walls: vertex " + std::to_string(w) + " is not on the map");
+    const Cell c = cells_[w];
+    walled.rows_[c.y][c.x] = '@';
+    walled.vertex_of_index_[c.y * width_ + c.x] = kNoVertex;
+    walled.neighbours_[w].count = 0;
+  }
+  for (Neighbourhood& around : walled.neighbours_) {
+    int kept = 0;
+    for (int i = 0; i < around.count; ++i) {
+      if (!walls.count(around.vertices[i])) around.vertices[kept++] = around.vertices[i];
+    }
+    around.count = kept;
+  }
+  return walled;
 }
 
 Graph load_movingai_map(const std::string& path) {

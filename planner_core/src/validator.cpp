@@ -42,8 +42,10 @@ ValidationReport validate(const Instance& instance, const Solution& solution, co
   const Graph& graph = *instance.graph;
   const int n = instance.agent_count();
   const int vertex_count = graph.vertex_count();
-  const auto on_map = [&](Vertex v) { return v >= 0 && v < vertex_count; };
-  const auto cell = [&](Vertex v) { return on_map(v) ? to_string(graph.cell_of(v)) : std::string("(off map)"); };
+  const auto on_map = [&](Vertex v) { return graph.is_open(v); };  // in range and not walled
+  const auto cell = [&](Vertex v) {
+    return v >= 0 && v < vertex_count ? to_string(graph.cell_of(v)) : std::string("(off map)");
+  };
   const auto agent_name = [](int a) { return "agent " + std::to_string(a); };
 
   if (solution.empty()) {

@@ -131,6 +131,10 @@ TEST(PlanBuilder, BlockedCellsAreWallsAndUnreachableTasksAreNoted) {
   const std::vector<PlanMember> members = {{"a", {0, 0}, 0}, {"b", {0, 2}, 1}, {"off", {9, 9}, -1}};
   const PlanInstance built = build_plan_instance(mission, progress, members, blocked);
   EXPECT_FALSE(built.instance.graph->is_free({2, 1}));
+  // One vertex space: the planning map walls cells but keeps the mission's vertex ids.
+  ASSERT_EQ(built.instance.graph->vertex_count(), mission.graph->vertex_count());
+  EXPECT_EQ(built.instance.starts[0], mission.graph->vertex_at({0, 0}));
+  EXPECT_EQ(built.instance.goals[0], mission.goals[0]);
   ASSERT_EQ(built.robots.size(), 2u);  // the robot off the map is left out
   bool unreachable_noted = false;
   for (const std::string& note : built.notes) unreachable_noted |= note.find("task 1 unreachable") != std::string::npos;

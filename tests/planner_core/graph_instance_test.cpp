@@ -46,6 +46,25 @@ TEST(Graph, LoadsMovingAiMapWithDenseIdsAndNeighbours) {
   }
 }
 
+TEST(Graph, WallsKeepVertexIdsAndCutEveryEdgeToTheWall) {
+  const Graph graph(3, 2, {"...", "..."});
+  const Vertex middle = graph.vertex_at({1, 0});
+  const Graph walled = graph.with_walls({middle});
+  ASSERT_EQ(walled.vertex_count(), graph.vertex_count());
+  for (Vertex v = 0; v < graph.vertex_count(); ++v) EXPECT_EQ(walled.cell_of(v), graph.cell_of(v));
+  EXPECT_FALSE(walled.is_open(middle));
+  EXPECT_FALSE(walled.is_free({1, 0}));
+  EXPECT_EQ(walled.vertex_at({1, 0}), kNoVertex);
+  EXPECT_TRUE(walled.neighbours(middle).empty());
+  for (Vertex v = 0; v < walled.vertex_count(); ++v) EXPECT_FALSE(walled.adjacent(v, middle));
+  EXPECT_EQ(walled.rows()[0], ".@.");
+  EXPECT_TRUE(graph.is_open(middle));  // the original is untouched
+  EXPECT_EQ(graph.neighbours(middle).size(), 3u);
+  EXPECT_FALSE(walled.is_open(-1));
+  EXPECT_FALSE(walled.is_open(graph.vertex_count()));
+  EXPECT_THROW(graph.with_walls({graph.vertex_count()}), std::out_of_range);
+}
+
 TEST(Graph, RejectsUnknownSymbolWithLineAndColumn) {
   const std::string path = write_temp_file("bad-symbol.map", "type octile\nheight 2\nwidth 3\nmap\n...\n.x.\n");
   try {

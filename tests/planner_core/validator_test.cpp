@@ -29,6 +29,15 @@ TEST_F(ValidatorTest, AcceptsValidPlanAndComputesCosts) {
   EXPECT_EQ(report.makespan, 4);
 }
 
+TEST_F(ValidatorTest, AWalledVertexIsABlockedCell) {
+  // The same plan on the map with (1,0) walled (same vertex ids): agent 0 walks through the wall.
+  instance.graph = std::make_shared<const Graph>(instance.graph->with_walls({at(1, 0)}));
+  const ValidationReport report = validate(instance, valid_plan());
+  ASSERT_TRUE(report.has(Kind::kBlockedCell)) << report.summary();
+  EXPECT_EQ(report.violations.front().time, 1);
+  EXPECT_EQ(report.violations.front().agent, 0);
+}
+
 TEST_F(ValidatorTest, Empty) { EXPECT_TRUE(validate(instance, {}).has(Kind::kEmpty)); }
 
 TEST_F(ValidatorTest, AgentCount) {

@@ -20,7 +20,7 @@ struct PlanMember {
 };
 
 struct PlanInstance {
-  planner_core::Instance instance;  // on the planning map: the mission map with `blocked` cells walled
+  planner_core::Instance instance;  // on the mission map with `blocked` cells walled, in its vertex ids
   std::vector<std::string> robots;  // plan agent -> robot id
   std::vector<std::string> notes;   // robots left out, goals or tasks that cannot be reached
 };

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <array>
+#include <set>
 #include <span>
 #include <string>
 #include <utility>
@@ -48,6 +49,13 @@ class Graph {
     return {neighbours_[v].vertices.data(), static_cast<size_t>(neighbours_[v].count)};
   }
   bool adjacent(Vertex a, Vertex b) const;
+  // A vertex an agent may stand on: in range and not walled (see with_walls).
+  bool is_open(Vertex v) const;
+
+  // The same map with these vertices walled. Vertex ids stay as they are, so instances and plans on
+  // the walled map share the original's vertex space: a walled vertex keeps its cell (cell_of) but
+  // has no neighbours, no neighbour leads to it, and vertex_at no longer finds it.
+  Graph with_walls(const std::set<Vertex>& walls) const;
 
   // Row strings as read ('.' free, '@' blocked), for drawing.
   const std::vector<std::string>& rows() const { return rows_; }
