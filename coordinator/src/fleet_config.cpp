@@ -110,12 +110,16 @@ FleetConfig load_fleet_config(const std::string& path) {
     r.read(timing, "silence_timeout_s", "timing", config.silence_timeout_s);
     r.read(timing, "mission_timeout_s", "timing", config.mission_timeout_s);
     r.read(timing, "replan_settle_s", "timing", config.replan_settle_s);
-    r.read(timing, "replacement_timeout_s", "timing", config.replacement_timeout_s);
     check_range(r, timing, "timing.step_s", config.step_s, 0, 3600, true);
     check_range(r, timing, "timing.silence_timeout_s", config.silence_timeout_s, 0, 3600, true);
     check_range(r, timing, "timing.mission_timeout_s", config.mission_timeout_s, 0, 1e6, true);
     check_range(r, timing, "timing.replan_settle_s", config.replan_settle_s, 0, 3600, false);
-    check_range(r, timing, "timing.replacement_timeout_s", config.replacement_timeout_s, 0, 3600, false);
+    if (timing["replacement_timeout_s"]) {
+      double seconds = 0;
+      r.read(timing, "replacement_timeout_s", "timing", seconds);
+      check_range(r, timing, "timing.replacement_timeout_s", seconds, 0, 3600, false);
+      config.replacement_timeout_s = seconds;
+    }
   }
   return config;
 }

@@ -634,14 +634,29 @@ bool FleetCoordinator::step(fleet_transport::Transport& transport) {
           request_replan("plan finished with tasks left");
         } else if (!waiting_for_robot_since_) {
           waiting_for_robot_since_ = now;
-          spdlog::warn("what is left cannot be done by the robots here: waiting {} s for a robot to join",
-                       config_.replacement_timeout_s);
-        } else if (seconds_between(*waiting_for_robot_since_, now) > config_.replacement_timeout_s) {
+          last_waiting_log_ = now;
+          if (config_.replacement_timeout_s) {
+            spdlog::warn("what is left cannot be done by the robots here: waiting {} s for a robot to join",
+                         *config_.replacement_timeout_s);
+          } else {
+            spdlog::warn("what is left cannot be done by the robots here: the robots hold; waiting for a robot to "
+                         "join (the mission times out {:.0f} s after it started)", config_.mission_timeout_s);
+          }
+          list_pending();
+          for (const std::string& line : summary_.pending) spdlog::warn("  left: {}", line);
+        } else if (config_.replacement_timeout_s &&
+                   seconds_between(*waiting_for_robot_since_, now) > *config_.replacement_timeout_s) {
+          spdlog::error("no robot joined within timing.replacement_timeout_s ({} s): the mission ends",
+                        *config_.replacement_timeout_s);
           list_pending();
           phase_ = Phase::kDone;
+        } else if (seconds_between(last_waiting_log_, now) >= 10) {
+          last_waiting_log_ = now;
+          spdlog::warn("still waiting for a robot to join ({:.0f} s so far)", seconds_between(*waiting_for_robot_since_, now));
         }
-      } else {
-        waiting_for_robot_since_.reset();
+      } else if (waiting_for_robot_since_) {
+        waiting_for_robot_since_.reset();  // a robot joined: the work goes on
+        summary_.pending.clear();
       }
       break;
     case Phase::kSettling: {

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <functional>
 #include <map>
 #include <set>
 #include <thread>
@@ -60,7 +61,10 @@ FleetConfig config_for(int robots) {
 
 // Runs the coordinator until it ends; robots answer each command with an arrival on its target.
 // Returns the cells each robot stood on, checking every step that no two robots share one.
-std::map<std::string, std::vector<planner_core::Cell>> run(FleetCoordinator& coordinator, std::vector<FakeRobot>& robots) {
+// `each_iteration` may add robots (announced and heard at once).
+std::map<std::string, std::vector<planner_core::Cell>> run(
+    FleetCoordinator& coordinator, std::vector<FakeRobot>& robots,
+    const std::function<void(std::vector<FakeRobot>&)>& each_iteration = {}) {
   FakeTransport transport;
   std::map<std::string, std::vector<planner_core::Cell>> visited;
   for (FakeRobot& robot : robots) {
@@ -69,6 +73,15 @@ std::map<std::string, std::vector<planner_core::Cell>> run(FleetCoordinator& coo
     visited[robot.id].push_back(robot.cell);
   }
   for (int iteration = 0; iteration < 200000 && coordinator.step(transport); ++iteration) {
+    if (each_iteration) {
+      const size_t before = robots.size();
+      each_iteration(robots);
+      for (size_t r = before; r < robots.size(); ++r) {
+        coordinator.on_announcement({robots[r].id, "sim", "", "test", false});
+        coordinator.on_state(robots[r].state(-1, -1, fleet_transport::RobotStatus::kIdle));
+        visited[robots[r].id].push_back(robots[r].cell);
+      }
+    }
     std::vector<fleet_transport::StepCommand> commands;
     commands.swap(transport.commands);
     for (const fleet_transport::StepCommand& command : commands) {
@@ -139,6 +152,36 @@ TEST(FleetCoordinator, ASilentRobotIsTakenOutAndTheOthersStillFinish) {
   bool role_without_robot = false;
   for (const std::string& line : summary.pending) role_without_robot |= line.find("(no robot)") != std::string::npos;
   EXPECT_TRUE(role_without_robot);
+}
+
+TEST(FleetCoordinator, WithoutAReplacementTimeoutTheRobotsHoldUntilARobotJoinsLate) {
+  planner_core::Instance mission = planner_core::load_instance(CTSFLEET_CONFIG_DIR "/default/mission-8.yaml");
+  std::vector<FakeRobot> robots;
+  for (int r = 0; r < mission.agent_count(); ++r) {
+    robots.push_back({"robot" + std::to_string(r), mission.graph->cell_of(mission.starts[r])});
+  }
+  robots[3].silent = true;  // lost before it does anything
+  const planner_core::Cell spare_cell = mission.graph->cell_of(mission.goals[3]);
+  FleetConfig config = config_for(mission.agent_count());
+  config.replacement_timeout_s.reset();  // wait for a robot until the mission timeout
+  FleetCoordinator coordinator(config, std::move(mission));
+  std::optional<std::chrono::steady_clock::time_point> waiting_since;
+  bool joined = false;
+  run(coordinator, robots, [&](std::vector<FakeRobot>& fleet) {
+    if (joined || !coordinator.waiting_for_robot()) return;
+    const auto now = std::chrono::steady_clock::now();
+    if (!waiting_since) waiting_since = now;
+    // Four times the 0.5 s after which the mission used to end: a robot arriving late still counts.
+    if (now - *waiting_since > std::chrono::seconds(2)) {
+      fleet.push_back({"late", spare_cell});
+      joined = true;
+    }
+  });
+  ASSERT_TRUE(joined) << "the coordinator never waited for a robot";
+  const MissionSummary& summary = coordinator.summary();
+  EXPECT_TRUE(summary.completed);
+  EXPECT_EQ(summary.robots_lost, 1);
+  EXPECT_TRUE(summary.pending.empty());
 }
 
 TEST(FleetCoordinator, ARobotCarriedOffItsPlanIsTakenOutAndPlannedAround) {

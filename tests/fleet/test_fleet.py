@@ -88,6 +88,18 @@ class Fleet:
         for index, cell in enumerate(role_starts()):
             self.agent(f"robot{index}", cell, dds, extra)
 
+    def config_with(self, **timing):
+        """The shipped config with these timing settings, written beside the logs."""
+        with open(CONFIG) as f:
+            config = yaml.safe_load(f)
+        config["mission"] = os.path.abspath(MISSION)
+        config["dds"]["config_dir"] = os.path.abspath(DDS_DIR)
+        config["timing"].update(timing)
+        path = os.path.join(self.dir, "fleet.yaml")
+        with open(path, "w") as f:
+            yaml.safe_dump(config, f)
+        return path
+
     def coordinator(self, dds="cyclone", config=CONFIG, extra=()):
         return self.start("coordinator", [f"{BIN}/ctsfleet-coordinator", "--config", config, "--dds", dds,
                                           "--domain", str(self.domain), *extra])
@@ -195,13 +207,13 @@ class FleetTest(unittest.TestCase):
     def test_cross_vendor_fastdds_coordinator_cyclone_agents(self):
         self.run_mission("fastdds", "cyclone")
 
-    def kill_role3_robot_mid_run(self, extra_robot=False):
+    def kill_role3_robot_mid_run(self, extra_robot=False, config=CONFIG):
         """Kills (SIGKILL) the robot that plays role 3 once two tasks are done; returns its id."""
         self.fleet.monitor()
         self.fleet.agents()
         if extra_robot:
             self.fleet.agent("robot8", (1, 1))
-        self.fleet.coordinator()
+        self.fleet.coordinator(config=config)
         wait_for(lambda: "plan epoch 1" in read(self.fleet.log("coordinator")), 120, "the first plan")
         wait_for(lambda: any(int(done) >= 2 for done in re.findall(r"tasks (\d+)/16", read(self.fleet.log("coordinator")))),
                  120, "the mission under way (two tasks done)")
@@ -258,7 +270,8 @@ class FleetTest(unittest.TestCase):
     def test_duplicate_id_is_refused_and_reported(self):
         self.fleet.monitor()
         self.fleet.agents()
-        self.fleet.coordinator()
+        # The duplicate's cell stays walled: should it block some work, the mission ends 5 s after.
+        self.fleet.coordinator(config=self.fleet.config_with(replacement_timeout_s=5))
         log = self.fleet.log("coordinator")
         wait_for(lambda: "plan epoch 1" in read(log), 120, "the first plan")
         # A second process claims robot6's id from a cell of its own.
@@ -280,7 +293,7 @@ class FleetTest(unittest.TestCase):
         self.fleet.monitor()
         for index, cell in enumerate(role_starts()):
             self.fleet.agent(f"robot{index}", cell, extra=["--teleport-after", "10", "--to", "1,1"] if index == 5 else [])
-        self.fleet.coordinator(extra=["--json"])
+        self.fleet.coordinator(config=self.fleet.config_with(replacement_timeout_s=5), extra=["--json"])
         log = self.fleet.log("coordinator")
         wait_for(lambda: "robot robot5 taken out: off its plan: reports (1,1)" in read(log), 120,
                  "the coordinator seeing robot5 off its plan")
@@ -295,7 +308,8 @@ class FleetTest(unittest.TestCase):
         self.assert_safe()
 
     def test_killed_agent_is_detected_and_the_others_finish(self):
-        victim = self.kill_role3_robot_mid_run()
+        # With a replacement timeout set, the mission ends that long after only role 3's work is left.
+        victim = self.kill_role3_robot_mid_run(config=self.fleet.config_with(replacement_timeout_s=5))
         code = self.fleet.wait_exit("coordinator", 240)
         text = read(self.fleet.log("coordinator"))
         self.assertEqual(code, 3, text[-3000:])  # completed for the others, role 3's tasks pending
@@ -306,7 +320,14 @@ class FleetTest(unittest.TestCase):
         self.assert_safe()
 
     def test_new_agent_takes_over_the_dead_robots_role(self):
+        # Without a replacement timeout (the shipped config) the robots hold for as long as it takes:
+        # the new robot starts only once the coordinator has been waiting a while.
         self.kill_role3_robot_mid_run()
+        wait_for(lambda: "waiting for a robot to join" in read(self.fleet.log("coordinator")), 120,
+                 "the others done and the coordinator waiting for a robot")
+        waiting = next(l for l in read(self.fleet.log("coordinator")).splitlines() if "waiting for a robot to join" in l)
+        wait_for(lambda: time.time() > self.coordinator_stamp(waiting) + 3, 10, "3 s of waiting")
+        self.assertIsNone(self.fleet.processes["coordinator"].poll(), "the mission ended while waiting for a robot")
         self.fleet.agent("robot9", (1, 1))
         code = self.fleet.wait_exit("coordinator", 240)
         text = read(self.fleet.log("coordinator"))
@@ -317,7 +338,7 @@ class FleetTest(unittest.TestCase):
         self.assert_safe()
 
     def test_extra_robot_takes_over_a_lost_role(self):
-        victim = self.kill_role3_robot_mid_run(extra_robot=True)
+        victim = self.kill_role3_robot_mid_run(extra_robot=True, config=self.fleet.config_with(replacement_timeout_s=5))
         code = self.fleet.wait_exit("coordinator", 240)
         text = read(self.fleet.log("coordinator"))
         # Completed, unless the dead robot happens to stand where another robot must go.
@@ -368,7 +389,8 @@ class FleetTest(unittest.TestCase):
         for index, cell in enumerate(role_starts()):
             extra = ("--silent-at", "6") if index == 5 else ()
             self.fleet.agent(f"robot{index}", cell, extra=extra)
-        self.fleet.coordinator()
+        # Role 5 is left without a robot: the mission ends 5 s after only its work is left.
+        self.fleet.coordinator(config=self.fleet.config_with(replacement_timeout_s=5))
         code = self.fleet.wait_exit("coordinator", 240)
         text = read(self.fleet.log("coordinator"))
         self.assertIn("robot robot5 taken out: no state for", text)

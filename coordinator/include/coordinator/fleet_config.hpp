@@ -2,6 +2,7 @@
 // Errors name the file and the field.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -31,9 +32,10 @@ struct FleetConfig {
   double silence_timeout_s = 2;  // a robot whose state stops this long is taken out
   double mission_timeout_s = 300;
   double replan_settle_s = 3;    // after a loss or join: wait this long at most for moves in flight
-  // When only tasks of roles without a robot are left, wait this long for a robot to join, then
-  // end the mission with those tasks reported as pending.
-  double replacement_timeout_s = 10;
+  // When only tasks of roles without a robot are left: unset, the robots hold and the coordinator
+  // waits for a robot to join until the mission timeout; set, it waits this long, then ends the
+  // mission with those tasks reported as pending.
+  std::optional<double> replacement_timeout_s;
 
   // What the settings above mean for the solver and the middleware: the one place they are mapped.
   // The mission's first plan (full budget) or a replan (first feasible plan, fast); both

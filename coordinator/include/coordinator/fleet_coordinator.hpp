@@ -91,6 +91,8 @@ class FleetCoordinator {
   uint64_t incarnation() const { return incarnation_; }
   const std::string& mission_id() const { return mission_id_; }
   fleet_transport::CoordinatorRole role() const { return role_; }
+  // What is left belongs to roles without a robot: the robots hold until one joins.
+  bool waiting_for_robot() const { return waiting_for_robot_since_.has_value(); }
 
  private:
   enum class Phase { kWaiting, kStandby, kExecuting, kSettling, kDone };
@@ -176,6 +178,7 @@ class FleetCoordinator {
   bool awaiting_replan_latency_ = false;
   Clock::time_point retry_plan_at_;
   std::optional<Clock::time_point> waiting_for_robot_since_;
+  Clock::time_point last_waiting_log_;
   bool replanned_after_finish_ = false;  // the plan in hand was made because the last one left work
 
   int epoch_ = 0;  // grows across restarts (journal) and takeovers (the mirrored epoch)
