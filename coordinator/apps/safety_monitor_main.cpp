@@ -1,8 +1,10 @@
 // ctsfleet-monitor: an independent observer. Records every robot state it hears and checks, from
 // the robots' own arrival timestamps, that no two robots ever held the same cell at the same time
 // (which also rules out swaps), and that no robot id is claimed by two live processes (told apart by
-// their incarnation). Runs until SIGINT/SIGTERM or --duration; exit 0 when safe, 1 on a collision
-// or a duplicate id, 4 when it heard no robot at all (a check that saw nothing has not passed).
+// their incarnation), and that no two coordinators stay active together (a coordinator that failed
+// to stand down). Runs until SIGINT/SIGTERM or --duration; exit 0 when safe, 1 on a collision, a
+// duplicate id or two active coordinators, 4 when it heard no robot at all (a check that saw
+// nothing has not passed).
 #include <spdlog/spdlog.h>
 
 #include <atomic>
@@ -11,6 +13,7 @@
 #include <mutex>
 #include <thread>
 
+#include "coordinator/active_coordinator_watch.hpp"
 #include "ctsfleet/data_dir.hpp"
 #include "ctsfleet/program.hpp"
 #include "fleet_transport/transport.hpp"
@@ -32,12 +35,17 @@ int main(int argc, char** argv) {
   std::string vendor = "cyclone", dds_dir;
   int domain = 0;
   double duration = 0;
+  double coordinator_overlap_s = 5;
   app.add_option("--dds", vendor, "DDS implementation")->check(CLI::IsMember({"cyclone", "fastdds"}))->capture_default_str();
   app.add_option("--domain", domain, "DDS domain id")->check(ctsfleet::dds_domain())->capture_default_str();
   app.add_option("--dds-config-dir", dds_dir, "folder with the loopback DDS XML files (default: the shipped config/dds)")
       ->check(CLI::ExistingDirectory);
   app.add_option("--duration", duration, "stop after this many seconds (0 = until a signal)")
       ->check(ctsfleet::number_in(0, 1e6))
+      ->capture_default_str();
+  app.add_option("--coordinator-overlap", coordinator_overlap_s,
+                 "seconds two coordinators may both be active (one listening, then standing down) before it is an alarm")
+      ->check(ctsfleet::number_in(0, 3600))
       ->capture_default_str();
   return program.main(argc, argv, [&] {
     const std::atomic<bool>& g_stop = ctsfleet::stop_requested();
@@ -57,7 +65,13 @@ int main(int argc, char** argv) {
     config.vendor = fleet_transport::parse_vendor(vendor);
     config.domain_id = domain;
     config.loopback_config_dir = dds_dir;
+    coordinator::ActiveCoordinatorWatch coordinators(
+        std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(coordinator_overlap_s)));
     fleet_transport::Handlers handlers;
+    handlers.on_coordinator_status = [&](const fleet_transport::CoordinatorStatus& status) {
+      const std::lock_guard<std::mutex> lock(mutex);
+      if (const auto alarm = coordinators.on_status(status, std::chrono::steady_clock::now())) spdlog::error("{}", *alarm);
+    };
     handlers.on_state = [&](const fleet_transport::RobotState& s) {
       const std::lock_guard<std::mutex> lock(mutex);
       ++states;
@@ -128,14 +142,14 @@ int main(int argc, char** argv) {
       }
     }
     std::printf("monitor: robots %zu, processes %zu, states %lld, cell visits %lld, overlaps %d, gaps %lld, "
-                "duplicate ids %zu\n",
+                "duplicate ids %zu, coordinators active together %zu\n",
                 incarnations.size(), visits.size(), static_cast<long long>(states), static_cast<long long>(cell_visits),
-                overlaps, static_cast<long long>(gaps), duplicates.size());
+                overlaps, static_cast<long long>(gaps), duplicates.size(), coordinators.alarms());
     if (incarnations.empty()) {
       std::fprintf(stderr, "ctsfleet-monitor: heard no robot on %s domain %d with DDS config %s: nothing was checked\n",
                    vendor.c_str(), domain, dds_dir.c_str());
       return kExitHeardNothing;
     }
-    return overlaps == 0 && duplicates.empty() ? 0 : 1;
+    return overlaps == 0 && duplicates.empty() && coordinators.alarms() == 0 ? 0 : 1;
   });
 }

@@ -4,6 +4,7 @@
 
 #include <memory>
 
+#include "coordinator/active_coordinator_watch.hpp"
 #include "coordinator/mission_progress.hpp"
 #include "coordinator/plan_builder.hpp"
 #include "coordinator/plan_execution.hpp"
@@ -186,6 +187,52 @@ TEST(PlanExecution, SendsWhenReadyResendsWhenSilentAndConfirmsOnTheTarget) {
   EXPECT_EQ(*reached, (Cell{2, 0}));
   EXPECT_TRUE(execution.done(0));
   EXPECT_TRUE(execution.due_command(1, t0, 1.0, 0).has_value());  // now back may move
+}
+
+TEST(ActiveCoordinatorWatch, TwoActiveLongerThanTheGraceIsOneAlarm) {
+  using std::chrono::milliseconds;
+  ActiveCoordinatorWatch watch(std::chrono::seconds(5));
+  const auto t0 = ActiveCoordinatorWatch::Clock::now();
+  fleet_transport::CoordinatorStatus a{0xa, 1, 100, fleet_transport::CoordinatorRole::kActive, "m", 1};
+  fleet_transport::CoordinatorStatus b{0xb, 1, 200, fleet_transport::CoordinatorRole::kActive, "m", 0};
+  std::optional<std::string> alarm;
+  int alarms = 0;
+  for (int ms = 0; ms <= 8000; ms += 250) {  // both heartbeat every 0.25 s for 8 s
+    if ((alarm = watch.on_status(a, t0 + milliseconds(ms)))) ++alarms;
+    if ((alarm = watch.on_status(b, t0 + milliseconds(ms + 10)))) ++alarms;
+  }
+  EXPECT_EQ(alarms, 1);
+  EXPECT_EQ(watch.alarms(), 1u);
+}
+
+TEST(ActiveCoordinatorWatch, ListeningThenStandingDownTakeoversAndStandbysAreNoAlarm) {
+  using std::chrono::milliseconds;
+  using fleet_transport::CoordinatorRole;
+  ActiveCoordinatorWatch watch(std::chrono::seconds(5));
+  const auto t0 = ActiveCoordinatorWatch::Clock::now();
+  fleet_transport::CoordinatorStatus first{1, 1, 100, CoordinatorRole::kActive, "m", 1};
+  fleet_transport::CoordinatorStatus late{2, 1, 900, CoordinatorRole::kActive, "m", 0};
+  fleet_transport::CoordinatorStatus standby{3, 0, 0, CoordinatorRole::kStandby, "m", 0};
+  for (int ms = 0; ms <= 20000; ms += 250) {
+    const auto now = t0 + milliseconds(ms);
+    EXPECT_FALSE(watch.on_status(standby, now));
+    if (ms < 10000) {  // killed at 10 s
+      EXPECT_FALSE(watch.on_status(first, now));
+    }
+    // The late one listens 2 s, then stands down; the standby takes over at 11.5 s as term 2.
+    if (ms >= 3000 && ms < 5000) {
+      EXPECT_FALSE(watch.on_status(late, now));
+    }
+    if (ms == 5000) {
+      late.role = CoordinatorRole::kStoodDown;
+      EXPECT_FALSE(watch.on_status(late, now));
+    }
+    if (ms >= 11500) {
+      standby.role = CoordinatorRole::kActive;
+      standby.term = 2;
+    }
+  }
+  EXPECT_EQ(watch.alarms(), 0u);
 }
 
 }  // namespace

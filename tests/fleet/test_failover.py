@@ -69,6 +69,7 @@ class FailoverTest(unittest.TestCase):
     def assert_safe(self):
         code, text = self.fleet.monitor_verdict()
         self.assertIn("overlaps 0", text, text)
+        self.assertIn("coordinators active together 0", text, text)
         self.assertEqual(code, 0, text)
 
     def journal_rows(self, sql):
