@@ -2,6 +2,8 @@
 
 #include <random>
 
+#include "planner_core/cts_lacam.hpp"
+
 namespace planner_core {
 
 SolveResult CtsPibt::solve(const Instance& instance, const SolveOptions& options) {
@@ -30,7 +32,11 @@ SolveResult CtsPibt::solve(const Instance& instance, const SolveOptions& options
     }
     if (!anytime_) break;
   }
-  if (!result.solved) {
+  // Never give up before the deadline: the complete search takes over.
+  if (!result.solved && config_.complete_fallback && !options.deadline.expired()) {
+    solve_completely(instance, dist, config_, rng, anytime_, options, result);
+  }
+  if (!result.solved && result.failure_reason.empty()) {
     result.failure_reason = result.pibt_failures > 0 ? "Extended-PIBT hit its step limit on every sequence tried"
                                                      : "deadline reached before a solution was found";
   }

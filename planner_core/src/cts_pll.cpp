@@ -2,6 +2,8 @@
 
 #include <random>
 
+#include "planner_core/cts_lacam.hpp"
+
 namespace planner_core {
 
 SolveResult CtsPll::solve(const Instance& instance, const SolveOptions& options) {
@@ -88,7 +90,11 @@ SolveResult CtsPll::solve(const Instance& instance, const SolveOptions& options)
     if (variant_ == Variant::kV1) break;
     if (variant_ == Variant::kV2 && result.solved) break;
   }
-  if (!result.solved) {
+  // Never give up before the deadline: the complete search takes over (and v3 refines its plan).
+  if (!result.solved && config_.complete_fallback && !deadline.expired()) {
+    solve_completely(instance, dist, config_, rng, variant_ == Variant::kV3, options, result);
+  }
+  if (!result.solved && result.failure_reason.empty()) {
     result.failure_reason = deadline.expired() ? "deadline reached before a feasible plan was found"
                                                : "no feasible plan from the sequences tried";
   }

@@ -4,6 +4,7 @@
 #include <array>
 #include <cstdint>
 #include <deque>
+#include <map>
 #include <memory>
 #include <unordered_map>
 
@@ -30,10 +31,10 @@ struct Constraint {
 };
 
 struct HighLevelNode {
-  Config config;
+  Config config;  // the agents' vertices; with waypoints followed by the agents' progress
   HighLevelNode* parent = nullptr;
   int64_t g = 0;  // sum of loss from the start
-  int64_t h = 0;  // sum of distances to the goals
+  int64_t h = 0;  // sum of distances to the goals (through the waypoints still to visit)
   std::vector<float> priority;
   std::vector<int> order;  // agents by decreasing priority
   std::deque<Constraint> constraints;
@@ -45,7 +46,7 @@ struct HighLevelNode {
 class LacamSearch::State {
  public:
   State(const Graph& graph, DistTable& dist, const LacamConfig& config, std::mt19937& rng, const Config& starts,
-        const Config& goals, const std::vector<char>& blocked)
+        const Config& goals, const std::vector<char>& blocked, const Waypoints& waypoints)
       : graph_(graph),
         config_(config),
         rng_(rng),
@@ -55,31 +56,55 @@ class LacamSearch::State {
         occupied_now_(graph.vertex_count(), kNobody),
         occupied_next_(graph.vertex_count(), kNobody),
         constrained_(starts.size(), 0),
-        swap_(graph, occupied_now_, [this](int agent, Vertex v) { return distance_to_goal(agent, v); },
-              [this](int agent) { return goals_[agent]; }) {
+        swap_(graph, occupied_now_, [this](int agent, Vertex v) { return distance_to_target(agent, current(*from_, agent), v); },
+              [this](int agent) { return targets_[slot(agent, current(*from_, agent))]; }) {
+    for (const std::vector<Vertex>& row : waypoints) augmented_ = augmented_ || !row.empty();
+    // Every agent's targets in a row: its waypoints, then its goal; slot(agent, k) indexes them.
+    for (int i = 0; i < n_; ++i) {
+      first_target_.push_back(static_cast<int>(targets_.size()));
+      if (augmented_) targets_.insert(targets_.end(), waypoints[i].begin(), waypoints[i].end());
+      last_.push_back(static_cast<int>(targets_.size()) - first_target_.back());
+      targets_.push_back(goals[i]);
+    }
     if (!blocked.empty()) {
       config_.swap = false;  // CorridorSwap's corridor walks do not know blocked cells
-      own_distances_.resize(n_);
-      for (int i = 0; i < n_; ++i) own_distances_[i] = bfs_around_blocked(goals[i]);
+      std::map<Vertex, int> searched;
+      for (Vertex target : targets_) {
+        const auto [it, is_new] = searched.try_emplace(target, static_cast<int>(own_distances_.size()));
+        if (is_new) own_distances_.push_back(bfs_around_blocked(target));
+        own_index_.push_back(it->second);
+      }
     } else {
-      for (int i = 0; i < n_; ++i) goal_rows_.push_back(dist.row(goals[i]));
+      for (Vertex target : targets_) target_rows_.push_back(dist.row(target));
     }
-    HighLevelNode* start = make_node(starts, nullptr);
-    open_.push_back(start);
+    // What is left of each agent's tour from each of its targets, along its order.
+    remaining_.assign(targets_.size(), 0);
+    for (int i = 0; i < n_; ++i) {
+      for (int k = last_[i] - 1; k >= 0; --k) {
+        const int leg = distance_to_target(i, k + 1, targets_[slot(i, k)]);
+        remaining_[slot(i, k)] = std::min(kUnreachable, remaining_[slot(i, k + 1)] + leg);
+      }
+    }
+    Config start = starts;
+    if (augmented_) {
+      start.resize(2 * n_, 0);
+      for (int i = 0; i < n_; ++i) start[n_ + i] = advance(i, 0, starts[i]);
+    }
+    open_.push_back(make_node(start, nullptr));
   }
 
   // Searches until the deadline, until the whole space has been searched, or until it holds a
   // solution cheaper than the one it last returned; a later call goes on from there.
   LacamResult run(const Deadline& deadline) {
     LacamResult result;
-    Config next(n_);
+    Config next(augmented_ ? 2 * n_ : n_);
     // With many agents an iteration is long enough to look at the clock every time.
     const int64_t clock_mask = n_ >= 256 ? 0 : 63;
     while (!open_.empty()) {
       if ((++iterations_ & clock_mask) == 0 && deadline.expired()) break;
       if (goal_node_ && goal_node_->g < reported_cost_) break;
       HighLevelNode* node = open_.back();
-      if (node->config == goals_ && (!goal_node_ || node->g < goal_node_->g)) {
+      if (all_home(node->config) && (!goal_node_ || node->g < goal_node_->g)) {
         goal_node_ = node;
         if (!config_.refine) break;
         continue;
@@ -96,6 +121,9 @@ class LacamSearch::State {
       node->constraints.pop_front();
       grow_constraints(*node, constraint);
       if (!generate(*node, constraint, next)) continue;
+      if (augmented_) {
+        for (int i = 0; i < n_; ++i) next[n_ + i] = advance(i, current(node->config, i), next[i]);
+      }
       const auto found = explored_.find(next);
       if (found != explored_.end()) {
         HighLevelNode* known = found->second;
@@ -111,7 +139,9 @@ class LacamSearch::State {
       result.solved = true;
       result.cost = goal_node_->g;
       reported_cost_ = goal_node_->g;
-      for (HighLevelNode* h = goal_node_; h; h = h->parent) result.solution.push_back(h->config);
+      for (HighLevelNode* h = goal_node_; h; h = h->parent) {
+        result.solution.emplace_back(h->config.begin(), h->config.begin() + n_);
+      }
       std::reverse(result.solution.begin(), result.solution.end());
     }
     return result;
@@ -135,13 +165,37 @@ class LacamSearch::State {
 
   bool is_blocked(Vertex v) const { return !blocked_.empty() && blocked_[v]; }
 
-  int distance_to_goal(int agent, Vertex v) {
-    return own_distances_.empty() ? goal_rows_[agent].get(v) : own_distances_[agent][v];
+  // Where agent's k-th target (0 for plain MAPF) is kept in targets_ and the tables beside it.
+  int slot(int agent, int k) const { return augmented_ ? first_target_[agent] + k : agent; }
+  // How many of its waypoints the agent has visited in `config` (always 0 for plain MAPF).
+  int current(const Config& config, int agent) const { return augmented_ ? config[n_ + agent] : 0; }
+  // The progress after standing on v, having visited k waypoints before.
+  int advance(int agent, int k, Vertex v) const {
+    while (k < last_[agent] && v == targets_[slot(agent, k)]) ++k;
+    return k;
+  }
+  bool home(const Config& config, int agent) const {
+    return config[agent] == goals_[agent] && current(config, agent) == last_[agent];
+  }
+  bool all_home(const Config& config) const {
+    for (int i = 0; i < n_; ++i) {
+      if (!home(config, i)) return false;
+    }
+    return true;
+  }
+
+  int distance_to_target(int agent, int k, Vertex v) {
+    const int s = slot(agent, k);
+    return own_distances_.empty() ? target_rows_[s].get(v) : own_distances_[own_index_[s]][v];
+  }
+  // Through the waypoints still to visit, to the goal.
+  int distance_to_goal(int agent, int k, Vertex v) {
+    return std::min(kUnreachable, distance_to_target(agent, k, v) + remaining_[slot(agent, k)]);
   }
 
   int64_t transition_cost(const Config& from, const Config& to) const {
     int64_t cost = 0;
-    for (int i = 0; i < n_; ++i) cost += (from[i] == goals_[i] && to[i] == goals_[i]) ? 0 : 1;
+    for (int i = 0; i < n_; ++i) cost += (home(from, i) && home(to, i)) ? 0 : 1;
     return cost;
   }
 
@@ -151,12 +205,14 @@ class LacamSearch::State {
     node->parent = parent;
     node->priority.resize(n_);
     for (int i = 0; i < n_; ++i) {
-      const int to_goal = distance_to_goal(i, config[i]);
-      node->h += std::min<int64_t>(to_goal, kUnreachable);
+      const int k = current(config, i);
+      const int to_goal = distance_to_goal(i, k, config[i]);
+      node->h += to_goal;
       if (!parent) {
         node->priority[i] = static_cast<float>(to_goal) / static_cast<float>(n_ * 4 + 1);
-      } else if (config[i] != goals_[i]) {
-        node->priority[i] = parent->priority[i] + 1;  // dynamic priorities: grow until the goal is reached
+      } else if (!home(config, i) && k == current(parent->config, i)) {
+        // dynamic priorities: grow until the next waypoint or the goal is reached
+        node->priority[i] = parent->priority[i] + 1;
       } else {
         node->priority[i] = parent->priority[i] - static_cast<float>(static_cast<int64_t>(parent->priority[i]));
       }
@@ -232,6 +288,7 @@ class LacamSearch::State {
     const Config& from = *from_;
     Config& to = *to_;
     const Vertex here = from[agent];
+    const int progress = current(from, agent);
     Moves candidates;
     int count = 0;
     for (Vertex u : graph_.neighbours(here)) {
@@ -244,7 +301,7 @@ class LacamSearch::State {
     for (int k = 0; k < count; ++k) {
       const Vertex v = candidates[k];
       const bool pushes_someone = config_.prefer_free_cells && occupied_now_[v] != kNobody && v != here;
-      to_goal[k] = 2 * distance_to_goal(agent, v) + (pushes_someone ? 1 : 0);
+      to_goal[k] = 2 * distance_to_goal(agent, progress, v) + (pushes_someone ? 1 : 0);
     }
     sort_by_key(candidates, to_goal, count);
     // A head-on meeting in a corridor: back off (worst candidate first) and pull the other along.
@@ -323,8 +380,14 @@ class LacamSearch::State {
   HighLevelNode* goal_node_ = nullptr;
   int64_t reported_cost_ = INT64_MAX;  // of the solution run() last returned
   int64_t iterations_ = 0;
-  std::vector<std::vector<int>> own_distances_;  // per agent, around blocked cells (empty when none are)
-  std::vector<DistTable::Row> goal_rows_;        // per agent, when nothing is blocked
+  bool augmented_ = false;          // some agent has waypoints: configurations carry progress
+  std::vector<Vertex> targets_;     // per agent its waypoints then its goal, agent after agent
+  std::vector<int> first_target_;   // agent -> its first slot in targets_
+  std::vector<int> last_;           // agent -> its number of waypoints (the goal's index)
+  std::vector<int> remaining_;      // per slot: the tour's length from that target to the goal
+  std::vector<std::vector<int>> own_distances_;  // per target cell, around blocked cells (empty when none are)
+  std::vector<int> own_index_;                   // per slot: its target's row in own_distances_
+  std::vector<DistTable::Row> target_rows_;      // per slot, when nothing is blocked
   std::vector<std::unique_ptr<HighLevelNode>> nodes_;
   std::unordered_map<Config, HighLevelNode*, ConfigHash> explored_;
   std::vector<HighLevelNode*> open_;
@@ -337,8 +400,9 @@ class LacamSearch::State {
 };
 
 LacamSearch::LacamSearch(const Graph& graph, DistTable& dist, const LacamConfig& config, std::mt19937& rng,
-                         const Config& starts, const Config& goals, const std::vector<char>& blocked)
-    : state_(std::make_unique<State>(graph, dist, config, rng, starts, goals, blocked)) {}
+                         const Config& starts, const Config& goals, const std::vector<char>& blocked,
+                         const Waypoints& waypoints)
+    : state_(std::make_unique<State>(graph, dist, config, rng, starts, goals, blocked, waypoints)) {}
 
 LacamSearch::~LacamSearch() = default;
 
@@ -348,8 +412,8 @@ Lacam::Lacam(const Graph& graph, DistTable& dist, const LacamConfig& config, std
     : graph_(graph), dist_(dist), config_(config), rng_(rng) {}
 
 LacamResult Lacam::solve(const Config& starts, const Config& goals, const std::vector<char>& blocked,
-                         const Deadline& deadline) {
-  LacamSearch search(graph_, dist_, config_, rng_, starts, goals, blocked);
+                         const Deadline& deadline, const Waypoints& waypoints) {
+  LacamSearch search(graph_, dist_, config_, rng_, starts, goals, blocked, waypoints);
   return search.run(deadline);
 }
 

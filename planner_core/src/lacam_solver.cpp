@@ -56,36 +56,45 @@ SolveResult LacamSolver::solve(const Instance& instance, const SolveOptions& opt
   for (int a = 0; a < instance.agent_count(); ++a) result.lower_bound += dist.get(instance.goals[a], instance.starts[a]);
 
   if (refine_) {
-    // LaCAM*: the search goes on for cheaper plans, in slices between LNS refinement of the best
-    // plan so far (as lacam3 runs its refiners beside the search).
-    LnsConfig lns_config = config_.lns;
-    lns_config.search.forbid_following = lns_config.search.forbid_following || config_.forbid_rotations;
-    lns_config.stall_iterations = 0;  // the slice ends it
-    LnsRefiner refiner(instance, dist, lns_config, rng);
-    double search_slice_s = kFirstSearchSliceS;
-    bool search_done = found.exhausted;  // an exhausted LaCAM* search has proved its plan optimal
-    // The refiner's own plan: it accepts changes of equal cost too, so it is not always the one
-    // kept in `result`; handing it back lets the refiner go on without rebuilding its tables.
-    Solution refined = result.solution;
-    while (!deadline.expired() && result.flowtime > result.lower_bound) {
-      if (!search_done) {
-        found = search.run(deadline.within(search_slice_s));
-        search_done = found.exhausted;
-        const bool cheaper = found.solved && flowtime(found.solution, instance.goals) < result.flowtime;
-        if (cheaper) {
-          keep_if_better(result, instance, found.solution, no_tasks, 0, started, options, "LaCAM*");
-          refined = result.solution;
-        }
-        search_slice_s = std::clamp(search_slice_s * (cheaper ? 2.0 : 0.5), kMinSearchSliceS, kMaxSearchSliceS);
-        if (search_done) break;  // optimal
-      }
-      const LnsStats stats = refiner.refine(refined, no_tasks, deadline.within(kRefinerSliceS));
-      result.lns_iterations += stats.iterations;
-      keep_if_better(result, instance, refined, no_tasks, 0, started, options, "LaCAM* refiner");
-    }
+    refine_until_deadline(instance, dist, search, found.exhausted, config_, rng, no_tasks, 0, options, result, "LaCAM*");
   }
   result.comp_time_ms = elapsed_ms(started);
   return result;
+}
+
+void refine_until_deadline(const Instance& instance, DistTable& dist, LacamSearch& search, bool search_done,
+                           const SolverConfig& config, std::mt19937& rng, const std::vector<std::vector<int>>& orders,
+                           int sequence_index, const SolveOptions& options, SolveResult& result,
+                           const std::string& name) {
+  const Deadline& deadline = options.deadline;
+  LnsConfig lns_config = config.lns;
+  lns_config.search.forbid_following = lns_config.search.forbid_following || config.forbid_rotations;
+  lns_config.stall_iterations = 0;  // the slice ends it
+  LnsRefiner refiner(instance, dist, lns_config, rng);
+  double search_slice_s = kFirstSearchSliceS;
+  // The refiner's own plan: it accepts changes of equal cost too, so it is not always the one
+  // kept in `result`; handing it back lets the refiner go on without rebuilding its tables.
+  Solution refined = result.solution;
+  // An exhausted LaCAM* search has proved its plan optimal (for plain MAPF; for a joint sequence,
+  // optimal among plans that follow it, which the refiner may still beat).
+  const bool optimal_when_exhausted = instance.task_count() == 0;
+  if (search_done && optimal_when_exhausted) return;
+  while (!deadline.expired() && result.flowtime > result.lower_bound) {
+    if (!search_done) {
+      const LacamResult found = search.run(deadline.within(search_slice_s));
+      search_done = found.exhausted;
+      const bool cheaper = found.solved && flowtime(found.solution, instance.goals) < result.flowtime;
+      if (cheaper) {
+        keep_if_better(result, instance, found.solution, orders, sequence_index, options.started, options, name);
+        refined = result.solution;
+      }
+      search_slice_s = std::clamp(search_slice_s * (cheaper ? 2.0 : 0.5), kMinSearchSliceS, kMaxSearchSliceS);
+      if (search_done && optimal_when_exhausted) break;
+    }
+    const LnsStats stats = refiner.refine(refined, orders, deadline.within(kRefinerSliceS));
+    result.lns_iterations += stats.iterations;
+    keep_if_better(result, instance, refined, orders, sequence_index, options.started, options, name + " refiner");
+  }
 }
 
 }  // namespace planner_core

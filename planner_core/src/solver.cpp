@@ -2,6 +2,7 @@
 
 #include <stdexcept>
 
+#include "planner_core/cts_lacam.hpp"
 #include "planner_core/cts_pibt.hpp"
 #include "planner_core/cts_pll.hpp"
 #include "planner_core/lacam_solver.hpp"
@@ -31,7 +32,7 @@ void keep_if_better(SolveResult& result, const Instance& instance, const Solutio
   if (options.on_solution) options.on_solution(result);
 }
 
-std::vector<std::string> solver_names() { return {"cts-pibt", "cts-pibt-anytime", "cts-pll-v1", "cts-pll-v2", "cts-pll-v3", "lacam", "lacam-star"}; }
+std::vector<std::string> solver_names() { return {"cts-pibt", "cts-pibt-anytime", "cts-pll-v1", "cts-pll-v2", "cts-pll-v3", "cts-lacam", "lacam", "lacam-star"}; }
 
 std::unique_ptr<Solver> make_solver(const SolverConfig& config) {
   if (config.solver == "cts-pibt") return std::make_unique<CtsPibt>(config, false);
@@ -39,6 +40,7 @@ std::unique_ptr<Solver> make_solver(const SolverConfig& config) {
   if (config.solver == "cts-pll-v1") return std::make_unique<CtsPll>(config, CtsPll::Variant::kV1);
   if (config.solver == "cts-pll-v2") return std::make_unique<CtsPll>(config, CtsPll::Variant::kV2);
   if (config.solver == "cts-pll-v3") return std::make_unique<CtsPll>(config, CtsPll::Variant::kV3);
+  if (config.solver == "cts-lacam") return std::make_unique<CtsLacam>(config);
   if (config.solver == "lacam") return std::make_unique<LacamSolver>(config, false);
   if (config.solver == "lacam-star") return std::make_unique<LacamSolver>(config, true);
   std::string known;

@@ -11,18 +11,20 @@
 namespace planner_core {
 namespace {
 
-SolveResult solve_with(const Instance& instance, const std::string& solver, double seconds, int max_sequences = 0) {
+SolveResult solve_with(const Instance& instance, const std::string& solver, double seconds, int max_sequences = 0,
+                       bool complete_fallback = true) {
   SolverConfig config;
   config.solver = solver;
   config.max_sequences = max_sequences;
+  config.complete_fallback = complete_fallback;
   return make_solver(config)->solve(instance, {Deadline::in_seconds(seconds), {}});
 }
 
 // Plain Extended-PIBT must fail and CTS-PLL-v1 must produce a valid plan.
 void expect_lock_released(const Instance& instance) {
-  const SolveResult baseline = solve_with(instance, "cts-pibt", 10);
+  const SolveResult baseline = solve_with(instance, "cts-pibt", 10, 0, /*complete_fallback=*/false);
   EXPECT_FALSE(baseline.solved) << "this case no longer locks Extended-PIBT";
-  const SolveResult pll = solve_with(instance, "cts-pll-v1", 10);
+  const SolveResult pll = solve_with(instance, "cts-pll-v1", 10, 0, /*complete_fallback=*/false);
   ASSERT_TRUE(pll.solved) << pll.failure_reason;
   const ValidationReport report = validate(instance, pll.solution);
   EXPECT_TRUE(report.ok()) << report.summary();
@@ -50,8 +52,8 @@ TEST(LockRelease, GoalsInADeadEndFilledInTheWrongOrder) {
 TEST(CtsPll, SolvesWhatThePibtBaselineCannotOnDenseInstances) {
   // maze N=50 M=180 #05: Extended-PIBT locks in the dead-end corridor at x=31 on the best sequence.
   const Instance instance = load_instance(testing::data_path("instances/maze-32-32-2-N50-M180-05.yaml"));
-  EXPECT_FALSE(solve_with(instance, "cts-pibt", 10).solved);
-  const SolveResult pll = solve_with(instance, "cts-pll-v1", 60);
+  EXPECT_FALSE(solve_with(instance, "cts-pibt", 10, 0, /*complete_fallback=*/false).solved);
+  const SolveResult pll = solve_with(instance, "cts-pll-v1", 60, 0, /*complete_fallback=*/false);
   ASSERT_TRUE(pll.solved) << pll.failure_reason;
   EXPECT_TRUE(validate(instance, pll.solution).ok());
 }

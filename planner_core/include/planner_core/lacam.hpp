@@ -4,6 +4,12 @@
 // search over configurations; each configuration carries a lazily grown tree of constraints and
 // PIBT generates the successor that obeys a constraint. Complete: it finds a solution when one
 // exists, given time.
+//
+// With waypoints (CTS-MAPF for a fixed joint sequence: each agent's task cells in its order, then
+// its goal) a configuration is augmented with every agent's progress, the number of its waypoints
+// visited so far; PIBT then drives each agent to its current waypoint, and an agent is home when
+// it has visited them all and stands on its goal. The augmented space is finite, so the search
+// stays complete (docs/ARCHITECTURE.md, "CTS-LaCAM").
 #pragma once
 
 #include <cstdint>
@@ -29,6 +35,10 @@ struct LacamConfig {
   bool prefer_free_cells = false;
 };
 
+// Per agent, the cells it must visit in this order before its goal; empty rows (or an empty
+// vector) for plain MAPF.
+using Waypoints = std::vector<std::vector<Vertex>>;
+
 struct LacamResult {
   bool solved = false;
   Solution solution;       // solution[0] = starts, back() = goals
@@ -42,7 +52,7 @@ struct LacamResult {
 class LacamSearch {
  public:
   LacamSearch(const Graph& graph, DistTable& dist, const LacamConfig& config, std::mt19937& rng, const Config& starts,
-              const Config& goals, const std::vector<char>& blocked = {});
+              const Config& goals, const std::vector<char>& blocked = {}, const Waypoints& waypoints = {});
   ~LacamSearch();
   LacamSearch(const LacamSearch&) = delete;
   LacamSearch& operator=(const LacamSearch&) = delete;
@@ -67,7 +77,7 @@ class Lacam {
   // Plans `starts` -> `goals` (same length, distinct) where cells with blocked[v] != 0 may not be
   // entered (an empty `blocked` means none).
   LacamResult solve(const Config& starts, const Config& goals, const std::vector<char>& blocked,
-                    const Deadline& deadline);
+                    const Deadline& deadline, const Waypoints& waypoints = {});
 
  private:
   const Graph& graph_;

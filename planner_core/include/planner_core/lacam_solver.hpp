@@ -2,6 +2,10 @@
 // for instances without tasks such as MovingAI scenarios.
 #pragma once
 
+#include <random>
+#include <string>
+#include <vector>
+
 #include "planner_core/lacam.hpp"
 #include "planner_core/solver.hpp"
 
@@ -16,5 +20,14 @@ class LacamSolver : public Solver {
   SolverConfig config_;
   bool refine_;
 };
+
+// LaCAM*'s anytime loop: `search` (which found the plan kept in `result`) goes on for cheaper plans
+// in slices, between LNS refinement of the best plan so far (as lacam3 runs its refiners beside the
+// search), until the deadline or a proved optimum. `orders` and `sequence_index` are the joint
+// sequence the search follows (empty orders for plain MAPF).
+void refine_until_deadline(const Instance& instance, DistTable& dist, LacamSearch& search, bool search_done,
+                           const SolverConfig& config, std::mt19937& rng, const std::vector<std::vector<int>>& orders,
+                           int sequence_index, const SolveOptions& options, SolveResult& result,
+                           const std::string& name);
 
 }  // namespace planner_core

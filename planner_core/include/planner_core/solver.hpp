@@ -28,6 +28,10 @@ struct SolverConfig {
   // Plans for real robots: no agents moving in a cycle within one step (see PibtConfig).
   bool forbid_rotations = false;
   int max_sequences = 0;  // anytime variants: stop after this many joint sequences (0 = until the deadline)
+  // The CTS solvers hand over to the complete search (cts_lacam.hpp) when their own driver has no
+  // plan and time remains, so that "not solved" comes only at the deadline or with a proof. Off
+  // only to study a driver alone (e.g. the paper's CTS-PIBT baseline locking).
+  bool complete_fallback = true;
 };
 
 struct Improvement {
