@@ -95,6 +95,8 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_flag("--json", json, "print the summary tables as one JSON object");
   app.add_option("--seed", config.seed, "random seed")->capture_default_str();
+  app.add_flag("--no-fallback{false}", config.complete_fallback,
+               "CTS solvers: no complete search when their own method runs out (the --experiment runs never use it)");
   app.add_flag("--swap", config.pibt.swap, "Extended-PIBT with LaCAM3's swap operation (head-on meetings in corridors)");
   return program.main(argc, argv, [&] {
     if (!experiment.empty()) {

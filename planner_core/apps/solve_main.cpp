@@ -75,6 +75,8 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--max-sequences", config.max_sequences, "anytime: stop after this many joint sequences (0 = none)")
       ->check(ctsfleet::count_in(0, 1'000'000'000));
+  app.add_flag("--no-fallback{false}", config.complete_fallback,
+               "CTS solvers: no complete search when their own method runs out (to study a method alone)");
   app.add_flag("--swap", config.pibt.swap, "Extended-PIBT with LaCAM3's swap operation (head-on meetings in corridors)");
   app.add_option("--lns-neighbourhood", config.lns.neighbourhood_size, "LNS (cts-pll-v3, lacam-star): agents replanned at once")
       ->check(CLI::Range(1, 1000))

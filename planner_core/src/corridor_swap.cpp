@@ -60,7 +60,8 @@ int CorridorSwap::partner(int agent, Vertex here, Vertex best, const Config& to)
   if (best != here) {
     for (Vertex u : graph_.neighbours(here)) {
       const int neighbour = occupied_now_[u];
-      if (u == best || neighbour == kNobody || to[neighbour] != kNoVertex) continue;
+      // (whether or not the neighbour has its move already: backing off still makes the room)
+      if (u == best || neighbour == kNobody) continue;
       if (required(neighbour, agent, here, best) && possible(best, here)) return neighbour;
     }
   }

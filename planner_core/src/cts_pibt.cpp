@@ -18,23 +18,36 @@ SolveResult CtsPibt::solve(const Instance& instance, const SolveOptions& options
   SolveResult result;
   result.lower_bound = sequencer.lower_bound();
   result.preprocessing_ms = elapsed_ms(started);
+  CompleteSearch complete(instance, dist, config_, rng, anytime_);
+  bool no_plan_exists = false;
   while (!options.deadline.expired()) {
     if (config_.max_sequences > 0 && result.sequences_tried >= config_.max_sequences) break;
     const std::optional<JointSequence> sequence = sequencer.next();
     if (!sequence) break;
     ++result.sequences_tried;
+    const Clock::time_point sequence_started = Clock::now();
     pibt.reset(*sequence);
     const ExtendedPibt::Outcome outcome = pibt.run(options.deadline);
     if (outcome == ExtendedPibt::Outcome::kStepLimit) ++result.pibt_failures;
     if (outcome == ExtendedPibt::Outcome::kSolved) {
       keep_if_better(result, instance, pibt.plan(), sequence->orders, sequence->index, started, options,
                      "Extended-PIBT");
+    } else if (anytime_ && !result.solved && config_.complete_fallback) {
+      // The anytime loop gives the complete search as much time as the failed sequence took.
+      const double spent_s = std::chrono::duration<double>(Clock::now() - sequence_started).count();
+      if (complete.search(options.deadline.within(std::max(0.05, spent_s)), options, result) ==
+          CompleteSearch::Outcome::kNoPlanExists) {
+        no_plan_exists = true;
+        break;
+      }
     }
     if (!anytime_) break;
   }
   // Never give up before the deadline: the complete search takes over.
-  if (!result.solved && config_.complete_fallback && !options.deadline.expired()) {
-    solve_completely(instance, dist, config_, rng, anytime_, options, result);
+  if (!result.solved && !no_plan_exists && config_.complete_fallback && !options.deadline.expired()) {
+    if (complete.search(options.deadline, options, result) == CompleteSearch::Outcome::kFound) {
+      complete.refine(options, result);
+    }
   }
   if (!result.solved && result.failure_reason.empty()) {
     result.failure_reason = result.pibt_failures > 0 ? "Extended-PIBT hit its step limit on every sequence tried"

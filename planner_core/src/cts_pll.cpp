@@ -6,6 +6,13 @@
 
 namespace planner_core {
 
+namespace {
+
+// The least time the complete search gets after a joint sequence failed.
+constexpr double kMinCompleteSliceS = 0.05;
+
+}  // namespace
+
 SolveResult CtsPll::solve(const Instance& instance, const SolveOptions& options) {
   const Clock::time_point started = options.started;
   std::mt19937 rng(config_.seed);
@@ -28,11 +35,25 @@ SolveResult CtsPll::solve(const Instance& instance, const SolveOptions& options)
   SolveResult result;
   result.lower_bound = sequencer.lower_bound();
   result.preprocessing_ms = elapsed_ms(started);
+  // v3: LNS on each feasible plan, for its share of the time.
+  auto refine_by_lns = [&](Solution plan, const std::vector<std::vector<int>>& orders, int sequence_index) {
+    const LnsStats stats = lns.refine(plan, orders, deadline.within(lns_per_sequence_s), [&](int64_t flow) {
+      if (result.solved && flow < result.flowtime &&
+          (result.improvements.empty() || flow < result.improvements.back().flowtime)) {
+        result.improvements.push_back({elapsed_ms(started), flow, sequence_index});
+      }
+    });
+    result.lns_iterations += stats.iterations;
+    keep_if_better(result, instance, plan, orders, sequence_index, started, options, "CTS-PLL");
+  };
+  CompleteSearch complete(instance, dist, config_, rng, variant_ == Variant::kV3);
+  bool no_plan_exists = false;
   while (!deadline.expired()) {
     if (config_.max_sequences > 0 && result.sequences_tried >= config_.max_sequences) break;
     const std::optional<JointSequence> sequence = sequencer.next();
     if (!sequence) break;
     ++result.sequences_tried;
+    const Clock::time_point sequence_started = Clock::now();
 
     // Extended-PIBT, releasing locks until the plan is feasible (Algorithm 2, lines 4-7).
     pibt.reset(*sequence);
@@ -76,23 +97,27 @@ SolveResult CtsPll::solve(const Instance& instance, const SolveOptions& options)
     if (feasible) {
       Solution plan = completed_plan ? std::move(*completed_plan) : pibt.plan();
       keep_if_better(result, instance, plan, sequence->orders, sequence->index, started, options, "CTS-PLL");
-      if (variant_ == Variant::kV3) {
-        const LnsStats stats = lns.refine(plan, sequence->orders, deadline.within(lns_per_sequence_s), [&](int64_t flow) {
-          if (result.solved && flow < result.flowtime &&
-              (result.improvements.empty() || flow < result.improvements.back().flowtime)) {
-            result.improvements.push_back({elapsed_ms(started), flow, sequence->index});
-          }
-        });
-        result.lns_iterations += stats.iterations;
-        keep_if_better(result, instance, plan, sequence->orders, sequence->index, started, options, "CTS-PLL");
+      if (variant_ == Variant::kV3) refine_by_lns(plan, sequence->orders, sequence->index);
+    } else if (config_.complete_fallback && variant_ != Variant::kV1) {
+      // This sequence defeated Extended-PIBT and the releases: the complete search gets as much
+      // time as they took (it goes on where it stopped the next time).
+      const double spent_s = std::chrono::duration<double>(Clock::now() - sequence_started).count();
+      const CompleteSearch::Outcome outcome =
+          complete.search(deadline.within(std::max(kMinCompleteSliceS, spent_s)), options, result);
+      if (outcome == CompleteSearch::Outcome::kNoPlanExists) {
+        no_plan_exists = true;
+        break;
+      }
+      if (outcome == CompleteSearch::Outcome::kFound && variant_ == Variant::kV3) {
+        refine_by_lns(result.solution, result.orders, result.improvements.back().sequence_index);
       }
     }
     if (variant_ == Variant::kV1) break;
     if (variant_ == Variant::kV2 && result.solved) break;
   }
   // Never give up before the deadline: the complete search takes over (and v3 refines its plan).
-  if (!result.solved && config_.complete_fallback && !deadline.expired()) {
-    solve_completely(instance, dist, config_, rng, variant_ == Variant::kV3, options, result);
+  if (!result.solved && !no_plan_exists && config_.complete_fallback && !deadline.expired()) {
+    if (complete.search(deadline, options, result) == CompleteSearch::Outcome::kFound) complete.refine(options, result);
   }
   if (!result.solved && result.failure_reason.empty()) {
     result.failure_reason = deadline.expired() ? "deadline reached before a feasible plan was found"

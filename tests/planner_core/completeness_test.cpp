@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cstdint>
 #include <random>
 #include <unordered_set>
@@ -243,6 +244,20 @@ TEST(Completeness, AnUnsolvableInstanceIsProvedSoNotGivenUpOn) {
     EXPECT_EQ(result.failure_reason.rfind("no plan exists", 0), 0u) << solver << ": " << result.failure_reason;
     EXPECT_LT(result.comp_time_ms, 10000) << solver;
   }
+}
+
+TEST(CtsLacam, PlansFourHundredAgentsWithTasksInAWarehouse) {
+  // The CTS scale suite's warehouse N=400: no CTS solver found a first plan in 30 s before
+  // CTS-LaCAM (now about 0.3 s); stop at the first plan.
+  const Instance instance =
+      load_instance(std::string(CTSFLEET_BENCHMARKS_DIR) + "/scale/warehouse-10-20-10-2-1-N400-M800-00.yaml");
+  std::atomic<bool> first_plan{false};
+  SolveOptions options{Deadline::in_seconds(60, &first_plan), [&](const SolveResult&) { first_plan = true; }};
+  SolverConfig config;
+  config.solver = "cts-lacam";
+  const SolveResult result = make_solver(config)->solve(instance, options);
+  ASSERT_TRUE(result.solved) << result.failure_reason;
+  EXPECT_TRUE(validate(instance, result.solution).ok());
 }
 
 TEST(CtsLacam, WaypointsAreVisitedInTheGivenOrder) {

@@ -67,6 +67,19 @@ TEST(Lacam, StarRefinementKeepsAValidPlanNoWorse) {
   EXPECT_LE(refined.cost, plain.cost);
 }
 
+TEST(LacamSolver, PlansFiveHundredAgentsInAWarehouseWithOneCellAisles) {
+  // Head-on meetings pile up in the aisles between shelves. The swap's clear operation backs an
+  // agent off for a neighbour that must get past it even when that neighbour already has its move;
+  // before it did, `lacam` found no plan for this instance in 10 s (now about 0.1 s).
+  const Instance instance =
+      load_instance(std::string(CTSFLEET_BENCHMARKS_DIR) + "/mapf/warehouse-10-20-10-2-1-N500-0.yaml");
+  SolverConfig config;
+  config.solver = "lacam";
+  const SolveResult result = make_solver(config)->solve(instance, {Deadline::in_seconds(30), {}});
+  ASSERT_TRUE(result.solved) << result.failure_reason;
+  EXPECT_TRUE(validate(instance, result.solution).ok());
+}
+
 TEST(LacamSolver, RejectsInstancesWithTasks) {
   const Instance instance = testing::make_instance({"....."}, {{{0, 0}, {4, 0}}}, {{{2, 0}, {0}}});
   SolverConfig config;

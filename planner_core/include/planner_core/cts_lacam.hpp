@@ -3,13 +3,18 @@
 // (lacam.hpp, waypoints). A sequence whose augmented space is searched to the end without a plan
 // cannot be followed, and the next one is tried; when every joint sequence has been searched to
 // the end, no plan exists. The standalone solver `cts-lacam` (anytime: LaCAM* search slices and
-// LNS refinement until the deadline), and the fallback of the other CTS solvers when their own
-// driver is out of ideas before the deadline.
+// LNS refinement until the deadline), and the fallback of the other CTS solvers: they give it
+// time whenever their own method fails on a joint sequence, and the rest of the time when their
+// own method has nothing left to try.
 #pragma once
 
+#include <memory>
+#include <optional>
 #include <random>
 
 #include "planner_core/dist_table.hpp"
+#include "planner_core/joint_sequencer.hpp"
+#include "planner_core/lacam.hpp"
 #include "planner_core/solver.hpp"
 
 namespace planner_core {
@@ -23,11 +28,35 @@ class CtsLacam : public Solver {
   SolverConfig config_;
 };
 
-// Searches for a plan into `result` (which may hold one already: a cheaper one replaces it),
-// joint sequence after joint sequence, until one is found or the deadline passes; with `anytime`,
-// refines it until the deadline. Sets result.failure_reason when no plan was found: a proof of
-// unsolvability when every joint sequence was searched to the end.
-void solve_completely(const Instance& instance, DistTable& dist, const SolverConfig& config, std::mt19937& rng,
-                      bool anytime, const SolveOptions& options, SolveResult& result);
+// The search itself, resumable: a driver can give it slices of time between its own attempts.
+class CompleteSearch {
+ public:
+  enum class Outcome { kFound, kNoPlanExists, kOutOfTime };
+
+  // `anytime`: keep what LaCAM* needs to improve the plan later (refine()).
+  CompleteSearch(const Instance& instance, DistTable& dist, const SolverConfig& config, std::mt19937& rng,
+                 bool anytime);
+  ~CompleteSearch();
+
+  // Goes on from where the last call stopped until it has a plan (kept in `result` through
+  // keep_if_better, when cheaper than the one there), has proved that none exists (then it sets
+  // result.failure_reason), or the deadline passes.
+  Outcome search(const Deadline& deadline, const SolveOptions& options, SolveResult& result);
+
+  // After kFound, with `anytime`: LaCAM* search slices and LNS on the plan until options.deadline.
+  void refine(const SolveOptions& options, SolveResult& result);
+
+ private:
+  const Instance& instance_;
+  DistTable& dist_;
+  SolverConfig config_;
+  std::mt19937& rng_;
+  bool anytime_;
+  std::unique_ptr<JointSequencer> sequencer_;  // made on the first call that has time to finish it
+  std::optional<JointSequence> sequence_;      // the one being searched
+  std::unique_ptr<LacamSearch> lacam_;
+  bool exhausted_ = false;  // the current sequence's space was searched to the end
+  int impossible_sequences_ = 0;
+};
 
 }  // namespace planner_core

@@ -26,8 +26,11 @@ class JointSequencer {
   JointSequencer(const Instance& instance, DistTable& dist, const TaskOrderConfig& config,
                  const Deadline& deadline = {});
 
-  // The next joint sequence, or nullopt when every combination has been produced.
+  // The next joint sequence, or nullopt when every combination has been produced (or, when not
+  // ready(), none can be).
   std::optional<JointSequence> next();
+  // Every agent's orders were built before the deadline given to the constructor.
+  bool ready() const { return ready_; }
 
   // Sum over agents of their single-agent lower bounds (exact tours within the exact limit);
   // 0 when the deadline cut the orders short.
