@@ -130,6 +130,18 @@ void FleetCoordinator::on_robot_gone(const std::string& robot_id, fleet_transpor
   events_.push_back(std::move(event));
 }
 
+// The robot agent `a` of the current plan drives, or nullptr: a robot that left and came back
+// after the plan was made is not in it until the next plan.
+RobotRecord* FleetCoordinator::robot_of_agent(int a) {
+  RobotRecord& robot = robots_[plan_->agent(a).robot_id];
+  return robot.plan_agent == a ? &robot : nullptr;
+}
+
+const RobotRecord* FleetCoordinator::robot_of_agent(int a) const {
+  const RobotRecord* robot = robots_.find(plan_->agent(a).robot_id);
+  return robot != nullptr && robot->plan_agent == a ? robot : nullptr;
+}
+
 Vertex FleetCoordinator::mission_vertex(int x, int y) const { return mission_.graph->vertex_at({x, y}); }
 
 void FleetCoordinator::request_replan(const std::string& why) {
@@ -270,6 +282,9 @@ void FleetCoordinator::handle_state(RobotRecord& robot, const fleet_transport::R
     // A robot (re)joins once it stands still on a cell.
     if (state.status == RobotStatus::kMoving) return;
     robot.active = true;
+    // The current plan was made without it (or with it elsewhere): its reports are not checked
+    // against that plan, nor is it commanded by it, until the replan places it.
+    robot.plan_agent = -1;
     // It is where it reports, no longer where it was lost.
     std::erase_if(blocked_, [&](const auto& entry) { return entry.second == robot.id || entry.first == cell; });
     if (driving()) {
@@ -469,9 +484,10 @@ bool FleetCoordinator::replan(fleet_transport::Transport& transport) {
 void FleetCoordinator::update_progress() {
   if (!plan_) return;
   for (int a = 0; a < plan_->agent_count(); ++a) {
-    RobotRecord& robot = robots_[plan_->agent(a).robot_id];
-    if (const auto reached = plan_->confirm(a, robot.last); reached && robot.role >= 0) {
-      credit_visits(robot.role, mission_vertex(reached->x, reached->y), robot.id);
+    RobotRecord* robot = robot_of_agent(a);
+    if (robot == nullptr) continue;
+    if (const auto reached = plan_->confirm(a, robot->last); reached && robot->role >= 0) {
+      credit_visits(robot->role, mission_vertex(reached->x, reached->y), robot->id);
     }
   }
 }
@@ -481,8 +497,9 @@ void FleetCoordinator::dispatch(fleet_transport::Transport& transport) {
   const Clock::time_point now = Clock::now();
   const double resend_after_s = std::max(1.0, 5 * config_.step_s);
   for (int a = 0; a < plan_->agent_count(); ++a) {
-    RobotRecord& robot = robots_[plan_->agent(a).robot_id];
-    if (!robot.active) continue;
+    RobotRecord* robot_in_plan = robot_of_agent(a);
+    if (robot_in_plan == nullptr || !robot_in_plan->active) continue;
+    RobotRecord& robot = *robot_in_plan;
     if (plan_->done(a)) {
       if (!robot.finished_plan) {
         robot.finished_plan = true;
@@ -511,7 +528,7 @@ void FleetCoordinator::dispatch(fleet_transport::Transport& transport) {
 bool FleetCoordinator::plan_finished() const {
   if (!plan_) return false;
   for (int a = 0; a < plan_->agent_count(); ++a) {
-    const RobotRecord* robot = robots_.find(plan_->agent(a).robot_id);
+    const RobotRecord* robot = robot_of_agent(a);
     if (robot == nullptr || !robot->active) continue;
     if (!plan_->done(a)) return false;
   }
@@ -663,7 +680,7 @@ bool FleetCoordinator::step(fleet_transport::Transport& transport) {
       update_progress();
       bool moves_in_flight = false;
       for (int a = 0; plan_ && a < plan_->agent_count(); ++a) {
-        const RobotRecord* robot = robots_.find(plan_->agent(a).robot_id);
+        const RobotRecord* robot = robot_of_agent(a);
         if (plan_->in_flight(a) && robot != nullptr && robot->active) moves_in_flight = true;
       }
       // Robots still carrying out another coordinator's last command (after a takeover or a restart).

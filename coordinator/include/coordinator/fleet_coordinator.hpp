@@ -144,6 +144,8 @@ class FleetCoordinator {
   void request_replan(const std::string& why);
   void list_pending();
   planner_core::Vertex mission_vertex(int x, int y) const;
+  RobotRecord* robot_of_agent(int a);
+  const RobotRecord* robot_of_agent(int a) const;
 
   FleetConfig config_;
   planner_core::Instance mission_;
