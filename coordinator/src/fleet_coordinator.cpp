@@ -7,6 +7,7 @@
 #include <random>
 #include <sstream>
 #include <tuple>
+#include <utility>
 
 #include "coordinator/plan_builder.hpp"
 #include "coordinator/role_assignment.hpp"
@@ -130,16 +131,15 @@ void FleetCoordinator::on_robot_gone(const std::string& robot_id, fleet_transpor
   events_.push_back(std::move(event));
 }
 
-// The robot agent `a` of the current plan drives, or nullptr: a robot that left and came back
-// after the plan was made is not in it until the next plan.
-RobotRecord* FleetCoordinator::robot_of_agent(int a) {
-  RobotRecord& robot = robots_[plan_->agent(a).robot_id];
-  return robot.plan_agent == a ? &robot : nullptr;
-}
-
+// The robot that drives agent `a` of the current plan, or nullptr: a robot that left and came
+// back after the plan was made is not in it until the next plan.
 const RobotRecord* FleetCoordinator::robot_of_agent(int a) const {
   const RobotRecord* robot = robots_.find(plan_->agent(a).robot_id);
   return robot != nullptr && robot->plan_agent == a ? robot : nullptr;
+}
+
+RobotRecord* FleetCoordinator::robot_of_agent(int a) {
+  return const_cast<RobotRecord*>(std::as_const(*this).robot_of_agent(a));
 }
 
 Vertex FleetCoordinator::mission_vertex(int x, int y) const { return mission_.graph->vertex_at({x, y}); }
@@ -497,9 +497,9 @@ void FleetCoordinator::dispatch(fleet_transport::Transport& transport) {
   const Clock::time_point now = Clock::now();
   const double resend_after_s = std::max(1.0, 5 * config_.step_s);
   for (int a = 0; a < plan_->agent_count(); ++a) {
-    RobotRecord* robot_in_plan = robot_of_agent(a);
-    if (robot_in_plan == nullptr || !robot_in_plan->active) continue;
-    RobotRecord& robot = *robot_in_plan;
+    RobotRecord* driver = robot_of_agent(a);
+    if (driver == nullptr || !driver->active) continue;
+    RobotRecord& robot = *driver;
     if (plan_->done(a)) {
       if (!robot.finished_plan) {
         robot.finished_plan = true;
