@@ -9,6 +9,7 @@ set(CTSFLEET_PROGRAMS
   ctsfleet-agent ctsfleet-toio-emulator ctsfleet-toio-calibrate)
 install(TARGETS ${CTSFLEET_PROGRAMS} RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 install(PROGRAMS scripts/ctsfleet-plot DESTINATION ${CMAKE_INSTALL_BINDIR})
+install(PROGRAMS scripts/fleet-ca DESTINATION ${CMAKE_INSTALL_BINDIR} RENAME ctsfleet-ca)
 
 set(CTSFLEET_DATA_DESTINATION ${CMAKE_INSTALL_DATADIR}/ctsfleet)
 install(DIRECTORY config benchmarks DESTINATION ${CTSFLEET_DATA_DESTINATION})

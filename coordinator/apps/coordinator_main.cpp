@@ -32,6 +32,9 @@ int main(int argc, char** argv) {
                  "SQLite journal of the mission: every task visit is committed there; an unfinished run found in "
                  "it is resumed (done tasks are not redone)")
       ->check(ctsfleet::writable_file());
+  std::string security_dir, identity;
+  app.add_option("--security", security_dir, "override security.fleet_dir: the fleet directory made by ctsfleet-ca");
+  app.add_option("--identity", identity, "override security.identity: the name this coordinator is enrolled as");
   app.add_flag("--standby", standby,
                "follow the active coordinator of this mission and take over when it falls silent");
   return program.main(argc, argv, [&] {
@@ -39,6 +42,12 @@ int main(int argc, char** argv) {
     FleetConfig config = load_fleet_config(config_path);
     if (!vendor.empty()) config.dds_vendor = vendor;
     if (domain >= 0) config.domain_id = domain;
+    if (!security_dir.empty()) config.security_dir = security_dir;
+    if (!identity.empty()) config.security_identity = identity;
+    fleet_transport::TransportConfig transport_config = config.transport_config();  // checks the security files
+    if (!transport_config.security.enabled()) {
+      spdlog::warn("DDS Security is off: any process on domain {} can join the fleet (see ctsfleet-ca)", config.domain_id);
+    }
     planner_core::Instance mission = planner_core::load_instance(config.mission);
     spdlog::info("mission {}: {} roles, {} tasks; solver {}; {} domain {}", config.mission, mission.agent_count(),
                  mission.task_count(), config.solver, config.dds_vendor, config.domain_id);
@@ -51,7 +60,6 @@ int main(int argc, char** argv) {
     }
     FleetCoordinator coordinator(config, std::move(mission), {standby, journal.get()});
     coordinator.set_interrupt(&ctsfleet::stop_requested());  // Ctrl-C cuts a running solve short
-    fleet_transport::TransportConfig transport_config = config.transport_config();
     // Of several live coordinators' commands, a robot hears the highest term's (a standby has none yet).
     transport_config.command_strength = standby ? 0 : static_cast<int>(coordinator.summary().term);
     fleet_transport::Handlers handlers;
@@ -61,6 +69,7 @@ int main(int argc, char** argv) {
       coordinator.on_announcement(a);
     };
     handlers.on_state = [&](const fleet_transport::RobotState& s) { coordinator.on_state(s); };
+    handlers.on_refused = [](const std::string& what) { spdlog::warn("refused: {}", what); };
     handlers.on_robot_gone = [&](const std::string& id, fleet_transport::GoneReason r) { coordinator.on_robot_gone(id, r); };
     handlers.on_coordinator_status = [&](const fleet_transport::CoordinatorStatus& s) {
       coordinator.on_coordinator_status(s);

@@ -47,9 +47,13 @@ int main(int argc, char** argv) {
                  "seconds two coordinators may both be active (one listening, then standing down) before it is an alarm")
       ->check(ctsfleet::number_in(0, 3600))
       ->capture_default_str();
+  std::string security_dir, identity = "monitor";
+  app.add_option("--security", security_dir, "fleet directory made by ctsfleet-ca (DDS Security)");
+  app.add_option("--identity", identity, "the observer name this monitor is enrolled as")->capture_default_str();
   return program.main(argc, argv, [&] {
     const std::atomic<bool>& g_stop = ctsfleet::stop_requested();
     if (dds_dir.empty()) dds_dir = ctsfleet::data_path("config/dds").string();
+    const fleet_transport::SecurityFiles security = fleet_transport::load_fleet_security(security_dir, identity);
 
     std::mutex mutex;
     // Paths per robot process: "id#incarnation", so a restart starts a new path and a second process
@@ -65,6 +69,7 @@ int main(int argc, char** argv) {
     config.vendor = fleet_transport::parse_vendor(vendor);
     config.domain_id = domain;
     config.loopback_config_dir = dds_dir;
+    config.security = security;
     coordinator::ActiveCoordinatorWatch coordinators(
         std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(coordinator_overlap_s)));
     fleet_transport::Handlers handlers;
@@ -112,6 +117,7 @@ int main(int argc, char** argv) {
       }
       path.push_back({s.cell_x, s.cell_y, s.stamp_ms, INT64_MAX});
     };
+    handlers.on_refused = [](const std::string& what) { spdlog::warn("refused: {}", what); };
     auto transport = fleet_transport::make_transport(config, handlers);
     const auto start = std::chrono::steady_clock::now();
     while (!g_stop.load() &&

@@ -19,6 +19,7 @@
 #include <thread>
 
 #include "child_process.hpp"
+#include "throwaway_fleet_ca.hpp"
 #include "coordinator/fleet_config.hpp"
 #include "ctsfleet/data_dir.hpp"
 #include "ctsfleet/program.hpp"
@@ -97,6 +98,10 @@ int main(int argc, char** argv) {
   app.add_option("--seed", seed, "sim: random seed of the first agent")->capture_default_str();
   app.add_option("--log-dir", log_dir, "where the agents' logs go")->check(ctsfleet::writable_folder())->capture_default_str();
   app.add_flag("--json", json, "the coordinator prints its mission summary as one JSON object");
+  bool secure = false;
+  app.add_flag("--secure", secure,
+               "DDS Security with a throw-away fleet CA made for this run in LOG_DIR/fleet-ca (always on for "
+               "toio-emulated, whose config requires it)");
   return program.main(argc, argv, [&]() -> int {
     const bool toio = backend == "toio-emulated";
     if (config_path.empty()) config_path = ctsfleet::data_path(toio ? "config/toio/fleet.yaml" : "config/fleet.yaml").string();
@@ -115,6 +120,16 @@ int main(int argc, char** argv) {
       if (agent_vendor.empty()) agent_vendor = vendor;
       if (domain < 0) domain = config.domain_id;
       fs::create_directories(log_dir);
+      const fs::path fleet_ca = fs::absolute(fs::path(log_dir) / "fleet-ca");
+      if (secure || config.security_required) {
+        std::vector<std::string> ids;
+        for (int r = 0; r < robots; ++r) ids.push_back("robot" + std::to_string(r));
+        coordinator::make_throwaway_fleet_ca(here, fleet_ca, ids);
+        secure = true;
+        spdlog::info("DDS Security on: throw-away fleet CA in {}", fleet_ca.string());
+      } else {
+        spdlog::warn("DDS Security is off (loopback simulation; --secure turns it on)");
+      }
 
       // Robots start on the roles' starts, then on random free cells nobody needs.
       std::vector<planner_core::Cell> starts;
@@ -172,11 +187,13 @@ int main(int argc, char** argv) {
                                          "--seed", std::to_string(seed + r)};
         if (!config.dds_config_dir.empty()) args.insert(args.end(), {"--dds-config-dir", config.dds_config_dir});
         if (toio) args.insert(args.end(), {"--cube", "toio-" + std::to_string(r), "--mat", mat_path});
+        if (secure) args.insert(args.end(), {"--security", fleet_ca.string()});
         agents.push_back(coordinator::start_child(args, log_dir + "/robot" + std::to_string(r) + ".log"));
       }
       std::vector<std::string> coordinator_args = {(here / "ctsfleet-coordinator").string(), "--config", config_path,
                                                    "--dds", vendor, "--domain", std::to_string(domain)};
       if (json) coordinator_args.push_back("--json");
+      if (secure) coordinator_args.insert(coordinator_args.end(), {"--security", fleet_ca.string()});
       const pid_t coordinator_pid = coordinator::start_child(coordinator_args, "");
       spdlog::info("started {} agents ({}) and the coordinator ({}) on domain {}; agent logs in {}", robots,
                    agent_vendor, vendor, domain, log_dir);

@@ -39,7 +39,7 @@ FleetConfig load_fleet_config(const std::string& path) {
   const planner_core::YamlContext r(path);
   FleetConfig config;
   config.source = path;
-  r.only_keys(root, {"mission", "robots", "planner", "dds", "timing"}, "top level");
+  r.only_keys(root, {"mission", "robots", "planner", "dds", "timing", "security"}, "top level");
   if (!root["mission"] || !root["mission"].IsScalar()) r.fail(root, "mission", "missing or not a file name");
   fs::path mission = root["mission"].Scalar();
   if (mission.is_relative()) mission = fs::path(path).parent_path() / mission;
@@ -104,6 +104,17 @@ FleetConfig load_fleet_config(const std::string& path) {
       r.fail(dds["vendor"], "dds.vendor", "expected cyclone or fastdds");
     }
   }
+  if (const YAML::Node security = root["security"]) {
+    r.only_keys(security, {"required", "fleet_dir", "identity"}, "security");
+    r.read(security, "required", "security", config.security_required);
+    std::string dir;
+    r.read(security, "fleet_dir", "security", dir);
+    if (!dir.empty()) config.security_dir = fs::path(dir).is_relative() ? (fs::path(path).parent_path() / dir).lexically_normal().string() : dir;
+    r.read(security, "identity", "security", config.security_identity);
+    if (config.security_identity.empty() || config.security_identity.size() > 32) {
+      r.fail(security["identity"], "security.identity", "must have 1 to 32 characters");
+    }
+  }
   if (const YAML::Node timing = root["timing"]) {
     r.only_keys(timing, {"step_s", "silence_timeout_s", "mission_timeout_s", "replan_settle_s", "replacement_timeout_s"}, "timing");
     r.read(timing, "step_s", "timing", config.step_s);
@@ -138,6 +149,11 @@ fleet_transport::TransportConfig FleetConfig::transport_config() const {
   config.domain_id = domain_id;
   config.lease_s = lease_s;
   config.loopback_config_dir = dds_config_dir;
+  if (security_required && security_dir.empty()) {
+    throw InputError(source + ": security.required is true (these robots are real) but no fleet directory is given "
+                     "(security.fleet_dir or --security): " + fleet_transport::kFleetCaHint);
+  }
+  config.security = fleet_transport::load_fleet_security(security_dir, security_identity);
   return config;
 }
 

@@ -1,9 +1,13 @@
 // Transport over Cyclone DDS (C API) with the idlc-generated types.
 #include <dds/dds.h>
+#include <dlfcn.h>
 
 #include <cstring>
+#include <filesystem>
 #include <map>
+#include <unordered_map>
 #include <mutex>
+#include <set>
 #include <stdexcept>
 #include <vector>
 
@@ -62,11 +66,54 @@ void check(dds_return_t rc, const char* what) {
   if (rc < 0) throw std::runtime_error(std::string("Cyclone DDS: ") + what + ": " + dds_strretcode(rc));
 }
 
+// Where Debian keeps Cyclone's security plugins: beside libddsc, in libddsc0debian/. Elsewhere the
+// plain name, which Cyclone resolves through the library path.
+std::string security_plugin(const char* name) {
+  Dl_info info{};
+  if (dladdr(reinterpret_cast<void*>(&dds_create_participant), &info) != 0 && info.dli_fname) {
+    const auto beside = std::filesystem::path(info.dli_fname).parent_path() / "libddsc0debian" / ("lib" + std::string(name) + ".so");
+    if (std::filesystem::is_regular_file(beside)) return beside.string();
+  }
+  return name;
+}
+
+// Participant QoS for DDS Security with the builtin plugins (null when security is off).
+dds_qos_t* security_qos(const SecurityFiles& files) {
+  if (!files.enabled()) return nullptr;
+  dds_qos_t* qos = dds_create_qos();
+  const auto file = [](const std::string& path) { return "file:" + path; };
+  dds_qset_prop(qos, "dds.sec.auth.library.path", security_plugin("dds_security_auth").c_str());
+  dds_qset_prop(qos, "dds.sec.auth.library.init", "init_authentication");
+  dds_qset_prop(qos, "dds.sec.auth.library.finalize", "finalize_authentication");
+  dds_qset_prop(qos, "dds.sec.crypto.library.path", security_plugin("dds_security_crypto").c_str());
+  dds_qset_prop(qos, "dds.sec.crypto.library.init", "init_crypto");
+  dds_qset_prop(qos, "dds.sec.crypto.library.finalize", "finalize_crypto");
+  dds_qset_prop(qos, "dds.sec.access.library.path", security_plugin("dds_security_ac").c_str());
+  dds_qset_prop(qos, "dds.sec.access.library.init", "init_access_control");
+  dds_qset_prop(qos, "dds.sec.access.library.finalize", "finalize_access_control");
+  dds_qset_prop(qos, "dds.sec.auth.identity_ca", file(files.identity_ca).c_str());
+  dds_qset_prop(qos, "dds.sec.auth.identity_certificate", file(files.identity_certificate).c_str());
+  dds_qset_prop(qos, "dds.sec.auth.private_key", file(files.private_key).c_str());
+  dds_qset_prop(qos, "dds.sec.access.permissions_ca", file(files.permissions_ca).c_str());
+  dds_qset_prop(qos, "dds.sec.access.governance", file(files.governance).c_str());
+  dds_qset_prop(qos, "dds.sec.access.permissions", file(files.permissions).c_str());
+  if (!files.revocation_list.empty()) {
+    dds_qset_prop(qos, "org.eclipse.cyclonedds.sec.auth.crl", file(files.revocation_list).c_str());
+  }
+  return qos;
+}
+
 class CycloneTransport : public Transport {
  public:
   CycloneTransport(const TransportConfig& config, Handlers handlers)
       : handlers_(std::move(handlers)), commands_for_(config.commands_for) {
-    participant_ = dds_create_participant(static_cast<dds_domainid_t>(config.domain_id), nullptr, nullptr);
+    dds_qos_t* participant_qos = security_qos(config.security);
+    participant_ = dds_create_participant(static_cast<dds_domainid_t>(config.domain_id), participant_qos, nullptr);
+    if (participant_qos) dds_delete_qos(participant_qos);
+    if (participant_ < 0 && config.security.enabled()) {
+      throw std::runtime_error("Cyclone DDS: the security plugins refused " + config.security.participant + "'s identity (" +
+                               dds_strretcode(participant_) + "): its certificate, permissions or governance");
+    }
     check(participant_, "create participant");
     const dds_duration_t lease = DDS_SECS(1) * config.lease_s;
 
@@ -102,24 +149,20 @@ class CycloneTransport : public Transport {
     // made now, so readers have matched them before the first sample (volatile data is lost
     // otherwise): agents (command readers) announce and report state, the coordinator (state
     // reader) commands.
-    if (handlers_.on_command) {
-      writer(announcement_writer_, announcement_topic_, registry_qos_);
-      writer(state_writer_, state_topic_, state_qos_);
+    if (handlers_.on_command && !commands_for_.empty()) {
+      robot_writers(commands_for_);
     }
 
+    const bool reads_robots = handlers_.on_announcement || handlers_.on_robot_gone || handlers_.on_state;
+    const dds_entity_t every_robot = reads_robots ? subscriber_in(kEveryRobotPartition) : 0;
     if (handlers_.on_announcement || handlers_.on_robot_gone) {
-      make_reader(announcement_topic_, registry, &CycloneTransport::announcements_available);
+      make_reader(announcement_topic_, registry, &CycloneTransport::announcements_available, every_robot);
     }
-    if (handlers_.on_state) make_reader(state_topic_, state, &CycloneTransport::states_available);
+    if (handlers_.on_state) make_reader(state_topic_, state, &CycloneTransport::states_available, every_robot);
     if (handlers_.on_command) {
       const std::string partition =
-          commands_for_.empty() ? std::string(kEveryCommandPartition) : command_partition(commands_for_);
-      dds_qos_t* subscriber_qos = dds_create_qos();
-      dds_qset_partition1(subscriber_qos, partition.c_str());
-      const dds_entity_t subscriber = dds_create_subscriber(participant_, subscriber_qos, nullptr);
-      dds_delete_qos(subscriber_qos);
-      check(subscriber, "create command subscriber");
-      make_reader(command_topic_, command, &CycloneTransport::commands_available, subscriber);
+          commands_for_.empty() ? std::string(kEveryRobotPartition) : command_partition(commands_for_);
+      make_reader(command_topic_, command, &CycloneTransport::commands_available, subscriber_in(partition));
     }
     if (handlers_.on_fleet_status) make_reader(status_topic_, registry, &CycloneTransport::statuses_available);
     if (handlers_.on_coordinator_status) {
@@ -142,14 +185,14 @@ class CycloneTransport : public Transport {
     copy_string(wire.version, a.version);
     wire.leaving = a.leaving;
     wire.incarnation = a.incarnation;
-    check(dds_write(writer(announcement_writer_, announcement_topic_, registry_qos_), &wire), "write announcement");
+    check(dds_write(robot_writers(a.robot_id).announcement, &wire), "write announcement");
   }
 
   void say_goodbye(const std::string& robot_id) override {
     fleet_Announcement wire{};
     copy_string(wire.robot_id, robot_id);
     wire.leaving = true;
-    const dds_entity_t w = writer(announcement_writer_, announcement_topic_, registry_qos_);
+    const dds_entity_t w = robot_writers(robot_id).announcement;
     check(dds_write(w, &wire), "write goodbye");
     check(dds_dispose(w, &wire), "dispose announcement");
   }
@@ -170,7 +213,7 @@ class CycloneTransport : public Transport {
     wire.stamp_ms = s.stamp_ms;
     wire.incarnation = s.incarnation;
     wire.coordinator = s.coordinator;
-    check(dds_write(writer(state_writer_, state_topic_, state_qos_), &wire), "write state");
+    check(dds_write(robot_writers(s.robot_id).state, &wire), "write state");
   }
 
   void send_command(const StepCommand& c) override {
@@ -245,20 +288,79 @@ class CycloneTransport : public Transport {
     }
     return slot;
   }
+  dds_entity_t publisher_in(const std::string& partition) {
+    dds_qos_t* qos = dds_create_qos();
+    dds_qset_partition1(qos, partition.c_str());
+    const dds_entity_t publisher = dds_create_publisher(participant_, qos, nullptr);
+    dds_delete_qos(qos);
+    check(publisher, ("create publisher in partition " + partition).c_str());
+    return publisher;
+  }
+  dds_entity_t subscriber_in(const std::string& partition) {
+    dds_qos_t* qos = dds_create_qos();
+    dds_qset_partition1(qos, partition.c_str());
+    const dds_entity_t subscriber = dds_create_subscriber(participant_, qos, nullptr);
+    dds_delete_qos(qos);
+    check(subscriber, ("create subscriber in partition " + partition).c_str());
+    return subscriber;
+  }
   // The command writer of one robot, in that robot's partition (see command_partition).
   dds_entity_t command_writer(const std::string& robot_id) {
     const std::lock_guard<std::mutex> lock(writers_mutex_);
     dds_entity_t& slot = command_writers_[robot_id];
     if (slot == 0) {
-      dds_qos_t* publisher_qos = dds_create_qos();
-      dds_qset_partition1(publisher_qos, command_partition(robot_id).c_str());
-      const dds_entity_t publisher = dds_create_publisher(participant_, publisher_qos, nullptr);
-      dds_delete_qos(publisher_qos);
-      check(publisher, "create command publisher");
-      slot = dds_create_writer(publisher, command_topic_, command_qos_, nullptr);
-      check(slot, "create command writer");
+      slot = dds_create_writer(publisher_in(command_partition(robot_id)), command_topic_, command_qos_, nullptr);
+      check(slot, ("create command writer for " + robot_id).c_str());
     }
     return slot;
+  }
+  // The announcement and state writers of one robot, in that robot's partition: under DDS
+  // Security a robot's permissions allow it to write there only.
+  struct RobotWriters {
+    dds_entity_t announcement = 0, state = 0;
+  };
+  const RobotWriters& robot_writers(const std::string& robot_id) {
+    const std::lock_guard<std::mutex> lock(writers_mutex_);
+    RobotWriters& writers = robot_writers_[robot_id];
+    if (writers.state == 0) {
+      const dds_entity_t publisher = publisher_in(command_partition(robot_id));
+      writers.announcement = dds_create_writer(publisher, announcement_topic_, registry_qos_, nullptr);
+      check(writers.announcement, ("create announcement writer for " + robot_id).c_str());
+      writers.state = dds_create_writer(publisher, state_topic_, state_qos_, nullptr);
+      check(writers.state, ("create state writer for " + robot_id).c_str());
+    }
+    return writers;
+  }
+
+  // True when the sample about `robot_id` came from a writer in that robot's own partition.
+  // Partitions are looked up once per writer; a writer in the wrong one is reported once.
+  bool from_own_partition(dds_entity_t reader, const dds_sample_info_t& info, const char* robot_id) {
+    const std::lock_guard<std::mutex> lock(partitions_mutex_);
+    auto found = partitions_of_writer_.find(info.publication_handle);
+    if (found == partitions_of_writer_.end()) {
+      std::vector<std::string> partitions;
+      if (dds_builtintopic_endpoint_t* endpoint = dds_get_matched_publication_data(reader, info.publication_handle)) {
+        uint32_t n = 0;
+        char** names = nullptr;
+        if (endpoint->qos && dds_qget_partition(endpoint->qos, &n, &names)) {
+          for (uint32_t i = 0; i < n; ++i) {
+            partitions.emplace_back(names[i]);
+            dds_free(names[i]);
+          }
+          dds_free(names);
+        }
+        dds_builtintopic_free_endpoint(endpoint);
+      }
+      found = partitions_of_writer_.emplace(info.publication_handle, WriterPartitions{partitions, {}}).first;
+    }
+    if (written_in_own_partition(robot_id, found->second.partitions)) return true;
+    if (found->second.reported.insert(robot_id).second && handlers_.on_refused) {
+      std::string where;
+      for (const std::string& p : found->second.partitions) where += (where.empty() ? "" : ",") + p;
+      handlers_.on_refused(std::string("a message about robot '") + robot_id + "' written in partition '" + where +
+                           "', not in its own (" + command_partition(robot_id) + "): dropped");
+    }
+    return false;
   }
   void make_reader(dds_entity_t topic, const dds_qos_t* qos, void (*on_data)(dds_entity_t, void*),
                    dds_entity_t parent = 0) {
@@ -285,7 +387,8 @@ class CycloneTransport : public Transport {
 
   static void announcements_available(dds_entity_t reader, void* arg) {
     auto* self = static_cast<CycloneTransport*>(arg);
-    take_all<fleet_Announcement>(reader, [self](const fleet_Announcement& w, const dds_sample_info_t& info) {
+    take_all<fleet_Announcement>(reader, [self, reader](const fleet_Announcement& w, const dds_sample_info_t& info) {
+      if (!self->from_own_partition(reader, info, w.robot_id)) return;
       if (info.valid_data) {
         if (self->handlers_.on_announcement) {
           self->handlers_.on_announcement({w.robot_id, w.backend, w.capabilities, w.version, w.leaving, w.incarnation});
@@ -303,8 +406,8 @@ class CycloneTransport : public Transport {
 
   static void states_available(dds_entity_t reader, void* arg) {
     auto* self = static_cast<CycloneTransport*>(arg);
-    take_all<fleet_RobotState>(reader, [self](const fleet_RobotState& w, const dds_sample_info_t& info) {
-      if (!info.valid_data) return;
+    take_all<fleet_RobotState>(reader, [self, reader](const fleet_RobotState& w, const dds_sample_info_t& info) {
+      if (!info.valid_data || !self->from_own_partition(reader, info, w.robot_id)) return;
       RobotState s;
       s.robot_id = w.robot_id;
       s.cell_x = w.cell_x;
@@ -368,8 +471,15 @@ class CycloneTransport : public Transport {
   std::string commands_for_;
   dds_entity_t participant_ = 0;
   dds_entity_t announcement_topic_ = 0, state_topic_ = 0, command_topic_ = 0, status_topic_ = 0, coordinator_topic_ = 0;
-  dds_entity_t announcement_writer_ = 0, state_writer_ = 0, status_writer_ = 0, coordinator_writer_ = 0;
+  dds_entity_t status_writer_ = 0, coordinator_writer_ = 0;
   std::map<std::string, dds_entity_t> command_writers_;  // robot id -> writer in its partition
+  std::map<std::string, RobotWriters> robot_writers_;   // robot id -> its writers, in its partition
+  struct WriterPartitions {
+    std::vector<std::string> partitions;
+    std::set<std::string> reported;  // robot ids it wrote about out of their partition, logged once
+  };
+  std::unordered_map<dds_instance_handle_t, WriterPartitions> partitions_of_writer_;
+  std::mutex partitions_mutex_;
   dds_qos_t *registry_qos_ = nullptr, *state_qos_ = nullptr, *command_qos_ = nullptr;
   std::mutex writers_mutex_;
 };

@@ -1,6 +1,8 @@
 // Transport over Fast DDS 2.9 (C++ API) with the fastddsgen-generated types.
 #include <fastdds/dds/domain/DomainParticipant.hpp>
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
+#include <fastdds/dds/domain/DomainParticipantListener.hpp>
+#include <fastdds/rtps/writer/WriterDiscoveryInfo.h>
 #include <fastdds/dds/publisher/DataWriter.hpp>
 #include <fastdds/dds/publisher/Publisher.hpp>
 #include <fastdds/dds/subscriber/DataReader.hpp>
@@ -11,6 +13,7 @@
 
 #include <map>
 #include <mutex>
+#include <set>
 #include <stdexcept>
 
 #include "fleet.h"
@@ -87,12 +90,77 @@ void room_for_the_fleet(ResourceLimitsQosPolicy& limits, int32_t depth) {
   limits.max_samples = kMaxRobots * depth;
 }
 
+// The participant QoS of the profile file, plus DDS Security with the builtin plugins when on.
+DomainParticipantQos participant_qos(const SecurityFiles& files) {
+  auto* factory = DomainParticipantFactory::get_instance();
+  factory->load_profiles();
+  DomainParticipantQos qos;
+  factory->get_default_participant_qos(qos);
+  if (!files.enabled()) return qos;
+  auto& properties = qos.properties().properties();
+  const auto file = [](const std::string& path) { return "file:" + path; };
+  properties.emplace_back("dds.sec.auth.plugin", "builtin.PKI-DH");
+  properties.emplace_back("dds.sec.auth.builtin.PKI-DH.identity_ca", file(files.identity_ca));
+  properties.emplace_back("dds.sec.auth.builtin.PKI-DH.identity_certificate", file(files.identity_certificate));
+  properties.emplace_back("dds.sec.auth.builtin.PKI-DH.private_key", file(files.private_key));
+  properties.emplace_back("dds.sec.access.plugin", "builtin.Access-Permissions");
+  properties.emplace_back("dds.sec.access.builtin.Access-Permissions.permissions_ca", file(files.permissions_ca));
+  properties.emplace_back("dds.sec.access.builtin.Access-Permissions.governance", file(files.governance));
+  properties.emplace_back("dds.sec.access.builtin.Access-Permissions.permissions", file(files.permissions));
+  properties.emplace_back("dds.sec.crypto.plugin", "builtin.AES-GCM-GMAC");
+  return qos;
+}
+
+// Remembers the partitions of every writer the participant discovers, so that a state or
+// announcement can be checked against the partition it was written in (Fast DDS 2.9 does not
+// implement DataReader::get_matched_publication_data).
+class WriterPartitions : public DomainParticipantListener {
+ public:
+  void on_publisher_discovery(DomainParticipant*, eprosima::fastrtps::rtps::WriterDiscoveryInfo&& info) override {
+    using Status = eprosima::fastrtps::rtps::WriterDiscoveryInfo;
+    const std::lock_guard<std::mutex> lock(mutex_);
+    if (info.status == Status::REMOVED_WRITER) {
+      writers_.erase(info.info.guid());
+      return;
+    }
+    Writer& writer = writers_[info.info.guid()];
+    writer.partitions = info.info.m_qos.m_partition.names();
+  }
+  // True when `robot_id`'s message from writer `guid` came in the robot's own partition; else
+  // the first time for this writer and robot, `refusal` says why not.
+  bool own(const eprosima::fastrtps::rtps::GUID_t& guid, const std::string& robot_id, std::string& refusal) {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    Writer& writer = writers_[guid];  // a local writer is not "discovered": no partitions, refused
+    if (written_in_own_partition(robot_id, writer.partitions)) return true;
+    if (writer.reported.insert(robot_id).second) {
+      std::string where;
+      for (const std::string& p : writer.partitions) where += (where.empty() ? "" : ",") + p;
+      refusal = "a message about robot '" + robot_id + "' written in partition '" + where + "', not in its own (" +
+                command_partition(robot_id) + "): dropped";
+    }
+    return false;
+  }
+
+ private:
+  struct Writer {
+    std::vector<std::string> partitions;
+    std::set<std::string> reported;
+  };
+  std::mutex mutex_;
+  std::map<eprosima::fastrtps::rtps::GUID_t, Writer> writers_;
+};
+
 class FastDdsTransport : public Transport {
  public:
   FastDdsTransport(const TransportConfig& config, Handlers handlers)
       : handlers_(std::move(handlers)), commands_for_(config.commands_for) {
     auto* factory = DomainParticipantFactory::get_instance();
-    participant_ = factory->create_participant(config.domain_id, PARTICIPANT_QOS_DEFAULT);
+    participant_ = factory->create_participant(config.domain_id, participant_qos(config.security), &writer_partitions_,
+                                               StatusMask::none());
+    if (!participant_ && config.security.enabled()) {
+      throw std::runtime_error("Fast DDS: the security plugins refused " + config.security.participant +
+                               "'s identity: its certificate, permissions or governance");
+    }
     if (!participant_) throw std::runtime_error("Fast DDS: cannot create a participant");
     publisher_ = participant_->create_publisher(PUBLISHER_QOS_DEFAULT);
     subscriber_ = participant_->create_subscriber(SUBSCRIBER_QOS_DEFAULT);
@@ -177,19 +245,20 @@ class FastDdsTransport : public Transport {
     command_topic_ = command;
     status_topic_ = status;
     // The writers a role surely uses are made now, so readers match them before the first sample.
-    if (handlers_.on_command) {
-      writer(announcement_writer_, announcement_topic_, registry_w_);
-      writer(state_writer_, state_topic_, state_w_);
-    }
+    if (handlers_.on_command && !commands_for_.empty()) robot_writers(commands_for_);
 
+    Subscriber* every_robot = nullptr;
+    if (handlers_.on_announcement || handlers_.on_robot_gone || handlers_.on_state) {
+      every_robot = subscriber_in(kEveryRobotPartition);
+    }
     if (handlers_.on_announcement || handlers_.on_robot_gone) {
       listen<fleet::Announcement>(announcement, registry_r, [this](const fleet::Announcement& w, const SampleInfo& info) {
         on_announcement(w, info);
-      });
+      }, every_robot);
     }
     if (handlers_.on_state) {
       listen<fleet::RobotState>(state, state_r, [this](const fleet::RobotState& w, const SampleInfo& info) {
-        if (!info.valid_data) return;
+        if (!info.valid_data || !from_own_partition(info, w.robot_id().to_string())) return;
         RobotState s;
         s.robot_id = w.robot_id().to_string();
         s.cell_x = w.cell_x();
@@ -206,14 +275,11 @@ class FastDdsTransport : public Transport {
         s.incarnation = w.incarnation();
         s.coordinator = w.coordinator();
         handlers_.on_state(s);
-      });
+      }, every_robot);
     }
     if (handlers_.on_command) {
-      SubscriberQos command_subscriber_qos = SUBSCRIBER_QOS_DEFAULT;
-      command_subscriber_qos.partition().push_back(
-          (commands_for_.empty() ? std::string(kEveryCommandPartition) : command_partition(commands_for_)).c_str());
-      Subscriber* command_subscriber = participant_->create_subscriber(command_subscriber_qos);
-      if (!command_subscriber) throw std::runtime_error("Fast DDS: cannot create the command subscriber");
+      Subscriber* command_subscriber =
+          subscriber_in(commands_for_.empty() ? std::string(kEveryRobotPartition) : command_partition(commands_for_));
       listen<fleet::StepCommand>(command, command_r, [this](const fleet::StepCommand& w, const SampleInfo& info) {
         if (!info.valid_data) return;
         const std::string id = w.robot_id().to_string();
@@ -250,7 +316,7 @@ class FastDdsTransport : public Transport {
 
   ~FastDdsTransport() override {
     // Readers first, so no listener runs while the rest goes away.
-    for (DataReader* reader : readers_) subscriber_->delete_datareader(reader);
+    for (DataReader* reader : readers_) const_cast<Subscriber*>(reader->get_subscriber())->delete_datareader(reader);
     participant_->delete_contained_entities();
     DomainParticipantFactory::get_instance()->delete_participant(participant_);
   }
@@ -263,14 +329,14 @@ class FastDdsTransport : public Transport {
     wire.version(a.version);
     wire.leaving(a.leaving);
     wire.incarnation(a.incarnation);
-    writer(announcement_writer_, announcement_topic_, registry_w_)->write(&wire);
+    robot_writers(a.robot_id).announcement->write(&wire);
   }
 
   void say_goodbye(const std::string& robot_id) override {
     fleet::Announcement wire;
     wire.robot_id(robot_id);
     wire.leaving(true);
-    DataWriter* w = writer(announcement_writer_, announcement_topic_, registry_w_);
+    DataWriter* w = robot_writers(robot_id).announcement;
     w->write(&wire);
     w->dispose(&wire, w->lookup_instance(&wire));
   }
@@ -291,7 +357,7 @@ class FastDdsTransport : public Transport {
     wire.stamp_ms(s.stamp_ms);
     wire.incarnation(s.incarnation);
     wire.coordinator(s.coordinator);
-    writer(state_writer_, state_topic_, state_w_)->write(&wire);
+    robot_writers(s.robot_id).state->write(&wire);
   }
 
   void send_command(const StepCommand& c) override {
@@ -378,19 +444,58 @@ class FastDdsTransport : public Transport {
     return slot;
   }
 
+  Publisher* publisher_in(const std::string& partition) {
+    PublisherQos qos = PUBLISHER_QOS_DEFAULT;
+    qos.partition().push_back(partition.c_str());
+    Publisher* publisher = participant_->create_publisher(qos);
+    if (!publisher) throw std::runtime_error("Fast DDS: cannot create a publisher in partition " + partition);
+    return publisher;
+  }
+  Subscriber* subscriber_in(const std::string& partition) {
+    SubscriberQos qos = SUBSCRIBER_QOS_DEFAULT;
+    qos.partition().push_back(partition.c_str());
+    Subscriber* subscriber = participant_->create_subscriber(qos);
+    if (!subscriber) throw std::runtime_error("Fast DDS: cannot create a subscriber in partition " + partition);
+    return subscriber;
+  }
+
   // The command writer of one robot, in that robot's partition (see command_partition).
   DataWriter* command_writer(const std::string& robot_id) {
     const std::lock_guard<std::mutex> lock(writers_mutex_);
     DataWriter*& slot = command_writers_[robot_id];
     if (!slot) {
-      PublisherQos publisher_qos = PUBLISHER_QOS_DEFAULT;
-      publisher_qos.partition().push_back(command_partition(robot_id).c_str());
-      Publisher* publisher = participant_->create_publisher(publisher_qos);
-      if (!publisher) throw std::runtime_error("Fast DDS: cannot create the command publisher of " + robot_id);
-      slot = publisher->create_datawriter(command_topic_, command_w_);
-      if (!slot) throw std::runtime_error("Fast DDS: cannot create the command writer of " + robot_id);
+      slot = publisher_in(command_partition(robot_id))->create_datawriter(command_topic_, command_w_);
+      if (!slot) throw std::runtime_error("Fast DDS: cannot create the command writer of " + robot_id + " (refused by access control?)");
     }
     return slot;
+  }
+
+  // The announcement and state writers of one robot, in that robot's partition: under DDS
+  // Security a robot's permissions allow it to write there only.
+  struct RobotWriters {
+    DataWriter* announcement = nullptr;
+    DataWriter* state = nullptr;
+  };
+  const RobotWriters& robot_writers(const std::string& robot_id) {
+    const std::lock_guard<std::mutex> lock(writers_mutex_);
+    RobotWriters& writers = robot_writers_[robot_id];
+    if (!writers.state) {
+      Publisher* publisher = publisher_in(command_partition(robot_id));
+      writers.announcement = publisher->create_datawriter(announcement_topic_, registry_w_);
+      writers.state = publisher->create_datawriter(state_topic_, state_w_);
+      if (!writers.announcement || !writers.state) {
+        throw std::runtime_error("Fast DDS: cannot create the state and announcement writers of " + robot_id +
+                                 " (refused by access control?)");
+      }
+    }
+    return writers;
+  }
+
+  bool from_own_partition(const SampleInfo& info, const std::string& robot_id) {
+    std::string refusal;
+    if (writer_partitions_.own(info.sample_identity.writer_guid(), robot_id, refusal)) return true;
+    if (!refusal.empty() && handlers_.on_refused) handlers_.on_refused(refusal);
+    return false;
   }
 
   template <typename Wire>
@@ -406,6 +511,7 @@ class FastDdsTransport : public Transport {
   void on_announcement(const fleet::Announcement& w, const SampleInfo& info) {
     if (info.valid_data) {
       const std::string id = w.robot_id().to_string();
+      if (!from_own_partition(info, id)) return;
       {
         const std::lock_guard<std::mutex> lock(instances_mutex_);
         robot_of_instance_[info.instance_handle] = id;
@@ -432,15 +538,16 @@ class FastDdsTransport : public Transport {
     }
   }
 
+  WriterPartitions writer_partitions_;  // first: the participant's listener outlives the participant
   Handlers handlers_;
   std::string commands_for_;
   DomainParticipant* participant_ = nullptr;
   Publisher* publisher_ = nullptr;
   Subscriber* subscriber_ = nullptr;
-  DataWriter *announcement_writer_ = nullptr, *state_writer_ = nullptr, *status_writer_ = nullptr,
-             *coordinator_writer_ = nullptr;
+  DataWriter *status_writer_ = nullptr, *coordinator_writer_ = nullptr;
   Topic* coordinator_topic_ = nullptr;
   std::map<std::string, DataWriter*> command_writers_;  // robot id -> writer in its partition
+  std::map<std::string, RobotWriters> robot_writers_;   // robot id -> its writers, in its partition
   Topic *announcement_topic_ = nullptr, *state_topic_ = nullptr, *command_topic_ = nullptr, *status_topic_ = nullptr;
   DataWriterQos registry_w_ = DATAWRITER_QOS_DEFAULT, state_w_ = DATAWRITER_QOS_DEFAULT,
                 command_w_ = DATAWRITER_QOS_DEFAULT;

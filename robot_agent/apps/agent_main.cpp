@@ -34,6 +34,11 @@ int main(int argc, char** argv) {
   app.add_option("--dds-config-dir", dds_dir,
                  "folder with the loopback DDS XML files (default: the shipped config/dds, as the coordinator's config)")
       ->check(CLI::ExistingDirectory);
+  std::string security_dir;
+  bool insecure = false;
+  app.add_option("--security", security_dir,
+                 "fleet directory made by ctsfleet-ca (DDS Security; this robot's identity is the one enrolled as --id)");
+  app.add_flag("--insecure", insecure, "toio: run without DDS Security (a real robot requires --security otherwise)");
   app.add_option("--state-rate", settings.state_rate_hz, "state messages per second")
       ->check(ctsfleet::number_in(0.1, 1000))
       ->capture_default_str();
@@ -87,6 +92,12 @@ int main(int argc, char** argv) {
       }
     }
     if (dds_dir.empty()) dds_dir = ctsfleet::data_path("config/dds").string();
+    if (backend_name == "toio" && security_dir.empty() && !insecure) {
+      throw InputError(std::string("--backend toio drives a real robot and requires --security FLEET_DIR (") +
+                       fleet_transport::kFleetCaHint + "); --insecure runs it without, on a network you trust");
+    }
+    const fleet_transport::SecurityFiles security = fleet_transport::load_fleet_security(security_dir, settings.robot_id);
+    if (!security.enabled()) spdlog::warn("{}: DDS Security is off: any process on the domain can command this robot", settings.robot_id);
     std::unique_ptr<RobotBackend> backend;
     SimRobot* sim_robot = nullptr;
     if (backend_name == "toio") {
@@ -110,6 +121,7 @@ int main(int argc, char** argv) {
       config.lease_s = lease;
       config.commands_for = settings.robot_id;
       config.loopback_config_dir = dds_dir;
+      config.security = security;
       fleet_transport::Handlers handlers;
       handlers.on_command = [&agent](const fleet_transport::StepCommand& c) { agent.on_command(c); };
       handlers.on_coordinator_status = [&agent](const fleet_transport::CoordinatorStatus& s) {

@@ -52,6 +52,9 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"idle", "moving", "arrived", "fault", "ready"}));
   app.add_option("--timeout", timeout_s, "seconds to wait for each step or status")->capture_default_str();
   app.add_flag("--even-in-fault", even_in_fault, "send the path without waiting for the robot to be ready");
+  std::string security_dir, identity;
+  app.add_option("--security", security_dir, "fleet directory made by ctsfleet-ca (DDS Security)");
+  app.add_option("--identity", identity, "the enrolled name to act as (with --security)");
   CLI11_PARSE(app, argc, argv);
 
   Latest latest;
@@ -59,6 +62,12 @@ int main(int argc, char** argv) {
   config.vendor = fleet_transport::parse_vendor(vendor);
   config.domain_id = domain;
   config.loopback_config_dir = dds_dir;
+  try {
+    config.security = fleet_transport::load_fleet_security(security_dir, identity);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "ctsfleet-test-drive: error: %s\n", e.what());
+    return 2;
+  }
   fleet_transport::Handlers handlers;
   handlers.on_state = [&](const RobotState& state) {
     if (state.robot_id != robot) return;
@@ -66,8 +75,14 @@ int main(int argc, char** argv) {
     latest.state = state;
     latest.changed.notify_all();
   };
-  auto transport = fleet_transport::make_transport(config, handlers);
-  transport->prepare_commands_for(robot);
+  std::unique_ptr<fleet_transport::Transport> transport;
+  try {
+    transport = fleet_transport::make_transport(config, handlers);
+    transport->prepare_commands_for(robot);
+  } catch (const std::exception& e) {  // e.g. access control refuses a command writer to this robot
+    std::fprintf(stderr, "ctsfleet-test-drive: refused: %s\n", e.what());
+    return 4;
+  }
   // Agents obey an active coordinator that announced the epoch: this tool is one, of term 0, so
   // any real coordinator outranks it. Its status goes out every 0.25 s while it runs.
   fleet_transport::CoordinatorStatus status;

@@ -36,12 +36,20 @@ struct FleetConfig {
   // waits for a robot to join until the mission timeout; set, it waits this long, then ends the
   // mission with those tasks reported as pending.
   std::optional<double> replacement_timeout_s;
+  // DDS Security (section security:): the fleet directory made by ctsfleet-ca ("" = off), the
+  // name this coordinator is enrolled as, and whether the fleet refuses to run without it (the
+  // configs of real robots say so).
+  std::string security_dir;
+  std::string security_identity = "coordinator";
+  bool security_required = false;
 
   // What the settings above mean for the solver and the middleware: the one place they are mapped.
   // The mission's first plan (full budget) or a replan (first feasible plan, fast); both
   // rotation-free, as robots execute one move at a time.
   planner_core::SolverConfig solver_config(bool first_plan) const;
   double plan_limit_s(bool first_plan) const { return first_plan ? plan_time_s : replan_time_s; }
+  // Loads and checks the security files when security_dir is set (throws std::invalid_argument
+  // naming the file); throws planner_core::InputError when security is required but not set up.
   fleet_transport::TransportConfig transport_config() const;
 };
 

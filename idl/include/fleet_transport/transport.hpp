@@ -5,7 +5,9 @@
 // reliable transient-local keep-last 1 (coordinator and fleet status: one instance per
 // coordinator); liveliness
 // automatic with the configured lease; commands with exclusive ownership (strength = the sending
-// coordinator's term), so a robot hears one coordinator's commands.
+// coordinator's term), so a robot hears one coordinator's commands. Step commands, robot states
+// and announcements travel in the robot's own partition, robot/<id>; readers of every robot use
+// robot/*, and drop a state or announcement whose id is not its partition's.
 #pragma once
 
 #include <functional>
@@ -13,6 +15,7 @@
 #include <string>
 
 #include "fleet_transport/messages.hpp"
+#include "fleet_transport/security.hpp"
 
 namespace fleet_transport {
 
@@ -33,6 +36,8 @@ struct TransportConfig {
   // Step commands have exclusive ownership: of several live coordinators writing to one robot,
   // only the strongest is heard (a coordinator uses its term).
   int command_strength = 0;
+  // DDS Security: off when no files are given (see fleet_security_files).
+  SecurityFiles security;
 };
 
 enum class GoneReason { kGoodbye, kLivelinessLost };
@@ -47,6 +52,11 @@ struct Handlers {
   std::function<void(const FleetStatus&)> on_fleet_status;
   // A robot's announcement instance lost its writer (process died: lease expired) or was disposed.
   std::function<void(const std::string& robot_id, GoneReason reason)> on_robot_gone;
+  // Something refused by the transport that the process should log: e.g. a robot state or
+  // announcement whose robot id is not the one of the partition it was written in (a robot may
+  // write only in its own partition, robot/<id>, and DDS access control binds that to its
+  // certificate). Said once per writer.
+  std::function<void(const std::string& what)> on_refused;
 };
 
 class Transport {

@@ -10,6 +10,7 @@
 #include <cstring>
 
 #include <cmath>
+#include <stdexcept>
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
@@ -113,6 +114,9 @@ int Program::run(const std::function<int()>& body) {
     std::signal(SIGPIPE, SIG_IGN);
     return body();
   } catch (const planner_core::InputError& e) {
+    std::fprintf(stderr, "%s: error: %s\n", name_.c_str(), first_line(e.what()).c_str());
+    return kExitInputError;
+  } catch (const std::invalid_argument& e) {  // bad input found below the program (e.g. security files)
     std::fprintf(stderr, "%s: error: %s\n", name_.c_str(), first_line(e.what()).c_str());
     return kExitInputError;
   } catch (const std::exception& e) {
