@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "fleet.h"
+#include "middleware_log.hpp"
 #include "transport_factories.hpp"
 
 namespace fleet_transport {
@@ -103,16 +104,35 @@ dds_qos_t* security_qos(const SecurityFiles& files) {
   return qos;
 }
 
+// Cyclone's log (errors and warnings: a failed handshake names the refused certificate's subject)
+// goes to the process's log without its timestamp, each line once a minute at most.
+void route_cyclone_log() {
+  static RepeatedLineFilter filter;
+  static std::once_flag once;
+  std::call_once(once, [] {
+    dds_set_log_sink(
+        [](void*, const dds_log_data_t* data) {
+          std::string line(data->message + data->hdrsize, data->size - data->hdrsize);
+          while (!line.empty() && (line.back() == '\n' || line.back() == ' ')) line.pop_back();
+          if (line.empty()) return;
+          filter.log("Cyclone DDS", (data->priority & (DDS_LC_ERROR | DDS_LC_FATAL)) != 0, line);
+        },
+        nullptr);
+  });
+}
+
 class CycloneTransport : public Transport {
  public:
   CycloneTransport(const TransportConfig& config, Handlers handlers)
-      : handlers_(std::move(handlers)), commands_for_(config.commands_for) {
+      : handlers_(std::move(handlers)), commands_for_(config.commands_for), test_partition_of_(config.test_partition_of) {
+    route_cyclone_log();
     dds_qos_t* participant_qos = security_qos(config.security);
     participant_ = dds_create_participant(static_cast<dds_domainid_t>(config.domain_id), participant_qos, nullptr);
     if (participant_qos) dds_delete_qos(participant_qos);
     if (participant_ < 0 && config.security.enabled()) {
-      throw std::runtime_error("Cyclone DDS: the security plugins refused " + config.security.participant + "'s identity (" +
-                               dds_strretcode(participant_) + "): its certificate, permissions or governance");
+      throw std::runtime_error("Cyclone DDS: cannot create the participant of " + config.security.participant + " (" +
+                               dds_strretcode(participant_) + "); with security on, the log line above says which of "
+                               "its certificate, permissions or governance the plugins refused");
     }
     check(participant_, "create participant");
     const dds_duration_t lease = DDS_SECS(1) * config.lease_s;
@@ -323,7 +343,7 @@ class CycloneTransport : public Transport {
     const std::lock_guard<std::mutex> lock(writers_mutex_);
     RobotWriters& writers = robot_writers_[robot_id];
     if (writers.state == 0) {
-      const dds_entity_t publisher = publisher_in(command_partition(robot_id));
+      const dds_entity_t publisher = publisher_in(command_partition(test_partition_of_.empty() ? robot_id : test_partition_of_));
       writers.announcement = dds_create_writer(publisher, announcement_topic_, registry_qos_, nullptr);
       check(writers.announcement, ("create announcement writer for " + robot_id).c_str());
       writers.state = dds_create_writer(publisher, state_topic_, state_qos_, nullptr);
@@ -469,6 +489,7 @@ class CycloneTransport : public Transport {
 
   Handlers handlers_;
   std::string commands_for_;
+  std::string test_partition_of_;  // see TransportConfig::test_partition_of
   dds_entity_t participant_ = 0;
   dds_entity_t announcement_topic_ = 0, state_topic_ = 0, command_topic_ = 0, status_topic_ = 0, coordinator_topic_ = 0;
   dds_entity_t status_writer_ = 0, coordinator_writer_ = 0;

@@ -2,6 +2,7 @@
 #include <fastdds/dds/domain/DomainParticipant.hpp>
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 #include <fastdds/dds/domain/DomainParticipantListener.hpp>
+#include <fastdds/dds/log/Log.hpp>
 #include <fastdds/rtps/writer/WriterDiscoveryInfo.h>
 #include <fastdds/dds/publisher/DataWriter.hpp>
 #include <fastdds/dds/publisher/Publisher.hpp>
@@ -14,9 +15,11 @@
 #include <map>
 #include <mutex>
 #include <set>
+#include <sstream>
 #include <stdexcept>
 
 #include "fleet.h"
+#include "middleware_log.hpp"
 #include "fleetPubSubTypes.h"
 #include "transport_factories.hpp"
 
@@ -98,7 +101,7 @@ DomainParticipantQos participant_qos(const SecurityFiles& files) {
   factory->get_default_participant_qos(qos);
   if (!files.enabled()) return qos;
   auto& properties = qos.properties().properties();
-  const auto file = [](const std::string& path) { return "file:" + path; };
+  const auto file = [](const std::string& path) { return "file://" + path; };  // Fast DDS wants file://
   properties.emplace_back("dds.sec.auth.plugin", "builtin.PKI-DH");
   properties.emplace_back("dds.sec.auth.builtin.PKI-DH.identity_ca", file(files.identity_ca));
   properties.emplace_back("dds.sec.auth.builtin.PKI-DH.identity_certificate", file(files.identity_certificate));
@@ -111,11 +114,47 @@ DomainParticipantQos participant_qos(const SecurityFiles& files) {
   return qos;
 }
 
+// Fast DDS's log (errors and warnings, e.g. an access-control denial) goes to the process's log,
+// each line once a minute at most, instead of to stdout in colour.
+class LogToProcess : public LogConsumer {
+ public:
+  void Consume(const Log::Entry& entry) override {
+    filter_.log("Fast DDS", entry.kind == Log::Kind::Error, entry.message);
+  }
+
+ private:
+  RepeatedLineFilter filter_;
+};
+
+void route_fastdds_log() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    Log::ClearConsumers();
+    Log::RegisterConsumer(std::make_unique<LogToProcess>());
+    Log::SetVerbosity(Log::Kind::Warning);
+  });
+}
+
 // Remembers the partitions of every writer the participant discovers, so that a state or
 // announcement can be checked against the partition it was written in (Fast DDS 2.9 does not
-// implement DataReader::get_matched_publication_data).
+// implement DataReader::get_matched_publication_data); reports participants refused by
+// authentication.
 class WriterPartitions : public DomainParticipantListener {
  public:
+  std::function<void(const std::string&)> on_refused;
+
+  void onParticipantAuthentication(DomainParticipant*, eprosima::fastrtps::rtps::ParticipantAuthenticationInfo&& info) override {
+    if (info.status != eprosima::fastrtps::rtps::ParticipantAuthenticationInfo::UNAUTHORIZED_PARTICIPANT || !on_refused) return;
+    std::ostringstream guid;
+    guid << info.guid.guidPrefix;
+    {
+      const std::lock_guard<std::mutex> lock(mutex_);
+      if (!refused_.insert(guid.str()).second) return;  // said once per participant
+    }
+    on_refused("participant " + guid.str() + " failed authentication (no certificate of this fleet's CA, or an "
+               "expired, revoked or changed one): not admitted");
+  }
+
   void on_publisher_discovery(DomainParticipant*, eprosima::fastrtps::rtps::WriterDiscoveryInfo&& info) override {
     using Status = eprosima::fastrtps::rtps::WriterDiscoveryInfo;
     const std::lock_guard<std::mutex> lock(mutex_);
@@ -148,15 +187,19 @@ class WriterPartitions : public DomainParticipantListener {
   };
   std::mutex mutex_;
   std::map<eprosima::fastrtps::rtps::GUID_t, Writer> writers_;
+  std::set<std::string> refused_;  // participants whose failed authentication was reported
 };
 
 class FastDdsTransport : public Transport {
  public:
   FastDdsTransport(const TransportConfig& config, Handlers handlers)
-      : handlers_(std::move(handlers)), commands_for_(config.commands_for) {
+      : handlers_(std::move(handlers)), commands_for_(config.commands_for), test_partition_of_(config.test_partition_of) {
+    route_fastdds_log();
+    writer_partitions_.on_refused = handlers_.on_refused;
     auto* factory = DomainParticipantFactory::get_instance();
     participant_ = factory->create_participant(config.domain_id, participant_qos(config.security), &writer_partitions_,
                                                StatusMask::none());
+    if (!participant_) Log::Flush();  // the reason, from the middleware's log thread, before we exit
     if (!participant_ && config.security.enabled()) {
       throw std::runtime_error("Fast DDS: the security plugins refused " + config.security.participant +
                                "'s identity: its certificate, permissions or governance");
@@ -480,7 +523,7 @@ class FastDdsTransport : public Transport {
     const std::lock_guard<std::mutex> lock(writers_mutex_);
     RobotWriters& writers = robot_writers_[robot_id];
     if (!writers.state) {
-      Publisher* publisher = publisher_in(command_partition(robot_id));
+      Publisher* publisher = publisher_in(command_partition(test_partition_of_.empty() ? robot_id : test_partition_of_));
       writers.announcement = publisher->create_datawriter(announcement_topic_, registry_w_);
       writers.state = publisher->create_datawriter(state_topic_, state_w_);
       if (!writers.announcement || !writers.state) {
@@ -541,6 +584,7 @@ class FastDdsTransport : public Transport {
   WriterPartitions writer_partitions_;  // first: the participant's listener outlives the participant
   Handlers handlers_;
   std::string commands_for_;
+  std::string test_partition_of_;  // see TransportConfig::test_partition_of
   DomainParticipant* participant_ = nullptr;
   Publisher* publisher_ = nullptr;
   Subscriber* subscriber_ = nullptr;

@@ -3,9 +3,15 @@
 // duplicate robot ids, commands in the name of the active coordinator (a far-future epoch, a stale
 // one) and of a coordinator the robot does not follow. Its command writer is the strongest, so the
 // commands reach the agent past DDS ownership and the agent's own checks are what is tested.
+//
+// With --claim ID it plays an impostor instead: it announces itself as robot ID and reports ID's
+// state for a few seconds, with the identity given by --security/--identity (loaded as it is, with
+// none of the checks the fleet's programs make first, as a modified program would) and, with
+// --in-partition-of, from another robot's partition. Exit 4 when the middleware refuses it.
 #include <CLI/CLI.hpp>
 
 #include <atomic>
+#include <memory>
 #include <cstdio>
 #include <thread>
 
@@ -19,12 +25,30 @@ int main(int argc, char** argv) {
   app.add_option("--domain", domain);
   app.add_option("--dds-config-dir", dds_dir);
   app.add_option("--victim", victim, "a live robot id to aim at");
+  std::string security_dir, identity, claim, partition_of;
+  int claim_x = 0, claim_y = 0, claim_rounds = 30;
+  app.add_option("--rounds", claim_rounds, "impostor: how many states it sends, one per 0.1 s");
+  app.add_option("--security", security_dir, "fleet directory (DDS Security)");
+  app.add_option("--identity", identity, "enrolled name whose files to present");
+  app.add_option("--claim", claim, "impostor: announce and report state as this robot id");
+  app.add_option("--at", claim_x, "impostor: the cell x it reports");
+  app.add_option("--at-y", claim_y, "impostor: the cell y it reports");
+  app.add_option("--in-partition-of", partition_of, "impostor: write in this robot's partition");
   CLI11_PARSE(app, argc, argv);
   fleet_transport::TransportConfig config;
   config.vendor = fleet_transport::parse_vendor(vendor);
   config.domain_id = domain;
   config.loopback_config_dir = dds_dir;
   config.command_strength = 1000;
+  config.test_partition_of = partition_of;
+  if (!security_dir.empty()) {
+    try {
+      config.security = fleet_transport::fleet_security_files(security_dir, identity);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "refused: %s\n", e.what());
+      return 4;
+    }
+  }
   std::atomic<uint64_t> coordinator{0};
   std::atomic<int> epoch{0};
   fleet_transport::Handlers handlers;
@@ -33,7 +57,29 @@ int main(int argc, char** argv) {
     coordinator = status.coordinator;
     epoch = status.plan_epoch;
   };
-  auto transport = fleet_transport::make_transport(config, handlers);
+  std::unique_ptr<fleet_transport::Transport> transport;
+  try {
+    transport = fleet_transport::make_transport(config, handlers);
+    if (!claim.empty()) {
+      for (int round = 0; round < claim_rounds; ++round) {
+        fleet_transport::RobotState state;
+        state.robot_id = claim;
+        state.cell_x = claim_x;
+        state.cell_y = claim_y;
+        state.seq_number = static_cast<uint64_t>(round + 1);
+        state.incarnation = 0x1d1d;
+        state.stamp_ms = fleet_transport::wall_clock_ms();
+        transport->announce({claim, "sim", "", "impostor", false, 0x1d1d});
+        transport->publish_state(state);
+        std::this_thread::sleep_for(std::chrono::milliseconds(100));
+      }
+      std::printf("claimed %s for %d rounds of 0.1 s\n", claim.c_str(), claim_rounds);
+      return 0;
+    }
+  } catch (const std::exception& e) {  // e.g. access control refuses the participant or a writer
+    std::fprintf(stderr, "refused: %s\n", e.what());
+    return 4;
+  }
   transport->prepare_commands_for("ghost");
   transport->prepare_commands_for(victim);
   for (int i = 0; i < 100 && coordinator.load() == 0; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(100));

@@ -38,6 +38,9 @@ struct TransportConfig {
   int command_strength = 0;
   // DDS Security: off when no files are given (see fleet_security_files).
   SecurityFiles security;
+  // Tests only: write every robot state and announcement in this robot's partition, whatever id
+  // it carries (plays a robot that claims another's id from its own partition).
+  std::string test_partition_of;
 };
 
 enum class GoneReason { kGoodbye, kLivelinessLost };
