@@ -102,6 +102,11 @@ int main(int argc, char** argv) {
   app.add_flag("--secure", secure,
                "DDS Security with a throw-away fleet CA made for this run in LOG_DIR/fleet-ca (always on for "
                "toio-emulated, whose config requires it)");
+  std::string security_dir;
+  app.add_option("--security", security_dir,
+                 "DDS Security with this fleet directory (made by ctsfleet-ca, with robot0..robotN-1 and a coordinator "
+                 "enrolled) instead of a throw-away one")
+      ->check(CLI::ExistingDirectory);
   return program.main(argc, argv, [&]() -> int {
     const bool toio = backend == "toio-emulated";
     if (config_path.empty()) config_path = ctsfleet::data_path(toio ? "config/toio/fleet.yaml" : "config/fleet.yaml").string();
@@ -120,8 +125,18 @@ int main(int argc, char** argv) {
       if (agent_vendor.empty()) agent_vendor = vendor;
       if (domain < 0) domain = config.domain_id;
       fs::create_directories(log_dir);
-      const fs::path fleet_ca = fs::absolute(fs::path(log_dir) / "fleet-ca");
-      if (secure || config.security_required) {
+      if (!security_dir.empty()) secure = true;
+      const fs::path fleet_ca = security_dir.empty() ? fs::absolute(fs::path(log_dir) / "fleet-ca") : fs::absolute(security_dir);
+      if ((secure || config.security_required) && agent_vendor != vendor) {
+        throw planner_core::InputError(
+            "--secure with --agent-dds " + agent_vendor + " and a " + vendor + " coordinator: DDS Security does not work "
+            "across the two vendors in Debian 12 (Cyclone DDS 0.10.2 and Fast DDS 2.9.1 fail each other's handshake: "
+            "Fast DDS encodes its Diffie-Hellman key in a form Cyclone cannot read; see docs/SECURITY.md); run a secure "
+            "fleet on one vendor");
+      }
+      if (!security_dir.empty()) {
+        spdlog::info("DDS Security on: fleet directory {}", fleet_ca.string());
+      } else if (secure || config.security_required) {
         std::vector<std::string> ids;
         for (int r = 0; r < robots; ++r) ids.push_back("robot" + std::to_string(r));
         coordinator::make_throwaway_fleet_ca(here, fleet_ca, ids);

@@ -105,17 +105,18 @@ dds_qos_t* security_qos(const SecurityFiles& files) {
 }
 
 // Cyclone's log (errors and warnings: a failed handshake names the refused certificate's subject)
-// goes to the process's log without its timestamp, each line once a minute at most.
+// goes to the process's log on one line each (OpenSSL's reasons span several), each line once a
+// minute at most.
 void route_cyclone_log() {
   static RepeatedLineFilter filter;
   static std::once_flag once;
   std::call_once(once, [] {
     dds_set_log_sink(
         [](void*, const dds_log_data_t* data) {
-          std::string line(data->message + data->hdrsize, data->size - data->hdrsize);
-          while (!line.empty() && (line.back() == '\n' || line.back() == ' ')) line.pop_back();
-          if (line.empty()) return;
-          filter.log("Cyclone DDS", (data->priority & (DDS_LC_ERROR | DDS_LC_FATAL)) != 0, line);
+          std::string text(data->message, data->size);
+          for (char& c : text) c = c == '\n' ? ' ' : c;
+          while (!text.empty() && text.back() == ' ') text.pop_back();
+          if (!text.empty()) filter.log("Cyclone DDS", (data->priority & (DDS_LC_ERROR | DDS_LC_FATAL)) != 0, text);
         },
         nullptr);
   });

@@ -69,6 +69,32 @@ class Fleet:
         self.dir = tempfile.mkdtemp(prefix=f"ctsfleet-{test_name}-")
         self.processes = {}
         self.files = []
+        self.fleet_ca = None  # set by secure(): every process then runs with DDS Security
+
+    def enrol(self, role, name, fleet_ca=None, days=None):
+        """Enrols one participant in the fleet CA with ctsfleet-ca."""
+        args = [f"{BIN}/ctsfleet-ca", f"add-{role}", fleet_ca or self.fleet_ca, name]
+        if days is not None:
+            args += ["--days", str(days)]
+        subprocess.run(args, check=True, capture_output=True, timeout=60)
+
+    def secure(self, robots, coordinators=("coordinator",), observers=("monitor",)):
+        """Makes this test's fleet CA and enrols these participants; the processes started after it
+        present their identities."""
+        self.fleet_ca = os.path.join(self.dir, "fleet-ca")
+        subprocess.run([f"{BIN}/ctsfleet-ca", "init", self.fleet_ca], check=True, capture_output=True, timeout=60)
+        for name in coordinators:
+            self.enrol("coordinator", name)
+        for name in observers:
+            self.enrol("observer", name)
+        for name in robots:
+            self.enrol("robot", name)
+
+    def security(self, identity=None):
+        """The options that make a process present `identity` (none when the fleet is open)."""
+        if self.fleet_ca is None:
+            return []
+        return ["--security", self.fleet_ca] + (["--identity", identity] if identity else [])
 
     def log(self, name):
         return os.path.join(self.dir, name + ".log")
@@ -82,7 +108,7 @@ class Fleet:
     def agent(self, robot_id, cell, dds="cyclone", extra=()):
         return self.start(robot_id, [f"{BIN}/ctsfleet-agent", "--id", robot_id, "--start", f"{cell[0]},{cell[1]}",
                                      "--dds", dds, "--domain", str(self.domain), "--step", STEP,
-                                     "--dds-config-dir", DDS_DIR, *extra])
+                                     "--dds-config-dir", DDS_DIR, *self.security(), *extra])
 
     def agents(self, dds="cyclone", extra=()):
         for index, cell in enumerate(role_starts()):
@@ -102,11 +128,11 @@ class Fleet:
 
     def coordinator(self, dds="cyclone", config=CONFIG, extra=()):
         return self.start("coordinator", [f"{BIN}/ctsfleet-coordinator", "--config", config, "--dds", dds,
-                                          "--domain", str(self.domain), *extra])
+                                          "--domain", str(self.domain), *self.security(), *extra])
 
     def monitor(self, dds="cyclone"):
         return self.start("monitor", [f"{BIN}/ctsfleet-monitor", "--dds", dds, "--domain", str(self.domain),
-                                      "--dds-config-dir", DDS_DIR])
+                                      "--dds-config-dir", DDS_DIR, *self.security("monitor")])
 
     def wait_exit(self, name, timeout):
         try:

@@ -41,6 +41,8 @@ class ToioFleet(Fleet):
         super().__init__("test_mission_completes_safely")
         self.domain = 70 + 2 * TESTS.index(test_name)
         self.bus = None
+        # Real robots run with DDS Security (config/toio/fleet.yaml requires it): so do these.
+        self.secure([f"robot{i}" for i in range(6)], coordinators=("coordinator", "test-driver"))
 
     def emulator(self, cubes):
         socket = os.path.join(self.dir, "bus")
@@ -73,11 +75,13 @@ class ToioFleet(Fleet):
         self.files.append(out)
         self.processes[robot_id] = subprocess.Popen(
             [f"{BIN}/ctsfleet-agent", "--id", robot_id, "--backend", "toio", "--cube", cube, "--mat", MAT,
-             "--domain", str(self.domain), "--dds-config-dir", DDS_DIR], stdout=out, stderr=subprocess.STDOUT, env=env)
+             "--domain", str(self.domain), "--dds-config-dir", DDS_DIR, *self.security()],
+            stdout=out, stderr=subprocess.STDOUT, env=env)
 
     def drive(self, robot_id, *args, timeout=60):
         return subprocess.run([f"{BIN}/ctsfleet-test-drive", "--robot", robot_id, "--domain", str(self.domain),
-                               "--dds-config-dir", DDS_DIR, "--timeout", str(timeout), *args],
+                               "--dds-config-dir", DDS_DIR, "--timeout", str(timeout),
+                               *self.security("test-driver"), *args],
                               capture_output=True, text=True, timeout=300)
 
 
@@ -187,7 +191,8 @@ class ToioFleetTest(unittest.TestCase):
     def test_sim_launcher_runs_the_toio_demo(self):
         self.fleet.monitor()
         self.fleet.start("sim", [f"{BIN}/ctsfleet-sim", "--backend", "toio-emulated", "--robots", "4",
-                                 "--domain", str(self.fleet.domain), "--log-dir", os.path.join(self.fleet.dir, "sim")])
+                                 "--domain", str(self.fleet.domain), "--log-dir", os.path.join(self.fleet.dir, "sim"),
+                                 *self.fleet.security()])
         code = self.fleet.wait_exit("sim", 240)
         text = read(self.fleet.log("sim"))
         self.assertEqual(code, 0, text[-3000:])
