@@ -126,6 +126,27 @@ class CycloneTransport : public Transport {
  public:
   CycloneTransport(const TransportConfig& config, Handlers handlers)
       : handlers_(std::move(handlers)), commands_for_(config.commands_for), test_partition_of_(config.test_partition_of) {
+    try {
+      set_up(config);
+    } catch (...) {  // e.g. access control refused a reader: no listener may call into a half-made object
+      tear_down();
+      throw;
+    }
+  }
+
+  ~CycloneTransport() override { tear_down(); }
+
+ private:
+  void tear_down() {
+    if (participant_ > 0) dds_delete(participant_);
+    participant_ = 0;
+    for (dds_qos_t** qos : {&registry_qos_, &state_qos_, &command_qos_}) {
+      if (*qos) dds_delete_qos(*qos);
+      *qos = nullptr;
+    }
+  }
+
+  void set_up(const TransportConfig& config) {
     route_cyclone_log();
     dds_qos_t* participant_qos = security_qos(config.security);
     participant_ = dds_create_participant(static_cast<dds_domainid_t>(config.domain_id), participant_qos, nullptr);
@@ -191,13 +212,8 @@ class CycloneTransport : public Transport {
     }
   }
 
-  ~CycloneTransport() override {
-    dds_delete(participant_);
-    dds_delete_qos(registry_qos_);
-    dds_delete_qos(state_qos_);
-    dds_delete_qos(command_qos_);
-  }
 
+ public:
   void announce(const Announcement& a) override {
     fleet_Announcement wire{};
     copy_string(wire.robot_id, a.robot_id);

@@ -194,6 +194,28 @@ class FastDdsTransport : public Transport {
  public:
   FastDdsTransport(const TransportConfig& config, Handlers handlers)
       : handlers_(std::move(handlers)), commands_for_(config.commands_for), test_partition_of_(config.test_partition_of) {
+    try {
+      set_up(config);
+    } catch (...) {  // e.g. access control refused a reader: nothing may outlive this object
+      tear_down();
+      throw;
+    }
+  }
+
+  ~FastDdsTransport() override { tear_down(); }
+
+ private:
+  void tear_down() {
+    if (!participant_) return;
+    // Readers first, so no listener runs while the rest goes away.
+    for (DataReader* reader : readers_) const_cast<Subscriber*>(reader->get_subscriber())->delete_datareader(reader);
+    readers_.clear();
+    participant_->delete_contained_entities();
+    DomainParticipantFactory::get_instance()->delete_participant(participant_);
+    participant_ = nullptr;
+  }
+
+  void set_up(const TransportConfig& config) {
     route_fastdds_log();
     writer_partitions_.on_refused = handlers_.on_refused;
     auto* factory = DomainParticipantFactory::get_instance();
@@ -357,13 +379,8 @@ class FastDdsTransport : public Transport {
     }
   }
 
-  ~FastDdsTransport() override {
-    // Readers first, so no listener runs while the rest goes away.
-    for (DataReader* reader : readers_) const_cast<Subscriber*>(reader->get_subscriber())->delete_datareader(reader);
-    participant_->delete_contained_entities();
-    DomainParticipantFactory::get_instance()->delete_participant(participant_);
-  }
 
+ public:
   void announce(const Announcement& a) override {
     fleet::Announcement wire;
     wire.robot_id(a.robot_id);
