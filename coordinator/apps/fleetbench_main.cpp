@@ -22,6 +22,7 @@
 #include <thread>
 
 #include "child_process.hpp"
+#include "throwaway_fleet_ca.hpp"
 #include "ctsfleet/data_dir.hpp"
 #include "ctsfleet/program.hpp"
 #include "planner_core/input_error.hpp"
@@ -154,6 +155,8 @@ int main(int argc, char** argv) {
       ->check(ctsfleet::count_in(0, 232))
       ->capture_default_str();
   app.add_flag("--json", json, "print one JSON object per fleet size instead of the table");
+  bool secure = false;
+  app.add_flag("--secure", secure, "DDS Security on every process, with a throw-away fleet CA made for the run");
   return program.main(argc, argv, [&] {
     if (domain + static_cast<int>(sizes.size()) - 1 > 232) {
       throw planner_core::InputError("--domain: " + std::to_string(domain) + " + " + std::to_string(sizes.size()) +
@@ -164,9 +167,20 @@ int main(int argc, char** argv) {
     const std::atomic<bool>& stop = ctsfleet::stop_requested();
     const fs::path work = fs::temp_directory_path() / ("ctsfleet-fleetbench-" + std::to_string(getpid()));
     fs::create_directories(work);
+    std::vector<std::string> security;  // the options every process gets
+    if (secure) {
+      std::vector<std::string> ids;
+      for (int r = 0; r < *std::max_element(sizes.begin(), sizes.end()); ++r) ids.push_back("robot" + std::to_string(r));
+      coordinator::make_throwaway_fleet_ca(here, work / "fleet-ca", ids);
+      security = {"--security", (work / "fleet-ca").string()};
+    }
+    const auto with_security = [&security](std::vector<std::string> args) {
+      args.insert(args.end(), security.begin(), security.end());
+      return args;
+    };
     if (!json && scenario == "robot-loss") {
-      std::printf("| robots | mission | round trip p50 (ms) | p99 (ms) | max (ms) | coordinator CPU (%% of one core) | "
-                  "replan latency after a loss (ms) |\n|---|---|---|---|---|---|---|\n");
+      std::printf("| robots | mission | all bound (s) | round trip p50 (ms) | p99 (ms) | max (ms) | coordinator CPU (%% of one core) | "
+                  "replan latency after a loss (ms) |\n|---|---|---|---|---|---|---|---|\n");
     } else if (!json) {
       std::printf("| robots | mission | %s | median (ms) | max (ms) | visits planned twice | collisions |\n"
                   "|---|---|---|---|---|---|---|\n",
@@ -190,24 +204,25 @@ int main(int argc, char** argv) {
                                  << "\ntiming:\n  step_s: " << step
                                  << "\n  silence_timeout_s: 3\n  mission_timeout_s: 300\n  replacement_timeout_s: 2\n";
       std::vector<pid_t> agents;
+      const auto agents_started = std::chrono::steady_clock::now();
       for (int r = 0; r < n; ++r) {
         const planner_core::Cell start = graph->cell_of(mission.starts[r]);
-        agents.push_back(coordinator::start_child({(here / "ctsfleet-agent").string(), "--id", "robot" + std::to_string(r), "--start",
+        agents.push_back(coordinator::start_child(with_security({(here / "ctsfleet-agent").string(), "--id", "robot" + std::to_string(r), "--start",
                                 std::to_string(start.x) + "," + std::to_string(start.y), "--dds", vendor, "--domain",
                                 std::to_string(domain), "--step", std::to_string(step), "--jitter", "0.1",
-                                "--dds-config-dir", dds_config_dir},
+                                "--dds-config-dir", dds_config_dir}),
                                (work / ("robot" + std::to_string(r) + ".log")).string()));
       }
       if (scenario != "robot-loss") {
         const std::string tag = std::to_string(n);
         const pid_t monitor = coordinator::start_child(
-            {(here / "ctsfleet-monitor").string(), "--dds", vendor, "--domain", std::to_string(domain),
-             "--dds-config-dir", dds_config_dir},
+            with_security({(here / "ctsfleet-monitor").string(), "--dds", vendor, "--domain", std::to_string(domain),
+             "--dds-config-dir", dds_config_dir}),
             (work / ("monitor-" + tag + ".log")).string());
         const std::string journal = (work / ("mission-" + tag + ".journal")).string();
         const auto coordinator_args = [&](const std::vector<std::string>& extra) {
-          std::vector<std::string> args{(here / "ctsfleet-coordinator").string(), "--config", config_file.string(),
-                                        "--json"};
+          std::vector<std::string> args =
+              with_security({(here / "ctsfleet-coordinator").string(), "--config", config_file.string(), "--json"});
           args.insert(args.end(), extra.begin(), extra.end());
           return args;
         };
@@ -292,13 +307,27 @@ int main(int argc, char** argv) {
       const std::string coordinator_log = (work / ("coordinator-" + std::to_string(n) + ".log")).string();
       const std::string coordinator_summary = (work / ("coordinator-" + std::to_string(n) + ".json")).string();
       const pid_t coordinator_pid = coordinator::start_child(
-          {(here / "ctsfleet-coordinator").string(), "--config", config_file.string(), "--json"}, coordinator_log,
-          coordinator_summary);
-      // Kill one robot once the mission is under way.
+          with_security({(here / "ctsfleet-coordinator").string(), "--config", config_file.string(), "--json"}),
+          coordinator_log, coordinator_summary);
+      // Kill one robot once the mission is under way. Meanwhile: when every robot is bound (from
+      // the start of the first agent: discovery, with security the handshakes too).
+      std::string bound_s = "-";
+      const auto count_bound = [&coordinator_log] {
+        const std::string text = read_file(coordinator_log);
+        int bound = 0;
+        for (size_t at = text.find(" takes role "); at != std::string::npos; at = text.find(" takes role ", at + 1)) ++bound;
+        return bound;
+      };
       const auto started = std::chrono::steady_clock::now();
       while (read_file(coordinator_log).find("plan epoch 1") == std::string::npos &&
              std::chrono::steady_clock::now() - started < std::chrono::seconds(120) && !stop.load()) {
-        std::this_thread::sleep_for(std::chrono::milliseconds(100));
+        if (bound_s == "-" && count_bound() >= n) {
+          char text[32];
+          std::snprintf(text, sizeof text, "%.2f",
+                        std::chrono::duration<double>(std::chrono::steady_clock::now() - agents_started).count());
+          bound_s = text;
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
       }
       const auto kill_time = std::chrono::steady_clock::now() + std::chrono::duration<double>(kill_after);
       while (std::chrono::steady_clock::now() < kill_time && !stop.load()) {
@@ -328,11 +357,12 @@ int main(int argc, char** argv) {
       const auto& latencies = summary.value("replan_latencies_s", std::vector<double>{});
       const std::string replan_ms = latencies.empty() ? "-" : std::to_string(static_cast<int>(1000 * latencies.front()));
       if (json) {
-        nlohmann::json row = {{"robots", n}, {"summary", summary}, {"logs", work.string()}};
+        nlohmann::json row = {{"robots", n}, {"all_bound_s", bound_s}, {"summary", summary}, {"logs", work.string()}};
         std::printf("%s\n", row.dump().c_str());
       } else {
         const std::string outcome = summary.empty() ? "no summary" : summary.value("completed", false) ? "completed" : "NOT completed";
-        std::printf("| %d | %s, %s s | %s | %s | %s | %s | %s |\n", n, outcome.c_str(), figure(summary, "seconds", 1, "%.1f").c_str(),
+        std::printf("| %d | %s, %s s | %s | %s | %s | %s | %s | %s |\n", n, outcome.c_str(), figure(summary, "seconds", 1, "%.1f").c_str(),
+                    bound_s.c_str(),
                     figure(summary, "round_trip_p50_ms").c_str(), figure(summary, "round_trip_p99_ms").c_str(),
                     figure(summary, "round_trip_max_ms").c_str(), cpu_share.c_str(), replan_ms.c_str());
       }
