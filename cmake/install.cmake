@@ -95,7 +95,7 @@ set(CPACK_PACKAGING_INSTALL_PREFIX /usr)
 set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
 set(CPACK_DEBIAN_PACKAGE_SECTION science)
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
-set(CPACK_DEBIAN_PACKAGE_DEPENDS "python3, python3-matplotlib")  # ctsfleet-plot; the rest from shlibdeps
+set(CPACK_DEBIAN_PACKAGE_DEPENDS "python3, python3-matplotlib, openssl")  # ctsfleet-plot, ctsfleet-ca; the rest from shlibdeps
 set(CPACK_DEBIAN_PACKAGE_RECOMMENDS "dbus-daemon")
 set(CPACK_DEBIAN_PACKAGE_CONTROL_STRICT_PERMISSION ON)
 set(CPACK_STRIP_FILES ON)

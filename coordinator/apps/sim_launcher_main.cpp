@@ -134,18 +134,6 @@ int main(int argc, char** argv) {
             "Fast DDS encodes its Diffie-Hellman key in a form Cyclone cannot read; see docs/SECURITY.md); run a secure "
             "fleet on one vendor");
       }
-      if (!security_dir.empty()) {
-        spdlog::info("DDS Security on: fleet directory {}", fleet_ca.string());
-      } else if (secure || config.security_required) {
-        std::vector<std::string> ids;
-        for (int r = 0; r < robots; ++r) ids.push_back("robot" + std::to_string(r));
-        coordinator::make_throwaway_fleet_ca(here, fleet_ca, ids);
-        secure = true;
-        spdlog::info("DDS Security on: throw-away fleet CA in {}", fleet_ca.string());
-      } else {
-        spdlog::warn("DDS Security is off (loopback simulation; --secure turns it on)");
-      }
-
       // Robots start on the roles' starts, then on random free cells nobody needs.
       std::vector<planner_core::Cell> starts;
       std::set<planner_core::Vertex> used(mission.starts.begin(), mission.starts.end());
@@ -186,6 +174,22 @@ int main(int argc, char** argv) {
           throw std::runtime_error("the toio emulator did not start (see " + emulator_log + ")");
         }
         spdlog::info("emulated BlueZ with {} toio cubes on {}", robots, bus);
+      }
+
+      // The fleet CA last, when everything else is known to be right (it takes a moment per robot).
+      if (!security_dir.empty()) {
+        // What the children would refuse one by one, said once here: the coordinator's and each robot's files.
+        fleet_transport::load_fleet_security(fleet_ca.string(), config.security_identity);
+        for (int r = 0; r < robots; ++r) fleet_transport::load_fleet_security(fleet_ca.string(), "robot" + std::to_string(r));
+        spdlog::info("DDS Security on: fleet directory {}", fleet_ca.string());
+      } else if (secure || config.security_required) {
+        std::vector<std::string> ids;
+        for (int r = 0; r < robots; ++r) ids.push_back("robot" + std::to_string(r));
+        coordinator::make_throwaway_fleet_ca(here, fleet_ca, ids);
+        secure = true;
+        spdlog::info("DDS Security on: throw-away fleet CA in {}", fleet_ca.string());
+      } else {
+        spdlog::warn("DDS Security is off (loopback simulation; --secure turns it on)");
       }
 
       std::vector<pid_t> agents;

@@ -18,8 +18,13 @@ namespace {
 namespace fs = std::filesystem;
 
 std::string required_file(const fs::path& path, const std::string& made_by) {
-  if (!fs::is_regular_file(path)) {
+  if (!fs::exists(path)) {
     throw std::invalid_argument("security: " + path.string() + " is missing (made by: " + made_by + ")");
+  }
+  // Certificates, keys and signed documents are a few kilobytes: anything else is not one of them.
+  constexpr std::uintmax_t kLargest = 1 << 20;
+  if (!fs::is_regular_file(path) || fs::file_size(path) > kLargest) {
+    throw std::invalid_argument("security: " + path.string() + " is not a regular file of at most 1 MiB");
   }
   return fs::absolute(path).string();
 }
