@@ -134,6 +134,7 @@ int main(int argc, char** argv) {
           {"exit_code", exit_code}};
       std::printf("%s\n", summary.dump().c_str());
       std::fflush(stdout);
+      fleet_transport::exit_if_shutdown_hangs(1.5, exit_code);
       return exit_code;
     }
     if (s.stood_down) std::printf("stood down: %s\n", s.stood_down_because.c_str());
@@ -152,6 +153,7 @@ int main(int argc, char** argv) {
     std::printf("coordinator cpu %.2f s\n", cpu);
     for (const std::string& line : s.pending) std::printf("pending: %s\n", line.c_str());
     std::fflush(stdout);
+    fleet_transport::exit_if_shutdown_hangs(1.5, exit_code);
     return exit_code;
   });
 }

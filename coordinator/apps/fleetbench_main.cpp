@@ -319,14 +319,15 @@ int main(int argc, char** argv) {
         return bound;
       };
       const auto started = std::chrono::steady_clock::now();
-      while (read_file(coordinator_log).find("plan epoch 1") == std::string::npos &&
-             std::chrono::steady_clock::now() - started < std::chrono::seconds(120) && !stop.load()) {
-        if (bound_s == "-" && count_bound() >= n) {
+      for (;;) {
+        const bool planned = read_file(coordinator_log).find("plan epoch 1") != std::string::npos;
+        if (bound_s == "-" && count_bound() >= n) {  // binding comes before the plan: checked first
           char text[32];
           std::snprintf(text, sizeof text, "%.2f",
                         std::chrono::duration<double>(std::chrono::steady_clock::now() - agents_started).count());
           bound_s = text;
         }
+        if (planned || std::chrono::steady_clock::now() - started > std::chrono::seconds(120) || stop.load()) break;
         std::this_thread::sleep_for(std::chrono::milliseconds(20));
       }
       const auto kill_time = std::chrono::steady_clock::now() + std::chrono::duration<double>(kill_after);

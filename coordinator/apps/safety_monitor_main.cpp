@@ -73,12 +73,15 @@ int main(int argc, char** argv) {
     coordinator::ActiveCoordinatorWatch coordinators(
         std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(coordinator_overlap_s)));
     fleet_transport::Handlers handlers;
+    bool closed = false;
     handlers.on_coordinator_status = [&](const fleet_transport::CoordinatorStatus& status) {
       const std::lock_guard<std::mutex> lock(mutex);
+      if (closed) return;
       if (const auto alarm = coordinators.on_status(status, std::chrono::steady_clock::now())) spdlog::error("{}", *alarm);
     };
     handlers.on_state = [&](const fleet_transport::RobotState& s) {
       const std::lock_guard<std::mutex> lock(mutex);
+      if (closed) return;
       ++states;
       const auto now = std::chrono::steady_clock::now();
       auto& of_robot = incarnations[s.robot_id];
@@ -124,7 +127,10 @@ int main(int argc, char** argv) {
            (duration <= 0 || std::chrono::steady_clock::now() - start < std::chrono::duration<double>(duration))) {
       std::this_thread::sleep_for(std::chrono::milliseconds(20));
     }
-    transport.reset();
+    {
+      const std::lock_guard<std::mutex> lock(mutex);
+      closed = true;  // what arrives from now on is not judged; the transport goes last (see below)
+    }
 
     // Every pair of visits of one cell by different robots must not overlap in time.
     std::map<std::pair<int, int>, std::vector<std::pair<const Visit*, const std::string*>>> by_cell;
@@ -151,11 +157,15 @@ int main(int argc, char** argv) {
                 "duplicate ids %zu, coordinators active together %zu\n",
                 incarnations.size(), visits.size(), static_cast<long long>(states), static_cast<long long>(cell_visits),
                 overlaps, static_cast<long long>(gaps), duplicates.size(), coordinators.alarms());
+    std::fflush(stdout);
+    int verdict = overlaps == 0 && duplicates.empty() && coordinators.alarms() == 0 ? 0 : 1;
     if (incarnations.empty()) {
       std::fprintf(stderr, "ctsfleet-monitor: heard no robot on %s domain %d with DDS config %s: nothing was checked\n",
                    vendor.c_str(), domain, dds_dir.c_str());
-      return kExitHeardNothing;
+      verdict = kExitHeardNothing;
     }
-    return overlaps == 0 && duplicates.empty() && coordinators.alarms() == 0 ? 0 : 1;
+    fleet_transport::exit_if_shutdown_hangs(1.5, verdict);
+    transport.reset();
+    return verdict;
   });
 }

@@ -1,8 +1,22 @@
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
 #include <cstdlib>
+#include <thread>
 
 #include "transport_factories.hpp"
 
 namespace fleet_transport {
+
+void exit_if_shutdown_hangs(double seconds, int exit_code) {
+  std::thread([seconds, exit_code] {
+    std::this_thread::sleep_for(std::chrono::duration<double>(seconds));
+    std::fprintf(stderr, "the middleware did not shut down within %.1f s: exiting anyway\n", seconds);
+    std::fflush(nullptr);
+    _exit(exit_code);
+  }).detach();
+}
 
 std::unique_ptr<Transport> make_transport(const TransportConfig& config, Handlers handlers) {
   // The middleware reads its configuration file from the environment at participant creation.

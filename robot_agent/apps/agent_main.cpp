@@ -148,6 +148,7 @@ int main(int argc, char** argv) {
         agent.wait_for_command(std::min<std::chrono::steady_clock::duration>(agent.idle_time(),
                                                                              std::chrono::milliseconds(50)));
       }
+      fleet_transport::exit_if_shutdown_hangs(1.5, 0);
       transport->say_goodbye(settings.robot_id);
       spdlog::info("{}: goodbye", settings.robot_id);
       std::this_thread::sleep_for(std::chrono::milliseconds(200));  // let the goodbye go out

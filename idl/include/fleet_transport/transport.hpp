@@ -78,6 +78,12 @@ class Transport {
   virtual void set_command_strength(int strength) = 0;
 };
 
+// Ends the process with `exit_code` unless it has exited by itself within `seconds`. Armed by the
+// fleet's programs when they stop, before the transport is destroyed: Cyclone DDS 0.10.2 with
+// security can hang in its handshake state machine while a participant is deleted (upstream
+// cyclonedds issue 1548, fixed after the version Debian 12 ships), and a robot process must stop.
+void exit_if_shutdown_hangs(double seconds, int exit_code);
+
 // Throws std::runtime_error when the middleware cannot be set up.
 std::unique_ptr<Transport> make_transport(const TransportConfig& config, Handlers handlers);
 
