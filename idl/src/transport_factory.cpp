@@ -21,7 +21,9 @@ void exit_if_shutdown_hangs(double seconds, int exit_code) {
 std::unique_ptr<Transport> make_transport(const TransportConfig& config, Handlers handlers) {
   // The middleware reads its configuration file from the environment at participant creation.
   if (const std::string& dir = config.loopback_config_dir; !dir.empty()) {
-    setenv("CYCLONEDDS_URI", ("file://" + dir + "/cyclonedds-loopback.xml").c_str(), 0);
+    // Robot agents (they read one robot's commands) discover coordinators and observers only.
+    const char* cyclone_file = config.commands_for.empty() ? "/cyclonedds-loopback.xml" : "/cyclonedds-loopback-agent.xml";
+    setenv("CYCLONEDDS_URI", ("file://" + dir + cyclone_file).c_str(), 0);
     setenv("FASTRTPS_DEFAULT_PROFILES_FILE", (dir + "/fastdds-loopback.xml").c_str(), 0);
   }
   if (config.vendor == Vendor::kCyclone) return make_cyclone_transport(config, std::move(handlers));

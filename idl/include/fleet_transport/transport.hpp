@@ -27,7 +27,8 @@ struct TransportConfig {
   Vendor vendor = Vendor::kCyclone;
   int domain_id = 0;
   double lease_s = 1.0;
-  // Folder with cyclonedds-loopback.xml and fastdds-loopback.xml, exported as CYCLONEDDS_URI /
+  // Folder with cyclonedds-loopback.xml (cyclonedds-loopback-agent.xml for agents: commands_for
+  // set) and fastdds-loopback.xml, exported as CYCLONEDDS_URI /
   // FASTRTPS_DEFAULT_PROFILES_FILE when those variables are not already set ("" = leave the
   // environment alone).
   std::string loopback_config_dir;
