@@ -114,13 +114,15 @@ class Fleet:
         for index, cell in enumerate(role_starts()):
             self.agent(f"robot{index}", cell, dds, extra)
 
-    def config_with(self, **timing):
-        """The shipped config with these timing settings, written beside the logs."""
+    def config_with(self, quorum=None, **timing):
+        """The shipped config with these timing settings (and robots.quorum), written beside the logs."""
         with open(CONFIG) as f:
             config = yaml.safe_load(f)
         config["mission"] = os.path.abspath(MISSION)
         config["dds"]["config_dir"] = os.path.abspath(DDS_DIR)
         config["timing"].update(timing)
+        if quorum is not None:
+            config["robots"]["quorum"] = quorum
         path = os.path.join(self.dir, "fleet.yaml")
         with open(path, "w") as f:
             yaml.safe_dump(config, f)
