@@ -5,7 +5,7 @@ include(CMakePackageConfigHelpers)
 
 set(CTSFLEET_PROGRAMS
   ctsfleet-solve ctsfleet-gen ctsfleet-bench ctsfleet-seqbench
-  ctsfleet-coordinator ctsfleet-sim ctsfleet-monitor ctsfleet-fleetbench
+  ctsfleet-coordinator ctsfleet-sim ctsfleet-monitor ctsfleet-fleetbench ctsfleet-discovery
   ctsfleet-agent ctsfleet-toio-emulator ctsfleet-toio-calibrate)
 install(TARGETS ${CTSFLEET_PROGRAMS} RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 install(PROGRAMS scripts/ctsfleet-plot DESTINATION ${CMAKE_INSTALL_BINDIR})
@@ -42,6 +42,7 @@ set(CTSFLEET_MAN_NAMES
   "ctsfleet-coordinator|plan a mission and drive a robot fleet over DDS"
   "ctsfleet-sim|run a coordinator and N simulated robot agents on one host"
   "ctsfleet-monitor|check from the states of the robots that no two robots ever shared a cell"
+  "ctsfleet-discovery|a Fast DDS discovery server for a fleet of many robots"
   "ctsfleet-fleetbench|measure latency, CPU and replanning time of the fleet runtime"
   "ctsfleet-agent|one robot of the fleet: a simulated robot or a toio cube over BLE"
   "ctsfleet-toio-emulator|emulated toio cubes behind a fake BlueZ on a private D-Bus"

@@ -32,6 +32,9 @@ int main(int argc, char** argv) {
                  "SQLite journal of the mission: every task visit is committed there; an unfinished run found in "
                  "it is resumed (done tasks are not redone)")
       ->check(ctsfleet::writable_file());
+  std::string discovery_server;
+  app.add_option("--discovery-server", discovery_server,
+                 std::string("override dds.discovery_server. ") + fleet_transport::kDiscoveryServerHelp);
   std::string security_dir, identity;
   app.add_option("--security", security_dir, "override security.fleet_dir: the fleet directory made by ctsfleet-ca");
   app.add_option("--identity", identity, "override security.identity: the name this coordinator is enrolled as");
@@ -42,6 +45,7 @@ int main(int argc, char** argv) {
     FleetConfig config = load_fleet_config(config_path);
     if (!vendor.empty()) config.dds_vendor = vendor;
     if (domain >= 0) config.domain_id = domain;
+    if (!discovery_server.empty()) config.discovery_server = discovery_server;
     if (!security_dir.empty()) config.security_dir = security_dir;
     if (!identity.empty()) config.security_identity = identity;
     fleet_transport::TransportConfig transport_config = config.transport_config();  // checks the security files

@@ -25,12 +25,17 @@
 #include "throwaway_fleet_ca.hpp"
 #include "ctsfleet/data_dir.hpp"
 #include "ctsfleet/program.hpp"
+#include "fleet_transport/transport.hpp"
 #include "planner_core/input_error.hpp"
 #include "planner_core/instance_generator.hpp"
 
 namespace fs = std::filesystem;
 
 namespace {
+
+// The UDP port of a fleet's discovery server: above the ports of every DDS domain a test or a
+// benchmark uses (domain d takes 7400 + 250 d onwards) and above Linux's ephemeral ports.
+int discovery_server_port(int domain) { return 65000 + domain; }
 
 std::string read_file(const std::string& path) {
   std::ifstream in(path);
@@ -157,10 +162,24 @@ int main(int argc, char** argv) {
   app.add_flag("--json", json, "print one JSON object per fleet size instead of the table");
   bool secure = false;
   app.add_flag("--secure", secure, "DDS Security on every process, with a throw-away fleet CA made for the run");
+  std::string discovery;
+  app.add_option("--discovery", discovery,
+                 "Fast DDS: 'server' (a ctsfleet-discovery process per fleet, the default) or 'simple' (every "
+                 "participant discovers every other)")
+      ->check(CLI::IsMember({"server", "simple"}));
   return program.main(argc, argv, [&] {
     if (domain + static_cast<int>(sizes.size()) - 1 > 232) {
       throw planner_core::InputError("--domain: " + std::to_string(domain) + " + " + std::to_string(sizes.size()) +
                                      " fleet sizes run past DDS domain 232");
+    }
+    // Fast DDS 2.9.1 cannot secure a discovery server: a secure fleet discovers the simple way.
+    if (discovery.empty()) discovery = vendor == "fastdds" && !secure ? "server" : "simple";
+    if (discovery == "server" && secure) {
+      throw planner_core::InputError(std::string("--discovery server --secure: ") +
+                                     fleet_transport::kSecureDiscoveryServerUnsupported);
+    }
+    if (discovery == "server" && vendor != "fastdds") {
+      throw planner_core::InputError("--discovery server: discovery servers are a Fast DDS feature (--dds fastdds)");
     }
     if (map.empty()) map = ctsfleet::data_path("config/default/random-64-64-20.map").string();
     const std::string dds_config_dir = ctsfleet::data_path("config/dds").string();
@@ -174,8 +193,10 @@ int main(int argc, char** argv) {
       coordinator::make_throwaway_fleet_ca(here, work / "fleet-ca", ids);
       security = {"--security", (work / "fleet-ca").string()};
     }
-    const auto with_security = [&security](std::vector<std::string> args) {
+    std::vector<std::string> discovery_options;  // set per fleet size (each has its own domain)
+    const auto with_security = [&security, &discovery_options](std::vector<std::string> args) {
       args.insert(args.end(), security.begin(), security.end());
+      args.insert(args.end(), discovery_options.begin(), discovery_options.end());
       return args;
     };
     if (!json && scenario == "robot-loss") {
@@ -203,6 +224,24 @@ int main(int argc, char** argv) {
                                  << "\n  domain_id: " << domain << "\n  config_dir: " << dds_config_dir
                                  << "\ntiming:\n  step_s: " << step
                                  << "\n  silence_timeout_s: 3\n  mission_timeout_s: 300\n  replacement_timeout_s: 2\n";
+      pid_t discovery_server = -1;
+      if (discovery == "server") {
+        const std::string listen = "127.0.0.1:" + std::to_string(discovery_server_port(domain));
+        std::vector<std::string> args{(here / "ctsfleet-discovery").string(), "--domain", std::to_string(domain),
+                                      "--listen", listen, "--dds-config-dir", dds_config_dir};
+        const std::string log = (work / ("discovery-" + std::to_string(n) + ".log")).string();
+        discovery_server = coordinator::start_child(args, log);
+        discovery_options = {"--discovery-server", listen};
+        if (!wait_for_line(log, "listening on", discovery_server, 30, stop)) {
+          throw std::runtime_error("the discovery server did not start (see " + log + ")");
+        }
+      }
+      const auto stop_discovery_server = [&discovery_server] {
+        if (discovery_server <= 0) return;
+        kill(discovery_server, SIGTERM);
+        waitpid(discovery_server, nullptr, 0);
+        discovery_server = -1;
+      };
       std::vector<pid_t> agents;
       const auto agents_started = std::chrono::steady_clock::now();
       for (int r = 0; r < n; ++r) {
@@ -285,6 +324,7 @@ int main(int argc, char** argv) {
         for (pid_t pid : agents) waitpid(pid, nullptr, 0);
         kill(monitor, SIGINT);
         waitpid(monitor, nullptr, 0);
+        stop_discovery_server();
         const std::string monitor_text = read_file((work / ("monitor-" + tag + ".log")).string());
         const size_t at = monitor_text.find("overlaps ");
         const std::string collisions = at == std::string::npos ? "-" : std::to_string(std::atoi(monitor_text.c_str() + at + 9));
@@ -347,6 +387,7 @@ int main(int argc, char** argv) {
       }
       for (pid_t pid : agents) kill(pid, SIGTERM);
       for (pid_t pid : agents) waitpid(pid, nullptr, 0);
+      stop_discovery_server();
       if (stop.load()) {
         std::fprintf(stderr, "interrupted: logs in %s\n", work.c_str());
         return ctsfleet::kExitInterrupted;

@@ -47,6 +47,8 @@ int main(int argc, char** argv) {
                  "seconds two coordinators may both be active (one listening, then standing down) before it is an alarm")
       ->check(ctsfleet::number_in(0, 3600))
       ->capture_default_str();
+  std::string discovery_server;
+  app.add_option("--discovery-server", discovery_server, fleet_transport::kDiscoveryServerHelp);
   std::string security_dir, identity = "monitor";
   app.add_option("--security", security_dir, "fleet directory made by ctsfleet-ca (DDS Security)");
   app.add_option("--identity", identity, "the observer name this monitor is enrolled as")->capture_default_str();
@@ -69,6 +71,7 @@ int main(int argc, char** argv) {
     config.vendor = fleet_transport::parse_vendor(vendor);
     config.domain_id = domain;
     config.loopback_config_dir = dds_dir;
+    config.discovery_servers = discovery_server;
     config.security = security;
     coordinator::ActiveCoordinatorWatch coordinators(
         std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(coordinator_overlap_s)));

@@ -102,6 +102,11 @@ int main(int argc, char** argv) {
   app.add_flag("--secure", secure,
                "DDS Security with a throw-away fleet CA made for this run in LOG_DIR/fleet-ca (always on for "
                "toio-emulated, whose config requires it)");
+  std::string discovery;
+  app.add_option("--discovery", discovery,
+                 "Fast DDS: 'server' (a ctsfleet-discovery process; the default for an open, all-Fast DDS fleet) or "
+                 "'simple'")
+      ->check(CLI::IsMember({"server", "simple"}));
   std::string security_dir;
   app.add_option("--security", security_dir,
                  "DDS Security with this fleet directory (made by ctsfleet-ca, with robot0..robotN-1 and a coordinator "
@@ -191,6 +196,30 @@ int main(int argc, char** argv) {
       } else {
         spdlog::warn("DDS Security is off (loopback simulation; --secure turns it on)");
       }
+      const bool all_fastdds = vendor == "fastdds" && agent_vendor == "fastdds";
+      if (discovery.empty()) discovery = all_fastdds && !secure ? "server" : "simple";
+      if (discovery == "server" && !all_fastdds) {
+        throw planner_core::InputError("--discovery server: discovery servers are a Fast DDS feature; every process "
+                                       "must run Fast DDS (--dds fastdds, no --agent-dds cyclone)");
+      }
+      if (discovery == "server" && secure) {
+        throw planner_core::InputError(std::string("--discovery server with security: ") +
+                                       fleet_transport::kSecureDiscoveryServerUnsupported);
+      }
+      std::vector<std::string> discovery_options;
+      if (discovery == "server") {
+        const std::string listen = "127.0.0.1:" + std::to_string(65000 + domain);  // above every domain's ports
+        const std::string log = log_dir + "/discovery.log";
+        std::vector<std::string> args{(here / "ctsfleet-discovery").string(), "--domain", std::to_string(domain),
+                                      "--listen", listen};
+        if (!config.dds_config_dir.empty()) args.insert(args.end(), {"--dds-config-dir", config.dds_config_dir});
+        helpers.push_back(coordinator::start_child(args, log));
+        if (!wait_until([&] { return file_contains(log, "listening on"); }, std::chrono::seconds(30))) {
+          throw std::runtime_error("the discovery server did not start (see " + log + ")");
+        }
+        discovery_options = {"--discovery-server", listen};
+        spdlog::info("Fast DDS discovery server on {}", listen);
+      }
 
       std::vector<pid_t> agents;
       for (int r = 0; r < robots; ++r) {
@@ -207,12 +236,14 @@ int main(int argc, char** argv) {
         if (!config.dds_config_dir.empty()) args.insert(args.end(), {"--dds-config-dir", config.dds_config_dir});
         if (toio) args.insert(args.end(), {"--cube", "toio-" + std::to_string(r), "--mat", mat_path});
         if (secure) args.insert(args.end(), {"--security", fleet_ca.string()});
+        args.insert(args.end(), discovery_options.begin(), discovery_options.end());
         agents.push_back(coordinator::start_child(args, log_dir + "/robot" + std::to_string(r) + ".log"));
       }
       std::vector<std::string> coordinator_args = {(here / "ctsfleet-coordinator").string(), "--config", config_path,
                                                    "--dds", vendor, "--domain", std::to_string(domain)};
       if (json) coordinator_args.push_back("--json");
       if (secure) coordinator_args.insert(coordinator_args.end(), {"--security", fleet_ca.string()});
+      coordinator_args.insert(coordinator_args.end(), discovery_options.begin(), discovery_options.end());
       const pid_t coordinator_pid = coordinator::start_child(coordinator_args, "");
       spdlog::info("started {} agents ({}) and the coordinator ({}) on domain {}; agent logs in {}", robots,
                    agent_vendor, vendor, domain, log_dir);

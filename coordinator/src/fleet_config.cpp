@@ -88,7 +88,7 @@ FleetConfig load_fleet_config(const std::string& path) {
     }
   }
   if (const YAML::Node dds = root["dds"]) {
-    r.only_keys(dds, {"vendor", "domain_id", "lease_s", "config_dir"}, "dds");
+    r.only_keys(dds, {"vendor", "domain_id", "lease_s", "config_dir", "discovery_server"}, "dds");
     r.read(dds, "vendor", "dds", config.dds_vendor);
     r.read(dds, "domain_id", "dds", config.domain_id);
     r.read(dds, "lease_s", "dds", config.lease_s);
@@ -100,6 +100,7 @@ FleetConfig load_fleet_config(const std::string& path) {
     if (!config.dds_config_dir.empty() && !fs::is_directory(config.dds_config_dir)) {
       r.fail(dds["config_dir"], "dds.config_dir", "'" + config.dds_config_dir + "' is not a folder");
     }
+    r.read(dds, "discovery_server", "dds", config.discovery_server);
     if (config.dds_vendor != "cyclone" && config.dds_vendor != "fastdds") {
       r.fail(dds["vendor"], "dds.vendor", "expected cyclone or fastdds");
     }
@@ -149,6 +150,7 @@ fleet_transport::TransportConfig FleetConfig::transport_config() const {
   config.domain_id = domain_id;
   config.lease_s = lease_s;
   config.loopback_config_dir = dds_config_dir;
+  config.discovery_servers = discovery_server;
   if (security_required && security_dir.empty()) {
     throw InputError(source + ": security.required is true (these robots are real) but no fleet directory is given "
                      "(security.fleet_dir or --security): " + fleet_transport::kFleetCaHint);

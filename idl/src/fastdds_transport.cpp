@@ -18,6 +18,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "fastdds_participant.hpp"
 #include "fleet.h"
 #include "middleware_log.hpp"
 #include "fleetPubSubTypes.h"
@@ -91,48 +92,6 @@ void room_for_the_fleet(ResourceLimitsQosPolicy& limits, int32_t depth) {
   limits.max_instances = kMaxRobots;
   limits.max_samples_per_instance = depth;
   limits.max_samples = kMaxRobots * depth;
-}
-
-// The participant QoS of the profile file, plus DDS Security with the builtin plugins when on.
-DomainParticipantQos participant_qos(const SecurityFiles& files) {
-  auto* factory = DomainParticipantFactory::get_instance();
-  factory->load_profiles();
-  DomainParticipantQos qos;
-  factory->get_default_participant_qos(qos);
-  if (!files.enabled()) return qos;
-  auto& properties = qos.properties().properties();
-  const auto file = [](const std::string& path) { return "file://" + path; };  // Fast DDS wants file://
-  properties.emplace_back("dds.sec.auth.plugin", "builtin.PKI-DH");
-  properties.emplace_back("dds.sec.auth.builtin.PKI-DH.identity_ca", file(files.identity_ca));
-  properties.emplace_back("dds.sec.auth.builtin.PKI-DH.identity_certificate", file(files.identity_certificate));
-  properties.emplace_back("dds.sec.auth.builtin.PKI-DH.private_key", file(files.private_key));
-  properties.emplace_back("dds.sec.access.plugin", "builtin.Access-Permissions");
-  properties.emplace_back("dds.sec.access.builtin.Access-Permissions.permissions_ca", file(files.permissions_ca));
-  properties.emplace_back("dds.sec.access.builtin.Access-Permissions.governance", file(files.governance));
-  properties.emplace_back("dds.sec.access.builtin.Access-Permissions.permissions", file(files.permissions));
-  properties.emplace_back("dds.sec.crypto.plugin", "builtin.AES-GCM-GMAC");
-  return qos;
-}
-
-// Fast DDS's log (errors and warnings, e.g. an access-control denial) goes to the process's log,
-// each line once a minute at most, instead of to stdout in colour.
-class LogToProcess : public LogConsumer {
- public:
-  void Consume(const Log::Entry& entry) override {
-    filter_.log("Fast DDS", entry.kind == Log::Kind::Error, entry.message);
-  }
-
- private:
-  RepeatedLineFilter filter_;
-};
-
-void route_fastdds_log() {
-  static std::once_flag once;
-  std::call_once(once, [] {
-    Log::ClearConsumers();
-    Log::RegisterConsumer(std::make_unique<LogToProcess>());
-    Log::SetVerbosity(Log::Kind::Warning);
-  });
 }
 
 // Remembers the partitions of every writer the participant discovers, so that a state or
@@ -219,7 +178,7 @@ class FastDdsTransport : public Transport {
     route_fastdds_log();
     writer_partitions_.on_refused = handlers_.on_refused;
     auto* factory = DomainParticipantFactory::get_instance();
-    participant_ = factory->create_participant(config.domain_id, participant_qos(config.security), &writer_partitions_,
+    participant_ = factory->create_participant(config.domain_id, fastdds_participant_qos(config.security, config.discovery_servers), &writer_partitions_,
                                                StatusMask::none());
     if (!participant_) Log::Flush();  // the reason, from the middleware's log thread, before we exit
     if (!participant_ && config.security.enabled()) {

@@ -34,6 +34,8 @@ int main(int argc, char** argv) {
   app.add_option("--dds-config-dir", dds_dir,
                  "folder with the loopback DDS XML files (default: the shipped config/dds, as the coordinator's config)")
       ->check(CLI::ExistingDirectory);
+  std::string discovery_server;
+  app.add_option("--discovery-server", discovery_server, fleet_transport::kDiscoveryServerHelp);
   std::string security_dir;
   bool insecure = false;
   app.add_option("--security", security_dir,
@@ -121,6 +123,7 @@ int main(int argc, char** argv) {
       config.lease_s = lease;
       config.commands_for = settings.robot_id;
       config.loopback_config_dir = dds_dir;
+      config.discovery_servers = discovery_server;
       config.security = security;
       fleet_transport::Handlers handlers;
       handlers.on_command = [&agent](const fleet_transport::StepCommand& c) { agent.on_command(c); };

@@ -45,6 +45,8 @@ int main(int argc, char** argv) {
   app.add_option("--dds", vendor);
   app.add_option("--domain", domain);
   app.add_option("--dds-config-dir", dds_dir);
+  std::string discovery_server;
+  app.add_option("--discovery-server", discovery_server, fleet_transport::kDiscoveryServerHelp);
   app.add_option("--robot", robot, "robot id")->required();
   app.add_option("--path", path_text, "cells to visit, one step each: \"x,y x,y ...\"");
   app.add_option("--epoch", epoch, "plan epoch of the commands")->capture_default_str();
@@ -62,6 +64,7 @@ int main(int argc, char** argv) {
   config.vendor = fleet_transport::parse_vendor(vendor);
   config.domain_id = domain;
   config.loopback_config_dir = dds_dir;
+  config.discovery_servers = discovery_server;
   try {
     config.security = fleet_transport::load_fleet_security(security_dir, identity);
   } catch (const std::exception& e) {

@@ -24,6 +24,8 @@ int main(int argc, char** argv) {
   app.add_option("--dds", vendor);
   app.add_option("--domain", domain);
   app.add_option("--dds-config-dir", dds_dir);
+  std::string discovery_server;
+  app.add_option("--discovery-server", discovery_server, fleet_transport::kDiscoveryServerHelp);
   app.add_option("--victim", victim, "a live robot id to aim at");
   std::string security_dir, identity, claim, partition_of;
   int claim_x = 0, claim_y = 0, claim_rounds = 30;
@@ -39,6 +41,7 @@ int main(int argc, char** argv) {
   config.vendor = fleet_transport::parse_vendor(vendor);
   config.domain_id = domain;
   config.loopback_config_dir = dds_dir;
+  config.discovery_servers = discovery_server;
   config.command_strength = 1000;
   config.test_partition_of = partition_of;
   if (!security_dir.empty()) {

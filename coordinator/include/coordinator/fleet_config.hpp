@@ -27,6 +27,7 @@ struct FleetConfig {
   std::string dds_vendor = "cyclone";
   int domain_id = 0;
   double lease_s = 1.0;
+  std::string discovery_server;  // Fast DDS: "HOST:PORT;..." of ctsfleet-discovery servers ("" = none)
   std::string dds_config_dir;    // folder with the loopback XML files ("" = environment as is)
   double step_s = 0.2;           // nominal seconds per move, for command deadlines
   double silence_timeout_s = 2;  // a robot whose state stops this long is taken out

@@ -37,12 +37,26 @@ struct TransportConfig {
   // Step commands have exclusive ownership: of several live coordinators writing to one robot,
   // only the strongest is heard (a coordinator uses its term).
   int command_strength = 0;
+  // Fast DDS only: discover through these discovery servers ("HOST:PORT;HOST:PORT", server i
+  // being the one started as `ctsfleet-discovery --server-id i`) instead of with every
+  // participant on the network. Empty: simple discovery (the config file's peers).
+  std::string discovery_servers;
   // DDS Security: off when no files are given (see fleet_security_files).
   SecurityFiles security;
   // Tests only: write every robot state and announcement in this robot's partition, whatever id
   // it carries (plays a robot that claims another's id from its own partition).
   std::string test_partition_of;
 };
+
+inline constexpr const char* kDiscoveryServerHelp =
+    "Fast DDS: discover through these ctsfleet-discovery servers, HOST:PORT;HOST:PORT (server i = --server-id i)";
+
+// Fast DDS 2.9.1 (Debian 12) aborts a secure participant that discovers through a server: an
+// assertion in SecurityManager::encode_rtps_message with RTPS protection on, and no discovery at
+// all with it off. Upstream fixed secure discovery servers in 2.14 / 3.x (Fast-DDS PR #5257).
+inline constexpr const char* kSecureDiscoveryServerUnsupported =
+    "discovery servers with DDS Security: Fast DDS 2.9.1 (Debian 12) cannot do both (it aborts in "
+    "SecurityManager::encode_rtps_message); a secure Fast DDS fleet uses simple discovery, or use Cyclone DDS";
 
 enum class GoneReason { kGoodbye, kLivelinessLost };
 

@@ -1,0 +1,50 @@
+// ctsfleet-discovery: a Fast DDS discovery server for a fleet. Start it first (or two, with
+// different --server-id, for redundancy), then give every Fast DDS program of the fleet
+// --discovery-server with the servers' addresses: each robot then discovers its coordinators and
+// observers through the server, never the other robots. Open fleets only: Fast DDS 2.9.1 cannot
+// combine a discovery server with DDS Security. Runs until SIGINT/SIGTERM.
+#include <spdlog/spdlog.h>
+
+#include <chrono>
+#include <thread>
+
+#include "ctsfleet/data_dir.hpp"
+#include "ctsfleet/program.hpp"
+#include "fleet_transport/discovery_server.hpp"
+#include "fleet_transport/transport.hpp"
+
+int main(int argc, char** argv) {
+  ctsfleet::Program program("ctsfleet-discovery", "a Fast DDS discovery server for the fleet");
+  CLI::App& app = program.app();
+  fleet_transport::DiscoveryServerConfig config;
+  app.add_option("--domain", config.domain_id, "DDS domain id")->check(ctsfleet::dds_domain())->capture_default_str();
+  app.add_option("--listen", config.listen, "IPv4 HOST:PORT the fleet's programs reach this server at")
+      ->capture_default_str();
+  app.add_option("--server-id", config.server_id,
+                 "this server's place in the programs' --discovery-server list (0 = first)")
+      ->check(CLI::Range(0, 255))
+      ->capture_default_str();
+  app.add_option("--dds-config-dir", config.loopback_config_dir,
+                 "folder with the loopback DDS XML files (default: the shipped config/dds)")
+      ->check(CLI::ExistingDirectory);
+  return program.main(argc, argv, [&] {
+    if (config.loopback_config_dir.empty()) config.loopback_config_dir = ctsfleet::data_path("config/dds").string();
+    spdlog::warn("a discovery server is open (Fast DDS 2.9.1 cannot secure one): use it for open fleets only");
+    config.on_event = [](const std::string& event) { spdlog::info("{}", event); };
+    auto server = std::make_unique<fleet_transport::DiscoveryServer>(config);
+    spdlog::info("discovery server {} listening on {} (Fast DDS, domain {}); programs take --discovery-server {}",
+                 config.server_id, config.listen, config.domain_id, config.listen);
+    const auto& stop = ctsfleet::stop_requested();
+    auto next_report = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+    while (!stop.load()) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+      if (std::chrono::steady_clock::now() >= next_report) {
+        spdlog::info("participants known: {}", server->participants());
+        next_report += std::chrono::seconds(30);
+      }
+    }
+    fleet_transport::exit_if_shutdown_hangs(1.5, 0);
+    server.reset();
+    return 0;
+  });
+}

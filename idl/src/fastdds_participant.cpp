@@ -1,0 +1,127 @@
+#include "fastdds_participant.hpp"
+
+#include <fastdds/dds/domain/DomainParticipantFactory.hpp>
+#include <fastdds/dds/log/Log.hpp>
+#include <fastdds/rtps/attributes/ServerAttributes.h>
+#include <fastrtps/utils/IPLocator.h>
+
+#include <mutex>
+#include <stdexcept>
+
+#include "fleet_transport/transport.hpp"
+#include "middleware_log.hpp"
+
+namespace fleet_transport {
+
+using namespace eprosima::fastdds::dds;
+using eprosima::fastrtps::rtps::DiscoveryProtocol_t;
+
+namespace {
+
+void add_security(const SecurityFiles& files, DomainParticipantQos& qos) {
+  if (!files.enabled()) return;
+  auto& properties = qos.properties().properties();
+  const auto file = [](const std::string& path) { return "file://" + path; };  // Fast DDS wants file://
+  properties.emplace_back("dds.sec.auth.plugin", "builtin.PKI-DH");
+  properties.emplace_back("dds.sec.auth.builtin.PKI-DH.identity_ca", file(files.identity_ca));
+  properties.emplace_back("dds.sec.auth.builtin.PKI-DH.identity_certificate", file(files.identity_certificate));
+  properties.emplace_back("dds.sec.auth.builtin.PKI-DH.private_key", file(files.private_key));
+  properties.emplace_back("dds.sec.access.plugin", "builtin.Access-Permissions");
+  properties.emplace_back("dds.sec.access.builtin.Access-Permissions.permissions_ca", file(files.permissions_ca));
+  properties.emplace_back("dds.sec.access.builtin.Access-Permissions.governance", file(files.governance));
+  properties.emplace_back("dds.sec.access.builtin.Access-Permissions.permissions", file(files.permissions));
+  properties.emplace_back("dds.sec.crypto.plugin", "builtin.AES-GCM-GMAC");
+}
+
+DomainParticipantQos profile_qos() {
+  auto* factory = DomainParticipantFactory::get_instance();
+  factory->load_profiles();
+  DomainParticipantQos qos;
+  factory->get_default_participant_qos(qos);
+  return qos;
+}
+
+// "HOST:PORT": an IPv4 locator, or std::invalid_argument naming `what`.
+eprosima::fastrtps::rtps::Locator_t udp_locator(const std::string& host_port, const std::string& what) {
+  const auto colon = host_port.rfind(':');
+  const std::string host = host_port.substr(0, colon);
+  int port = -1;
+  try {
+    if (colon != std::string::npos) port = std::stoi(host_port.substr(colon + 1));
+  } catch (const std::exception&) {
+  }
+  eprosima::fastrtps::rtps::Locator_t locator;
+  if (colon == std::string::npos || port < 1 || port > 65535 ||
+      !eprosima::fastrtps::rtps::IPLocator::isIPv4(host) ||
+      !eprosima::fastrtps::rtps::IPLocator::setIPv4(locator, host)) {
+    throw std::invalid_argument(what + ": '" + host_port + "' is not an IPv4 HOST:PORT (e.g. 127.0.0.1:11811)");
+  }
+  locator.port = static_cast<uint32_t>(port);
+  return locator;
+}
+
+}  // namespace
+
+DomainParticipantQos fastdds_participant_qos(const SecurityFiles& security, const std::string& discovery_servers) {
+  DomainParticipantQos qos = profile_qos();
+  add_security(security, qos);
+  if (discovery_servers.empty()) return qos;
+  if (security.enabled()) throw std::invalid_argument(kSecureDiscoveryServerUnsupported);
+  auto& discovery = qos.wire_protocol().builtin.discovery_config;
+  eprosima::fastdds::rtps::RemoteServerList_t servers;
+  // Check every entry ourselves first: Fast DDS's parser says only that the list is wrong.
+  std::size_t from = 0;
+  while (from <= discovery_servers.size()) {
+    const std::size_t to = std::min(discovery_servers.find(';', from), discovery_servers.size());
+    const std::string entry = discovery_servers.substr(from, to - from);
+    if (!entry.empty()) udp_locator(entry, "discovery server");
+    from = to + 1;
+  }
+  if (!eprosima::fastdds::rtps::load_environment_server_info(discovery_servers, servers) || servers.empty()) {
+    throw std::invalid_argument("discovery servers '" + discovery_servers + "': expected HOST:PORT;HOST:PORT");
+  }
+  discovery.discoveryProtocol = DiscoveryProtocol_t::CLIENT;
+  discovery.m_DiscoveryServers = servers;
+  // A client talks to its servers only: the profile's initial peers (every participant port on
+  // the host) would bring back the all-pairs traffic the servers are there to avoid.
+  qos.wire_protocol().builtin.initialPeersList.clear();
+  return qos;
+}
+
+DomainParticipantQos fastdds_server_qos(int server_id, const std::string& listen) {
+  DomainParticipantQos qos = profile_qos();
+  auto& builtin = qos.wire_protocol().builtin;
+  builtin.discovery_config.discoveryProtocol = DiscoveryProtocol_t::SERVER;
+  if (!eprosima::fastdds::rtps::get_server_client_default_guidPrefix(server_id, qos.wire_protocol().prefix)) {
+    throw std::invalid_argument("server id " + std::to_string(server_id) + " out of range (0-255)");
+  }
+  builtin.metatrafficUnicastLocatorList.clear();
+  builtin.metatrafficUnicastLocatorList.push_back(udp_locator(listen, "--listen"));
+  builtin.initialPeersList.clear();
+  return qos;
+}
+
+namespace {
+
+class LogToProcess : public LogConsumer {
+ public:
+  void Consume(const Log::Entry& entry) override {
+    filter_.log("Fast DDS", entry.kind == Log::Kind::Error, entry.message);
+  }
+
+ private:
+  RepeatedLineFilter filter_;
+};
+
+}  // namespace
+
+void route_fastdds_log() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    Log::ClearConsumers();
+    Log::RegisterConsumer(std::make_unique<LogToProcess>());
+    Log::SetVerbosity(Log::Kind::Warning);
+  });
+}
+
+}  // namespace fleet_transport

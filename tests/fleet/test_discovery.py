@@ -1,0 +1,176 @@
+#!/usr/bin/env python3
+"""Fast DDS fleets that discover through a discovery server (ctsfleet-discovery): a mission, the
+server killed and restarted mid-mission while a robot restarts, and every way of giving the
+options wrong. Real processes on loopback, each test on its own domain (160-169)."""
+import os
+import re
+import signal
+import subprocess
+import sys
+import time
+import unittest
+
+sys.path.insert(0, os.path.dirname(__file__))
+from test_fleet import BIN, CONFIG, DDS_DIR, Fleet, failed, read, role_starts, wait_for  # noqa: E402
+
+TESTS = [
+    "test_mission_through_a_discovery_server",
+    "test_server_killed_and_restarted_while_a_robot_restarts",
+    "test_bad_discovery_options_are_refused_clearly",
+]
+
+
+class DiscoveryFleet(Fleet):
+    """A Fleet whose every process is a Fast DDS client of this test's discovery server."""
+
+    def __init__(self, test_name):
+        super().__init__(test_name, domain=160 + 2 * TESTS.index(test_name))
+        self.server = f"127.0.0.1:{65000 + self.domain}"
+
+    def discovery_server(self):
+        log = self.log("discovery")
+        process = self.start("discovery", [f"{BIN}/ctsfleet-discovery", "--domain", str(self.domain),
+                                           "--listen", self.server, "--dds-config-dir", DDS_DIR])
+        wait_for(lambda: "listening on" in read(log) or process.poll() is not None, 30, "the discovery server")
+        self.assertRunning(process, log)
+        return process
+
+    @staticmethod
+    def assertRunning(process, log):
+        if process.poll() is not None:
+            raise AssertionError("the discovery server exited:\n" + read(log))
+
+    def client(self):
+        return ["--discovery-server", self.server]
+
+    def agent(self, robot_id, cell, dds="fastdds", extra=()):
+        return super().agent(robot_id, cell, dds, [*self.client(), *extra])
+
+    def coordinator(self, dds="fastdds", config=CONFIG, extra=()):
+        return super().coordinator(dds, config, [*self.client(), *extra])
+
+    def monitor(self, dds="fastdds"):
+        return self.start("monitor", [f"{BIN}/ctsfleet-monitor", "--dds", dds, "--domain", str(self.domain),
+                                      "--dds-config-dir", DDS_DIR, *self.client()])
+
+
+def run(args, timeout=60):
+    return subprocess.run(args, capture_output=True, text=True, timeout=timeout)
+
+
+class DiscoveryTest(unittest.TestCase):
+    def setUp(self):
+        self.fleet = DiscoveryFleet(self._testMethodName)
+
+    def tearDown(self):
+        self.fleet.close(keep_logs=failed(self))
+
+    def assert_safe(self):
+        self.fleet.processes["monitor"].send_signal(signal.SIGINT)
+        code = self.fleet.wait_exit("monitor", 60)
+        text = read(self.fleet.log("monitor"))
+        self.assertIn("overlaps 0", text, text)
+        self.assertEqual(code, 0, text)
+        states = re.search(r"states (\d+)", text)
+        self.assertTrue(states and int(states.group(1)) > 100, "the monitor heard almost nothing:\n" + text)
+
+    def agents(self):
+        for index, cell in enumerate(role_starts()):
+            self.fleet.agent(f"robot{index}", cell)
+
+    def test_mission_through_a_discovery_server(self):
+        self.fleet.discovery_server()
+        self.fleet.monitor()
+        self.agents()
+        self.fleet.coordinator()
+        code = self.fleet.wait_exit("coordinator", 240)
+        text = read(self.fleet.log("coordinator"))
+        self.assertEqual(code, 0, text[-3000:])
+        self.assertIn("mission completed: tasks 16/16", text)
+        self.assert_safe()
+        # Everyone went through the server: 8 robots, the coordinator and the monitor joined it.
+        joined = read(self.fleet.log("discovery")).count("participant joined")
+        self.assertGreaterEqual(joined, 10, read(self.fleet.log("discovery")))
+
+    def test_server_killed_and_restarted_while_a_robot_restarts(self):
+        """The server dies mid-mission: matched robots keep working. A robot restarted meanwhile
+        is found once the server is back, and the mission completes with no collision."""
+        self.fleet.discovery_server()
+        self.fleet.monitor()
+        self.agents()
+        self.fleet.coordinator()
+        log = self.fleet.log("coordinator")
+        wait_for(lambda: "plan epoch 1" in read(log), 120, "the first plan")
+        wait_for(lambda: any(int(done) >= 2 for done in re.findall(r"tasks (\d+)/16", read(log))), 120,
+                 "the mission under way (two tasks done)")
+        server = self.fleet.processes["discovery"]
+        server.send_signal(signal.SIGKILL)
+        server.wait()
+        done_at_kill = max(int(d) for d in re.findall(r"tasks (\d+)/16", read(log)))
+        # Without a server the matched fleet goes on.
+        wait_for(lambda: max(int(d) for d in re.findall(r"tasks (\d+)/16", read(log))) > done_at_kill, 60,
+                 "progress with the discovery server dead")
+        old = self.fleet.processes["robot3"]
+        old.send_signal(signal.SIGKILL)
+        old.wait()
+        wait_for(lambda: "robot robot3 taken out" in read(log), 60, "the loss detected")
+        line = next(l for l in read(log).splitlines() if "robot robot3 taken out" in l)
+        cell = tuple(int(v) for v in re.search(r"last at \((\d+),(\d+)\)", line).groups())
+        self.fleet.agent("robot3", cell)  # no server to find the coordinator through, yet
+        os.rename(self.fleet.log("discovery"), self.fleet.log("discovery-first"))
+        self.fleet.discovery_server()
+        wait_for(lambda: "replanning: robot robot3 joined" in read(log), 60,
+                 "the restarted robot found through the restarted server")
+        code = self.fleet.wait_exit("coordinator", 240)
+        text = read(log)
+        self.assertEqual(code, 0, text[-3000:])
+        self.assertIn("mission completed: tasks 16/16", text)
+        self.assert_safe()
+
+    def test_bad_discovery_options_are_refused_clearly(self):
+        domain = str(self.fleet.domain)
+        agent = [f"{BIN}/ctsfleet-agent", "--id", "robot0", "--start", "1,1", "--domain", domain,
+                 "--dds-config-dir", DDS_DIR]
+        for value in ("localhost", "127.0.0.1", "127.0.0.1:0", "127.0.0.1:70000", "300.1.1.1:11811", "a:b;c"):
+            result = run([*agent, "--dds", "fastdds", "--discovery-server", value])
+            self.assertEqual(result.returncode, 2, f"{value}: {result.stdout}{result.stderr}")
+            self.assertIn("HOST:PORT", result.stderr, result.stderr)
+        # Cyclone has no discovery server: said, not ignored.
+        result = run([*agent, "--dds", "cyclone", "--discovery-server", self.fleet.server])
+        self.assertEqual(result.returncode, 2, result.stdout + result.stderr)
+        self.assertIn("Fast DDS option", result.stderr)
+        # Fast DDS 2.9.1 cannot secure a discovery server: refused before the middleware aborts.
+        self.fleet.secure(["robot0"])
+        result = run([*agent, "--dds", "fastdds", "--discovery-server", self.fleet.server, "--security",
+                      self.fleet.fleet_ca])
+        self.assertEqual(result.returncode, 2, result.stdout + result.stderr)
+        self.assertIn("Fast DDS 2.9.1", result.stderr)
+        for args in (["--listen", "127.0.0.1"], ["--listen", "999.0.0.1:5"], ["--server-id", "256"],
+                     ["--listen", "192.0.2.1:65161"]):  # the last: not an address of this host
+            result = run([f"{BIN}/ctsfleet-discovery", "--domain", domain, "--dds-config-dir", DDS_DIR, *args])
+            self.assertIn(result.returncode, (1, 2), f"{args}: {result.stdout}{result.stderr}")
+            self.assertTrue("--listen" in result.stderr or "server-id" in result.stderr or
+                            "cannot start discovery server" in result.stderr, f"{args}: {result.stderr}")
+        sim = [f"{BIN}/ctsfleet-sim", "--robots", "2", "--domain", domain, "--log-dir",
+               os.path.join(self.fleet.dir, "sim")]
+        result = run([*sim, "--dds", "fastdds", "--agent-dds", "cyclone", "--discovery", "server"])
+        self.assertEqual(result.returncode, 2, result.stdout + result.stderr)
+        self.assertIn("Fast DDS feature", result.stderr)
+        result = run([*sim, "--dds", "fastdds", "--secure", "--discovery", "server"], timeout=120)
+        self.assertEqual(result.returncode, 2, result.stdout + result.stderr)
+        self.assertIn("Fast DDS 2.9.1", result.stderr)
+        bench = run([f"{BIN}/ctsfleet-fleetbench", "-n", "2", "--dds", "cyclone", "--discovery", "server"])
+        self.assertEqual(bench.returncode, 2, bench.stdout + bench.stderr)
+        # In a fleet config too: the line of the bad key is named.
+        config = self.fleet.config_with()
+        with open(config) as f:
+            text = f.read()
+        with open(config, "w") as f:
+            f.write(text.replace("dds:\n", "dds:\n  discovery_servers: 127.0.0.1:1\n"))
+        result = run([f"{BIN}/ctsfleet-coordinator", "--config", config])
+        self.assertEqual(result.returncode, 2, result.stdout + result.stderr)
+        self.assertIn("discovery_servers", result.stderr)
+
+
+if __name__ == "__main__":
+    unittest.main()
