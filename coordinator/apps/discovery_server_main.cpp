@@ -5,7 +5,12 @@
 // combine a discovery server with DDS Security. Runs until SIGINT/SIGTERM.
 #include <spdlog/spdlog.h>
 
+#include <unistd.h>
+
+#include <cerrno>
 #include <chrono>
+#include <cstring>
+#include <filesystem>
 #include <thread>
 
 #include "ctsfleet/data_dir.hpp"
@@ -24,11 +29,28 @@ int main(int argc, char** argv) {
                  "this server's place in the programs' --discovery-server list (0 = first)")
       ->check(CLI::Range(0, 255))
       ->capture_default_str();
+  std::string state_dir;
+  app.add_option("--state-dir", state_dir,
+                 "where the server keeps what it knows, so that it restarts where it stopped (default: "
+                 "ctsfleet-discovery-state/domain-D-server-I in the current directory)");
   app.add_option("--dds-config-dir", config.loopback_config_dir,
                  "folder with the loopback DDS XML files (default: the shipped config/dds)")
       ->check(CLI::ExistingDirectory);
   return program.main(argc, argv, [&] {
     if (config.loopback_config_dir.empty()) config.loopback_config_dir = ctsfleet::data_path("config/dds").string();
+    config.loopback_config_dir = std::filesystem::absolute(config.loopback_config_dir).string();
+    if (state_dir.empty()) {
+      state_dir = "ctsfleet-discovery-state/domain-" + std::to_string(config.domain_id) + "-server-" +
+                  std::to_string(config.server_id);
+    }
+    // Fast DDS writes the backup file in the working directory.
+    std::error_code error;
+    std::filesystem::create_directories(state_dir, error);
+    if (error || chdir(state_dir.c_str()) != 0) {
+      throw std::invalid_argument("--state-dir: cannot use '" + state_dir + "' (" +
+                                     (error ? error.message() : std::strerror(errno)) + ")");
+    }
+    spdlog::info("state kept in {}", std::filesystem::current_path().string());
     spdlog::warn("a discovery server is open (Fast DDS 2.9.1 cannot secure one): use it for open fleets only");
     config.on_event = [](const std::string& event) { spdlog::info("{}", event); };
     auto server = std::make_unique<fleet_transport::DiscoveryServer>(config);

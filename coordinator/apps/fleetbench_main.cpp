@@ -164,16 +164,15 @@ int main(int argc, char** argv) {
   app.add_flag("--secure", secure, "DDS Security on every process, with a throw-away fleet CA made for the run");
   std::string discovery;
   app.add_option("--discovery", discovery,
-                 "Fast DDS: 'server' (a ctsfleet-discovery process per fleet, the default) or 'simple' (every "
-                 "participant discovers every other)")
+                 "Fast DDS: 'simple' (the default: agents find coordinators and observers, a few find each other) "
+                 "or 'server' (a ctsfleet-discovery process per fleet; open fleets only)")
       ->check(CLI::IsMember({"server", "simple"}));
   return program.main(argc, argv, [&] {
     if (domain + static_cast<int>(sizes.size()) - 1 > 232) {
       throw planner_core::InputError("--domain: " + std::to_string(domain) + " + " + std::to_string(sizes.size()) +
                                      " fleet sizes run past DDS domain 232");
     }
-    // Fast DDS 2.9.1 cannot secure a discovery server: a secure fleet discovers the simple way.
-    if (discovery.empty()) discovery = vendor == "fastdds" && !secure ? "server" : "simple";
+    if (discovery.empty()) discovery = "simple";
     if (discovery == "server" && secure) {
       throw planner_core::InputError(std::string("--discovery server --secure: ") +
                                      fleet_transport::kSecureDiscoveryServerUnsupported);
@@ -228,7 +227,8 @@ int main(int argc, char** argv) {
       if (discovery == "server") {
         const std::string listen = "127.0.0.1:" + std::to_string(discovery_server_port(domain));
         std::vector<std::string> args{(here / "ctsfleet-discovery").string(), "--domain", std::to_string(domain),
-                                      "--listen", listen, "--dds-config-dir", dds_config_dir};
+                                      "--listen", listen, "--dds-config-dir", dds_config_dir, "--state-dir",
+                                      (work / ("discovery-state-" + std::to_string(n))).string()};
         const std::string log = (work / ("discovery-" + std::to_string(n) + ".log")).string();
         discovery_server = coordinator::start_child(args, log);
         discovery_options = {"--discovery-server", listen};

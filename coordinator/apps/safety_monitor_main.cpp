@@ -56,6 +56,7 @@ int main(int argc, char** argv) {
     const std::atomic<bool>& g_stop = ctsfleet::stop_requested();
     if (dds_dir.empty()) dds_dir = ctsfleet::data_path("config/dds").string();
     const fleet_transport::SecurityFiles security = fleet_transport::load_fleet_security(security_dir, identity);
+    fleet_transport::check_discovery_servers(fleet_transport::parse_vendor(vendor), discovery_server, security.enabled());
 
     std::mutex mutex;
     // Paths per robot process: "id#incarnation", so a restart starts a new path and a second process
@@ -106,7 +107,18 @@ int main(int argc, char** argv) {
         }
         if (new_process) {  // the other's last cell is left when this one starts (a restart)
           auto& other_path = visits[s.robot_id + "#" + std::to_string(other)];
-          if (!other_path.empty() && other_path.back().to_ms == INT64_MAX) other_path.back().to_ms = s.stamp_ms;
+          if (!other_path.empty() && other_path.back().to_ms == INT64_MAX) {
+            Visit& last = other_path.back();
+            // Heard first on that cell or the next one: left by the time of this state. Heard
+            // first further away (its first states were not heard): when it left is unknown,
+            // so that stay is not judged, as for a lost state.
+            if (std::abs(last.x - s.cell_x) + std::abs(last.y - s.cell_y) <= 1) {
+              last.to_ms = s.stamp_ms;
+            } else {
+              ++gaps;
+              last.to_ms = last.from_ms;
+            }
+          }
         }
       }
       std::vector<Visit>& path = visits[key];

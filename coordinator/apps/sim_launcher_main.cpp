@@ -104,8 +104,8 @@ int main(int argc, char** argv) {
                "toio-emulated, whose config requires it)");
   std::string discovery;
   app.add_option("--discovery", discovery,
-                 "Fast DDS: 'server' (a ctsfleet-discovery process; the default for an open, all-Fast DDS fleet) or "
-                 "'simple'")
+                 "Fast DDS: 'simple' (the default) or 'server' (a ctsfleet-discovery process; open, all-Fast DDS "
+                 "fleets only)")
       ->check(CLI::IsMember({"server", "simple"}));
   std::string security_dir;
   app.add_option("--security", security_dir,
@@ -197,7 +197,7 @@ int main(int argc, char** argv) {
         spdlog::warn("DDS Security is off (loopback simulation; --secure turns it on)");
       }
       const bool all_fastdds = vendor == "fastdds" && agent_vendor == "fastdds";
-      if (discovery.empty()) discovery = all_fastdds && !secure ? "server" : "simple";
+      if (discovery.empty()) discovery = "simple";
       if (discovery == "server" && !all_fastdds) {
         throw planner_core::InputError("--discovery server: discovery servers are a Fast DDS feature; every process "
                                        "must run Fast DDS (--dds fastdds, no --agent-dds cyclone)");
@@ -211,7 +211,7 @@ int main(int argc, char** argv) {
         const std::string listen = "127.0.0.1:" + std::to_string(65000 + domain);  // above every domain's ports
         const std::string log = log_dir + "/discovery.log";
         std::vector<std::string> args{(here / "ctsfleet-discovery").string(), "--domain", std::to_string(domain),
-                                      "--listen", listen};
+                                      "--listen", listen, "--state-dir", log_dir + "/discovery-state"};
         if (!config.dds_config_dir.empty()) args.insert(args.end(), {"--dds-config-dir", config.dds_config_dir});
         helpers.push_back(coordinator::start_child(args, log));
         if (!wait_until([&] { return file_contains(log, "listening on"); }, std::chrono::seconds(30))) {

@@ -156,6 +156,7 @@ fleet_transport::TransportConfig FleetConfig::transport_config() const {
                      "(security.fleet_dir or --security): " + fleet_transport::kFleetCaHint);
   }
   config.security = fleet_transport::load_fleet_security(security_dir, security_identity);
+  fleet_transport::check_discovery_servers(config.vendor, discovery_server, config.security.enabled());
   return config;
 }
 

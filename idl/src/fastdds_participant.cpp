@@ -91,7 +91,11 @@ DomainParticipantQos fastdds_participant_qos(const SecurityFiles& security, cons
 DomainParticipantQos fastdds_server_qos(int server_id, const std::string& listen) {
   DomainParticipantQos qos = profile_qos();
   auto& builtin = qos.wire_protocol().builtin;
-  builtin.discovery_config.discoveryProtocol = DiscoveryProtocol_t::SERVER;
+  // A backup server keeps what it knows in a file of the working directory, so that a server
+  // restarted with the same id (the same GUID prefix) carries on where it stopped: a plain
+  // server starting over is ignored by the clients that knew it (they have seen its sequence
+  // numbers already) and a robot that joins then is never heard by the coordinator.
+  builtin.discovery_config.discoveryProtocol = DiscoveryProtocol_t::BACKUP;
   if (!eprosima::fastdds::rtps::get_server_client_default_guidPrefix(server_id, qos.wire_protocol().prefix)) {
     throw std::invalid_argument("server id " + std::to_string(server_id) + " out of range (0-255)");
   }

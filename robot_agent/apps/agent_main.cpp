@@ -99,6 +99,7 @@ int main(int argc, char** argv) {
                        fleet_transport::kFleetCaHint + "); --insecure runs it without, on a network you trust");
     }
     const fleet_transport::SecurityFiles security = fleet_transport::load_fleet_security(security_dir, settings.robot_id);
+    fleet_transport::check_discovery_servers(fleet_transport::parse_vendor(vendor), discovery_server, security.enabled());
     if (!security.enabled()) spdlog::warn("{}: DDS Security is off: any process on the domain can command this robot", settings.robot_id);
     std::unique_ptr<RobotBackend> backend;
     SimRobot* sim_robot = nullptr;

@@ -30,7 +30,8 @@ class DiscoveryFleet(Fleet):
     def discovery_server(self):
         log = self.log("discovery")
         process = self.start("discovery", [f"{BIN}/ctsfleet-discovery", "--domain", str(self.domain),
-                                           "--listen", self.server, "--dds-config-dir", DDS_DIR])
+                                           "--listen", self.server, "--dds-config-dir", DDS_DIR,
+                                           "--state-dir", os.path.join(self.dir, "discovery-state")])
         wait_for(lambda: "listening on" in read(log) or process.poll() is not None, 30, "the discovery server")
         self.assertRunning(process, log)
         return process

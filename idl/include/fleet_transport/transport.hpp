@@ -58,6 +58,10 @@ inline constexpr const char* kSecureDiscoveryServerUnsupported =
     "discovery servers with DDS Security: Fast DDS 2.9.1 (Debian 12) cannot do both (it aborts in "
     "SecurityManager::encode_rtps_message); a secure Fast DDS fleet uses simple discovery, or use Cyclone DDS";
 
+// Throws std::invalid_argument, naming the bad entry, unless `servers` is empty or a list of
+// IPv4 HOST:PORT separated by ';', the vendor is Fast DDS and the participant is not `secure`.
+void check_discovery_servers(Vendor vendor, const std::string& servers, bool secure);
+
 enum class GoneReason { kGoodbye, kLivelinessLost };
 
 // Handlers run on the middleware's threads: keep them short and thread-safe. Unset ones are not
