@@ -83,17 +83,29 @@ int main(int argc, char** argv) {
       if (closed) return;
       if (const auto alarm = coordinators.on_status(status, std::chrono::steady_clock::now())) spdlog::error("{}", *alarm);
     };
+    // Each robot process stamps arrivals on its own host's clock. Per process, the smallest
+    // (this monitor's receive time - the stamp) is that clock's offset from ours plus the shortest
+    // delivery delay: stamps + offset put every robot on this monitor's clock, so hosts whose
+    // clocks disagree by seconds are judged alike.
+    std::map<std::string, int64_t> clock_offset_ms;  // "id#incarnation" -> offset
     handlers.on_state = [&](const fleet_transport::RobotState& s) {
+      const int64_t received_ms = fleet_transport::wall_clock_ms();
       const std::lock_guard<std::mutex> lock(mutex);
       if (closed) return;
       ++states;
+      const std::string key = s.robot_id + "#" + std::to_string(s.incarnation);
+      if (const auto [offset, first] = clock_offset_ms.try_emplace(key, received_ms - s.stamp_ms); !first) {
+        offset->second = std::min(offset->second, received_ms - s.stamp_ms);
+      }
       const auto now = std::chrono::steady_clock::now();
       auto& of_robot = incarnations[s.robot_id];
       const bool new_process = of_robot.find(s.incarnation) == of_robot.end();
       Incarnation& self = of_robot[s.incarnation];
-      if (new_process) self.first_heard = now;
+      if (new_process) {
+        self.first_heard = now;
+        spdlog::info("first state of {} (process {:016x})", s.robot_id, s.incarnation);
+      }
       self.last_heard = now;
-      const std::string key = s.robot_id + "#" + std::to_string(s.incarnation);
       for (const auto& [other, seen] : of_robot) {
         if (other == s.incarnation) continue;
         // A restart hands over (the old process falls silent before the new one speaks, give or take
@@ -113,7 +125,8 @@ int main(int argc, char** argv) {
             // first further away (its first states were not heard): when it left is unknown,
             // so that stay is not judged, as for a lost state.
             if (std::abs(last.x - s.cell_x) + std::abs(last.y - s.cell_y) <= 1) {
-              last.to_ms = s.stamp_ms;
+              // This stamp on the old process's clock (the new one may run on another host).
+              last.to_ms = s.stamp_ms + clock_offset_ms[key] - clock_offset_ms[s.robot_id + "#" + std::to_string(other)];
             } else {
               ++gaps;
               last.to_ms = last.from_ms;
@@ -147,7 +160,15 @@ int main(int argc, char** argv) {
       closed = true;  // what arrives from now on is not judged; the transport goes last (see below)
     }
 
-    // Every pair of visits of one cell by different robots must not overlap in time.
+    // Every pair of visits of one cell by different robots must not overlap in time, on this
+    // monitor's clock.
+    for (auto& [id, path] : visits) {
+      const int64_t offset = clock_offset_ms[id];
+      for (Visit& visit : path) {
+        visit.from_ms += offset;
+        if (visit.to_ms != INT64_MAX) visit.to_ms += offset;
+      }
+    }
     std::map<std::pair<int, int>, std::vector<std::pair<const Visit*, const std::string*>>> by_cell;
     int64_t cell_visits = 0;
     for (const auto& [id, path] : visits) {

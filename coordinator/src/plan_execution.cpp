@@ -67,6 +67,7 @@ std::optional<fleet_transport::StepCommand> PlanExecution::due_command(int a, Cl
   command.target_pose_x = cell.x;
   command.target_pose_y = cell.y;
   command.deadline_ms = deadline_ms;
+  command.sent_ms = fleet_transport::wall_clock_ms();
   command.coordinator = coordinator_;
   if (!resend) {
     agent.first_sent_at = now;

@@ -1,5 +1,6 @@
 #include "fleet_transport/messages.hpp"
 
+#include <atomic>
 #include <chrono>
 #include <stdexcept>
 
@@ -33,10 +34,17 @@ bool outranks(const CoordinatorStatus& a, const CoordinatorStatus& b) {
   return a.coordinator < b.coordinator;
 }
 
+namespace {
+std::atomic<int64_t> g_test_skew_ms{0};
+}  // namespace
+
 int64_t wall_clock_ms() {
   return std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::system_clock::now().time_since_epoch())
-      .count();
+             .count() +
+         g_test_skew_ms.load(std::memory_order_relaxed);
 }
+
+void set_wall_clock_skew_for_tests(int64_t skew_ms) { g_test_skew_ms.store(skew_ms); }
 
 Vendor parse_vendor(const std::string& name) {
   if (name == "cyclone") return Vendor::kCyclone;

@@ -34,6 +34,11 @@ int main(int argc, char** argv) {
   app.add_option("--dds-config-dir", dds_dir,
                  "folder with the loopback DDS XML files (default: the shipped config/dds, as the coordinator's config)")
       ->check(CLI::ExistingDirectory);
+  int64_t test_clock_skew_ms = 0;
+  app.add_option("--test-clock-skew-ms", test_clock_skew_ms,
+                 "tests only: this agent's wall clock runs this many ms ahead (behind when negative), as on a host "
+                 "whose clock is off")
+      ->check(CLI::Range(int64_t{-3600000}, int64_t{3600000}));
   std::string discovery_server;
   app.add_option("--discovery-server", discovery_server, fleet_transport::kDiscoveryServerHelp);
   std::string security_dir;
@@ -94,6 +99,10 @@ int main(int argc, char** argv) {
       }
     }
     if (dds_dir.empty()) dds_dir = ctsfleet::data_path("config/dds").string();
+    if (test_clock_skew_ms != 0) {
+      fleet_transport::set_wall_clock_skew_for_tests(test_clock_skew_ms);
+      spdlog::warn("{}: clock skewed by {} ms for a test", settings.robot_id, test_clock_skew_ms);
+    }
     if (backend_name == "toio" && security_dir.empty() && !insecure) {
       throw InputError(std::string("--backend toio drives a real robot and requires --security FLEET_DIR (") +
                        fleet_transport::kFleetCaHint + "); --insecure runs it without, on a network you trust");

@@ -90,10 +90,22 @@ void RobotAgent::choose_coordinator() {
 
 void RobotAgent::consider(const StepCommand& command) {
   // Checked first, so a late or replayed command can neither be held nor change the epoch.
-  if (command.deadline_ms > 0 && command.deadline_ms < fleet_transport::wall_clock_ms()) {
-    reject(command, "its deadline passed " + std::to_string(fleet_transport::wall_clock_ms() - command.deadline_ms) +
-                        " ms ago (a late or replayed command)");
-    return;
+  // The deadline is on the sender's clock: compared with ours through the offset learnt from its
+  // send stamps, so a host whose clock is seconds off still takes the commands in time.
+  const int64_t now = fleet_transport::wall_clock_ms();
+  if (command.deadline_ms > 0) {
+    int64_t offset = 0;  // a sender that stamps nothing is taken to share our clock
+    if (command.sent_ms > 0) {
+      if (clock_offsets_.size() > 16) clock_offsets_.clear();  // forged senders cannot grow it without bound
+      ClockOffset& clock = clock_offsets_[command.coordinator];
+      clock.add(command.sent_ms, now);
+      offset = *clock.offset_ms();
+    }
+    if (command.deadline_ms + offset < now) {
+      reject(command, "its deadline passed " + std::to_string(now - command.deadline_ms - offset) +
+                          " ms ago (a late or replayed command)");
+      return;
+    }
   }
   choose_coordinator();
   const auto sender = coordinators_.find(command.coordinator);

@@ -58,6 +58,50 @@ TEST_F(AgentFixture, ACommandPastItsDeadlineIsDroppedAndChangesNothing) {
   EXPECT_EQ(transport.last_state.plan_epoch, 5);
 }
 
+// A coordinator on a host whose clock is `skew_ms` behind ours: its stamps and deadlines.
+fleet_transport::StepCommand from_skewed_host(int epoch, int index, int x, int y, int64_t skew_ms,
+                                              int64_t deadline_in_ms) {
+  const int64_t its_now = fleet_transport::wall_clock_ms() - skew_ms;
+  fleet_transport::StepCommand command = move(epoch, index, x, y, its_now + deadline_in_ms);
+  command.sent_ms = its_now;
+  return command;
+}
+
+TEST_F(AgentFixture, ACoordinatorWhoseClockIsSecondsBehindIsObeyedInTime) {
+  agent.on_coordinator_status(status_of(kCoordinator, 1, 1));
+  // Its deadline 1.2 s ahead on its clock is 1.8 s past on ours: still taken.
+  agent.on_command(from_skewed_host(1, 0, 3, 2, 3000, 1200));
+  settle();
+  EXPECT_EQ(robot.poll().cell, (Cell{3, 2}));
+  agent.on_command(from_skewed_host(1, 1, 3, 3, 3000, 1200));
+  settle();
+  EXPECT_EQ(robot.poll().cell, (Cell{3, 3}));
+}
+
+TEST_F(AgentFixture, ACoordinatorWhoseClockIsAheadStillCannotReplayALateCommand) {
+  agent.on_coordinator_status(status_of(kCoordinator, 1, 1));
+  agent.on_command(from_skewed_host(1, 0, 3, 2, -4000, 1200));  // its clock 4 s ahead of ours
+  settle();
+  EXPECT_EQ(robot.poll().cell, (Cell{3, 2}));
+  // The same sender's command whose deadline passed 1 s ago on its clock: refused, skew or not.
+  fleet_transport::StepCommand late = from_skewed_host(1, 1, 3, 3, -4000, -1000);
+  late.sent_ms -= 2200;  // sent 2.2 s ago with a 1.2 s deadline, delivered now (a replay)
+  agent.on_command(late);
+  settle();
+  EXPECT_EQ(robot.poll().cell, (Cell{3, 2}));
+}
+
+TEST(ClockOffset, IsTheSmallestDifferenceOfItsWindow) {
+  ClockOffset clock;
+  EXPECT_FALSE(clock.offset_ms());
+  clock.add(1000, 3010);  // 10 ms delay on a clock 2 s behind
+  clock.add(2000, 4002);
+  clock.add(2500, 4700);  // a slow delivery changes nothing
+  EXPECT_EQ(clock.offset_ms(), 2002);
+  for (std::size_t i = 0; i < ClockOffset::kWindow; ++i) clock.add(10000, 11005);  // the clock was stepped
+  EXPECT_EQ(clock.offset_ms(), 1005);
+}
+
 TEST_F(AgentFixture, IncarnationIsInEveryAnnouncementAndState) {
   EXPECT_NE(agent.incarnation(), 0u);
   EXPECT_EQ(agent.announcement().incarnation, agent.incarnation());

@@ -45,8 +45,9 @@ struct StepCommand {
   int target_y = 0;
   double target_pose_x = 0;
   double target_pose_y = 0;
-  int64_t deadline_ms = 0;
+  int64_t deadline_ms = 0;    // the sender's wall clock
   uint64_t coordinator = 0;  // the sender's incarnation
+  int64_t sent_ms = 0;       // the sender's wall clock when sent (0: unknown)
 };
 
 struct Assignment {
@@ -93,6 +94,10 @@ bool outranks(const CoordinatorStatus& a, const CoordinatorStatus& b);
 // Longest robot id the wire types carry.
 constexpr size_t kMaxRobotIdLength = 32;
 
+// Milliseconds since the epoch on this host's clock (shifted by the test skew, if one is set).
 int64_t wall_clock_ms();
+// Tests only: this process's wall clock runs `skew_ms` ahead (behind when negative), as on a
+// host whose clock is off.
+void set_wall_clock_skew_for_tests(int64_t skew_ms);
 
 }  // namespace fleet_transport

@@ -11,6 +11,7 @@
 #include <string>
 
 #include "fleet_transport/transport.hpp"
+#include "robot_agent/clock_offset.hpp"
 #include "robot_agent/robot_backend.hpp"
 
 namespace robot_agent {
@@ -64,6 +65,7 @@ class RobotAgent {
   std::optional<fleet_transport::StepCommand> pending_;  // the newest accepted command not yet started
   std::optional<fleet_transport::StepCommand> held_;     // the newest command not judged yet
   std::map<uint64_t, KnownCoordinator> coordinators_;
+  std::map<uint64_t, ClockOffset> clock_offsets_;  // per sending coordinator (hosts' clocks differ)
   uint64_t followed_ = 0;
   Cell next_start_{};  // where the robot will be when it starts its next command
   int epoch_ = -1;

@@ -7,15 +7,14 @@
 #include <optional>
 #include <string>
 
+#include "fleet_transport/messages.hpp"
 #include "planner_core/cell.hpp"
 
 namespace robot_agent {
 
-// Wall-clock milliseconds since the epoch: the time stamp of arrivals, comparable across hosts.
-inline int64_t wall_clock_ms() {
-  return std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::system_clock::now().time_since_epoch())
-      .count();
-}
+// Wall-clock milliseconds since the epoch on this host's clock (with a test's skew): the time
+// stamp of arrivals. Hosts' clocks may disagree; readers put stamps on their own clock.
+using fleet_transport::wall_clock_ms;
 
 using planner_core::Cell;  // the project's one cell type
 
