@@ -32,6 +32,9 @@ int main(int argc, char** argv) {
                  "SQLite journal of the mission: every task visit is committed there; an unfinished run found in "
                  "it is resumed (done tasks are not redone)")
       ->check(ctsfleet::writable_file());
+  std::string network_interface, peers;
+  app.add_option("--iface", network_interface, std::string("override dds.interface: ") + fleet_transport::kInterfaceHelp);
+  app.add_option("--peers", peers, std::string("override dds.peers: ") + fleet_transport::kPeersHelp);
   std::string discovery_server;
   app.add_option("--discovery-server", discovery_server,
                  std::string("override dds.discovery_server. ") + fleet_transport::kDiscoveryServerHelp);
@@ -46,6 +49,8 @@ int main(int argc, char** argv) {
     if (!vendor.empty()) config.dds_vendor = vendor;
     if (domain >= 0) config.domain_id = domain;
     if (!discovery_server.empty()) config.discovery_server = discovery_server;
+    if (!network_interface.empty()) config.network_interface = network_interface;
+    if (!peers.empty()) config.peers = peers;
     if (!security_dir.empty()) config.security_dir = security_dir;
     if (!identity.empty()) config.security_identity = identity;
     fleet_transport::TransportConfig transport_config = config.transport_config();  // checks the security files

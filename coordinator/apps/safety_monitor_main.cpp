@@ -47,6 +47,9 @@ int main(int argc, char** argv) {
                  "seconds two coordinators may both be active (one listening, then standing down) before it is an alarm")
       ->check(ctsfleet::number_in(0, 3600))
       ->capture_default_str();
+  std::string network_interface, peers;
+  app.add_option("--iface", network_interface, fleet_transport::kInterfaceHelp);
+  app.add_option("--peers", peers, fleet_transport::kPeersHelp);
   std::string discovery_server;
   app.add_option("--discovery-server", discovery_server, fleet_transport::kDiscoveryServerHelp);
   std::string security_dir, identity = "monitor";
@@ -57,6 +60,7 @@ int main(int argc, char** argv) {
     if (dds_dir.empty()) dds_dir = ctsfleet::data_path("config/dds").string();
     const fleet_transport::SecurityFiles security = fleet_transport::load_fleet_security(security_dir, identity);
     fleet_transport::check_discovery_servers(fleet_transport::parse_vendor(vendor), discovery_server, security.enabled());
+    fleet_transport::check_network(network_interface, peers);
 
     std::mutex mutex;
     // Paths per robot process: "id#incarnation", so a restart starts a new path and a second process
@@ -73,6 +77,8 @@ int main(int argc, char** argv) {
     config.domain_id = domain;
     config.loopback_config_dir = dds_dir;
     config.discovery_servers = discovery_server;
+    config.network_interface = network_interface;
+    config.peers = peers;
     config.security = security;
     coordinator::ActiveCoordinatorWatch coordinators(
         std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(coordinator_overlap_s)));

@@ -88,7 +88,7 @@ FleetConfig load_fleet_config(const std::string& path) {
     }
   }
   if (const YAML::Node dds = root["dds"]) {
-    r.only_keys(dds, {"vendor", "domain_id", "lease_s", "config_dir", "discovery_server"}, "dds");
+    r.only_keys(dds, {"vendor", "domain_id", "lease_s", "config_dir", "discovery_server", "interface", "peers"}, "dds");
     r.read(dds, "vendor", "dds", config.dds_vendor);
     r.read(dds, "domain_id", "dds", config.domain_id);
     r.read(dds, "lease_s", "dds", config.lease_s);
@@ -101,6 +101,8 @@ FleetConfig load_fleet_config(const std::string& path) {
       r.fail(dds["config_dir"], "dds.config_dir", "'" + config.dds_config_dir + "' is not a folder");
     }
     r.read(dds, "discovery_server", "dds", config.discovery_server);
+    r.read(dds, "interface", "dds", config.network_interface);
+    r.read(dds, "peers", "dds", config.peers);
     if (config.dds_vendor != "cyclone" && config.dds_vendor != "fastdds") {
       r.fail(dds["vendor"], "dds.vendor", "expected cyclone or fastdds");
     }
@@ -151,12 +153,15 @@ fleet_transport::TransportConfig FleetConfig::transport_config() const {
   config.lease_s = lease_s;
   config.loopback_config_dir = dds_config_dir;
   config.discovery_servers = discovery_server;
+  config.network_interface = network_interface;
+  config.peers = peers;
   if (security_required && security_dir.empty()) {
     throw InputError(source + ": security.required is true (these robots are real) but no fleet directory is given "
                      "(security.fleet_dir or --security): " + fleet_transport::kFleetCaHint);
   }
   config.security = fleet_transport::load_fleet_security(security_dir, security_identity);
   fleet_transport::check_discovery_servers(config.vendor, discovery_server, config.security.enabled());
+  fleet_transport::check_network(network_interface, peers);
   return config;
 }
 

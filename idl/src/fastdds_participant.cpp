@@ -3,6 +3,7 @@
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 #include <fastdds/dds/log/Log.hpp>
 #include <fastdds/rtps/attributes/ServerAttributes.h>
+#include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
 #include <fastrtps/utils/IPLocator.h>
 
 #include <mutex>
@@ -62,8 +63,29 @@ eprosima::fastrtps::rtps::Locator_t udp_locator(const std::string& host_port, co
 
 }  // namespace
 
-DomainParticipantQos fastdds_participant_qos(const SecurityFiles& security, const std::string& discovery_servers) {
-  DomainParticipantQos qos = profile_qos();
+// UDPv4 on `address` only (no shared memory: the fleet's processes may be on other hosts).
+void use_interface(const std::string& address, DomainParticipantQos& qos) {
+  auto udp = std::make_shared<eprosima::fastdds::rtps::UDPv4TransportDescriptor>();
+  udp->interfaceWhiteList.push_back(address);
+  udp->maxInitialPeersRange = 115;  // a peer host may run up to 115 participants of the domain
+  qos.transport().user_transports.push_back(udp);
+  qos.transport().use_builtin_transports = false;
+}
+
+DomainParticipantQos fastdds_participant_qos(const TransportConfig& config) {
+  const SecurityFiles& security = config.security;
+  const std::string& discovery_servers = config.discovery_servers;
+  DomainParticipantQos qos = PARTICIPANT_QOS_DEFAULT;
+  if (config.network_interface.empty()) {
+    qos = profile_qos();
+  } else {
+    use_interface(interface_address(config.network_interface), qos);
+    for (const std::string& peer : parse_peers(config.peers)) {
+      eprosima::fastrtps::rtps::Locator_t locator;
+      eprosima::fastrtps::rtps::IPLocator::setIPv4(locator, peer);
+      qos.wire_protocol().builtin.initialPeersList.push_back(locator);
+    }
+  }
   add_security(security, qos);
   if (discovery_servers.empty()) return qos;
   if (security.enabled()) throw std::invalid_argument(kSecureDiscoveryServerUnsupported);
@@ -89,7 +111,12 @@ DomainParticipantQos fastdds_participant_qos(const SecurityFiles& security, cons
 }
 
 DomainParticipantQos fastdds_server_qos(int server_id, const std::string& listen) {
-  DomainParticipantQos qos = profile_qos();
+  DomainParticipantQos qos = PARTICIPANT_QOS_DEFAULT;
+  if (listen.rfind("127.", 0) == 0) {
+    qos = profile_qos();  // the loopback file's transport
+  } else {
+    use_interface(listen.substr(0, listen.rfind(':')), qos);
+  }
   auto& builtin = qos.wire_protocol().builtin;
   // A backup server keeps what it knows in a file of the working directory, so that a server
   // restarted with the same id (the same GUID prefix) carries on where it stopped: a plain

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "fleet_transport/security.hpp"
+#include "fleet_transport/transport.hpp"
 
 namespace fleet_transport {
 
@@ -15,8 +16,9 @@ namespace fleet_transport {
 // ROS_DISCOVERY_SERVER; server i is the one started with --server-id i) the participant is a
 // client of those servers and discovers only what it matches through them. Throws
 // std::invalid_argument when the list does not parse.
-eprosima::fastdds::dds::DomainParticipantQos fastdds_participant_qos(const SecurityFiles& security,
-                                                                    const std::string& discovery_servers);
+// On a network (config.network_interface set), the QoS is made here: UDPv4 on that interface,
+// multicast discovery, or unicast discovery to config.peers.
+eprosima::fastdds::dds::DomainParticipantQos fastdds_participant_qos(const TransportConfig& config);
 
 // The QoS of discovery server `server_id` listening on `listen` ("HOST:PORT").
 // Open only: see kSecureDiscoveryServerUnsupported.

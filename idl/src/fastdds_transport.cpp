@@ -178,7 +178,7 @@ class FastDdsTransport : public Transport {
     route_fastdds_log();
     writer_partitions_.on_refused = handlers_.on_refused;
     auto* factory = DomainParticipantFactory::get_instance();
-    participant_ = factory->create_participant(config.domain_id, fastdds_participant_qos(config.security, config.discovery_servers), &writer_partitions_,
+    participant_ = factory->create_participant(config.domain_id, fastdds_participant_qos(config), &writer_partitions_,
                                                StatusMask::none());
     if (!participant_) Log::Flush();  // the reason, from the middleware's log thread, before we exit
     if (!participant_ && config.security.enabled()) {

@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <thread>
 
+#include "network_settings.hpp"
 #include "transport_factories.hpp"
 
 namespace fleet_transport {
@@ -50,7 +51,18 @@ void check_discovery_servers(Vendor vendor, const std::string& servers, bool sec
 
 std::unique_ptr<Transport> make_transport(const TransportConfig& config, Handlers handlers) {
   // The middleware reads its configuration file from the environment at participant creation.
-  if (const std::string& dir = config.loopback_config_dir; !dir.empty()) {
+  const bool on_network = !config.network_interface.empty() || !config.peers.empty();
+  if (on_network) {
+    // A network: no loopback files. Cyclone takes its configuration as XML text; Fast DDS's QoS
+    // is made in code (fastdds_participant_qos).
+    if (config.network_interface.empty()) {
+      throw std::invalid_argument("peers (" + config.peers + ") need a network interface (--iface) to reach them on");
+    }
+    const std::string address = interface_address(config.network_interface);
+    if (config.vendor == Vendor::kCyclone) {
+      setenv("CYCLONEDDS_URI", cyclone_network_config(address, parse_peers(config.peers)).c_str(), 1);
+    }
+  } else if (const std::string& dir = config.loopback_config_dir; !dir.empty()) {
     // Robot agents (they read one robot's commands) discover coordinators and observers only.
     const bool agent = !config.commands_for.empty();
     const char* cyclone_file = agent ? "/cyclonedds-loopback-agent.xml" : "/cyclonedds-loopback.xml";

@@ -39,6 +39,9 @@ int main(int argc, char** argv) {
                  "tests only: this agent's wall clock runs this many ms ahead (behind when negative), as on a host "
                  "whose clock is off")
       ->check(CLI::Range(int64_t{-3600000}, int64_t{3600000}));
+  std::string network_interface, peers;
+  app.add_option("--iface", network_interface, fleet_transport::kInterfaceHelp);
+  app.add_option("--peers", peers, fleet_transport::kPeersHelp);
   std::string discovery_server;
   app.add_option("--discovery-server", discovery_server, fleet_transport::kDiscoveryServerHelp);
   std::string security_dir;
@@ -109,6 +112,7 @@ int main(int argc, char** argv) {
     }
     const fleet_transport::SecurityFiles security = fleet_transport::load_fleet_security(security_dir, settings.robot_id);
     fleet_transport::check_discovery_servers(fleet_transport::parse_vendor(vendor), discovery_server, security.enabled());
+    fleet_transport::check_network(network_interface, peers);
     if (!security.enabled()) spdlog::warn("{}: DDS Security is off: any process on the domain can command this robot", settings.robot_id);
     std::unique_ptr<RobotBackend> backend;
     SimRobot* sim_robot = nullptr;
@@ -134,6 +138,8 @@ int main(int argc, char** argv) {
       config.commands_for = settings.robot_id;
       config.loopback_config_dir = dds_dir;
       config.discovery_servers = discovery_server;
+      config.network_interface = network_interface;
+      config.peers = peers;
       config.security = security;
       fleet_transport::Handlers handlers;
       handlers.on_command = [&agent](const fleet_transport::StepCommand& c) { agent.on_command(c); };

@@ -27,6 +27,8 @@ struct FleetConfig {
   std::string dds_vendor = "cyclone";
   int domain_id = 0;
   double lease_s = 1.0;
+  std::string network_interface;  // "" = loopback (dds.config_dir); else a LAN interface
+  std::string peers;              // unicast discovery to these IPv4 hosts ("" = multicast)
   std::string discovery_server;  // Fast DDS: "HOST:PORT;..." of ctsfleet-discovery servers ("" = none)
   std::string dds_config_dir;    // folder with the loopback XML files ("" = environment as is)
   double step_s = 0.2;           // nominal seconds per move, for command deadlines

@@ -13,6 +13,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "fleet_transport/messages.hpp"
 #include "fleet_transport/security.hpp"
@@ -41,6 +42,12 @@ struct TransportConfig {
   // being the one started as `ctsfleet-discovery --server-id i`) instead of with every
   // participant on the network. Empty: simple discovery (the config file's peers).
   std::string discovery_servers;
+  // A network instead of loopback (hosts on a LAN): the interface to use, by name or IPv4
+  // address, and discovery by multicast on it; with `peers` (IPv4 addresses, comma-separated)
+  // discovery is unicast to those hosts instead, for networks without multicast. Either one
+  // replaces the loopback files of loopback_config_dir.
+  std::string network_interface;
+  std::string peers;
   // DDS Security: off when no files are given (see fleet_security_files).
   SecurityFiles security;
   // Tests only: write every robot state and announcement in this robot's partition, whatever id
@@ -48,6 +55,10 @@ struct TransportConfig {
   std::string test_partition_of;
 };
 
+inline constexpr const char* kInterfaceHelp =
+    "run on this network interface (name or IPv4 address) instead of loopback, discovering by multicast";
+inline constexpr const char* kPeersHelp =
+    "with --iface: discover by unicast to these hosts (IPv4, comma-separated) instead of multicast";
 inline constexpr const char* kDiscoveryServerHelp =
     "Fast DDS: discover through these ctsfleet-discovery servers, HOST:PORT;HOST:PORT (server i = --server-id i)";
 
@@ -57,6 +68,16 @@ inline constexpr const char* kDiscoveryServerHelp =
 inline constexpr const char* kSecureDiscoveryServerUnsupported =
     "discovery servers with DDS Security: Fast DDS 2.9.1 (Debian 12) cannot do both (it aborts in "
     "SecurityManager::encode_rtps_message); a secure Fast DDS fleet uses simple discovery, or use Cyclone DDS";
+
+// The IPv4 address of interface `name_or_address` on this host; std::invalid_argument (listing
+// the host's interfaces) when there is none.
+std::string interface_address(const std::string& name_or_address);
+// The peers of a comma-separated list of IPv4 addresses; std::invalid_argument on a bad one.
+std::vector<std::string> parse_peers(const std::string& peers);
+
+// Throws std::invalid_argument, naming what is wrong, unless the interface exists on this host
+// and the peers parse (both may be empty; peers need an interface).
+void check_network(const std::string& network_interface, const std::string& peers);
 
 // Throws std::invalid_argument, naming the bad entry, unless `servers` is empty or a list of
 // IPv4 HOST:PORT separated by ';', the vendor is Fast DDS and the participant is not `secure`.

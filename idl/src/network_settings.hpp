@@ -1,0 +1,15 @@
+// The DDS configuration of a fleet on a network rather than on loopback.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "fleet_transport/transport.hpp"
+
+namespace fleet_transport {
+
+// Cyclone DDS's configuration (XML text, as CYCLONEDDS_URI takes it) for interface `address`:
+// multicast discovery, or unicast to `peers` when there are any.
+std::string cyclone_network_config(const std::string& address, const std::vector<std::string>& peers);
+
+}  // namespace fleet_transport

@@ -1,0 +1,159 @@
+#!/usr/bin/env python3
+"""A fleet over three "hosts": network namespaces joined by a bridge (in a fourth namespace, so
+nothing touches this machine's own network), with link-local addresses the test creates and
+removes. The coordinator and the monitor run on one host, four robot agents on each of the two
+others, all on the LAN interface (--iface) instead of loopback. Skipped, loudly, only where
+namespaces cannot be made (no root, no iproute2). Domains 180-189."""
+import os
+import re
+import subprocess
+import sys
+import time
+import unittest
+
+sys.path.insert(0, os.path.dirname(__file__))
+from test_fleet import BIN, CONFIG, Fleet, failed, read, role_starts, wait_for  # noqa: E402
+
+TESTS = [
+    "test_cyclone_multicast_mission_over_three_hosts",
+    "test_cyclone_unicast_peers_mission_over_three_hosts",
+    "test_fastdds_discovery_server_mission_over_three_hosts",
+    "test_host_cut_off_for_three_leases_heals",
+]
+HOSTS = ("c", "a", "b")  # coordinator host, then the two robot hosts
+
+
+def sh(*args):
+    return subprocess.run(list(args), capture_output=True, text=True, timeout=30)
+
+
+class Lan:
+    """Namespaces ctsf<domain><host>, each with interface `fleet0` on a bridge in ctsf<domain>sw."""
+
+    def __init__(self, domain):
+        self.prefix = f"ctsf{domain}"
+        self.switch = self.prefix + "sw"
+        self.address = {host: f"169.254.{domain}.{i + 1}" for i, host in enumerate(HOSTS)}
+        self.namespaces = [self.switch] + [self.prefix + h for h in HOSTS]
+
+    def up(self):
+        self.down()
+        steps = [["ip", "netns", "add", ns] for ns in self.namespaces]
+        steps += [["ip", "-n", self.switch, "link", "add", "br0", "type", "bridge"],
+                  ["ip", "-n", self.switch, "link", "set", "br0", "up"]]
+        for host in HOSTS:
+            ns = self.prefix + host
+            steps += [["ip", "link", "add", "fleet0", "netns", ns, "type", "veth", "peer", "name", "port" + host,
+                       "netns", self.switch],
+                      ["ip", "-n", self.switch, "link", "set", "port" + host, "master", "br0"],
+                      ["ip", "-n", self.switch, "link", "set", "port" + host, "up"],
+                      ["ip", "-n", ns, "addr", "add", self.address[host] + "/24", "dev", "fleet0"],
+                      ["ip", "-n", ns, "link", "set", "fleet0", "up", "multicast", "on"],
+                      ["ip", "-n", ns, "link", "set", "lo", "up"],
+                      ["ip", "-n", ns, "route", "add", "224.0.0.0/4", "dev", "fleet0"]]
+        for step in steps:
+            result = sh(*step)
+            if result.returncode != 0:
+                self.down()
+                return f"{' '.join(step)}: {result.stderr.strip()}"
+        return None
+
+    def down(self):
+        for ns in self.namespaces:
+            sh("ip", "netns", "del", ns)
+
+    def port(self, host, up):
+        result = sh("ip", "-n", self.switch, "link", "set", "port" + host, "up" if up else "down")
+        assert result.returncode == 0, result.stderr
+
+    def run_in(self, host):
+        return ["ip", "netns", "exec", self.prefix + host]
+
+
+class HostsTest(unittest.TestCase):
+    def setUp(self):
+        domain = 180 + 2 * TESTS.index(self._testMethodName)
+        self.lan = Lan(domain)
+        problem = self.lan.up()
+        if problem:
+            print(f"\n*** SKIPPED: cannot make network namespaces here ({problem}) ***\n", file=sys.stderr)
+            self.skipTest("network namespaces unavailable: " + problem)
+        self.fleet = Fleet(self._testMethodName, domain=domain)
+
+    def tearDown(self):
+        if hasattr(self, "fleet"):
+            self.fleet.close(keep_logs=failed(self))
+        self.lan.down()
+
+    def network(self, dds, host, peers=False, server=None):
+        args = ["--dds", dds, "--iface", "fleet0"]
+        if peers:
+            args += ["--peers", ",".join(self.lan.address.values())]
+        if server:
+            args += ["--discovery-server", server]
+        return args
+
+    def start_fleet(self, dds="cyclone", peers=False, server=None, config=CONFIG):
+        domain = str(self.fleet.domain)
+        if server:
+            self.fleet.start("discovery", [*self.lan.run_in("c"), f"{BIN}/ctsfleet-discovery", "--domain", domain,
+                                           "--listen", server, "--state-dir",
+                                           os.path.join(self.fleet.dir, "discovery-state")])
+            wait_for(lambda: "listening on" in read(self.fleet.log("discovery")), 30, "the discovery server")
+        self.fleet.start("monitor", [*self.lan.run_in("c"), f"{BIN}/ctsfleet-monitor", "--domain", domain,
+                                     *self.network(dds, "c", peers, server)])
+        started = time.time()
+        for index, cell in enumerate(role_starts()):
+            host = "a" if index < 4 else "b"
+            robot = f"robot{index}"
+            self.fleet.start(robot, [*self.lan.run_in(host), f"{BIN}/ctsfleet-agent", "--id", robot, "--start",
+                                     f"{cell[0]},{cell[1]}", "--domain", domain, "--step", "0.05",
+                                     *self.network(dds, host, peers, server)])
+        self.fleet.start("coordinator", [*self.lan.run_in("c"), f"{BIN}/ctsfleet-coordinator", "--config", config,
+                                         "--domain", domain, *self.network(dds, "c", peers, server)])
+        log = self.fleet.log("coordinator")
+        wait_for(lambda: "first command of term" in read(log), 120, "the first command")
+        print(f"{dds}{' peers' if peers else ''}{' server' if server else ''}: first command "
+              f"{time.time() - started:.2f} s after the agents started (8 agents on 2 hosts)")
+        return log
+
+    def finish(self):
+        code = self.fleet.wait_exit("coordinator", 240)
+        text = read(self.fleet.log("coordinator"))
+        self.assertEqual(code, 0, text[-3000:])
+        self.assertIn("mission completed: tasks 16/16", text)
+        self.fleet.processes["monitor"].send_signal(2)
+        code = self.fleet.wait_exit("monitor", 60)
+        text = read(self.fleet.log("monitor"))
+        self.assertIn("overlaps 0", text, text)
+        self.assertEqual(code, 0, text)
+        self.assertIn("robots 8", text, text)
+
+    def test_cyclone_multicast_mission_over_three_hosts(self):
+        self.start_fleet("cyclone")
+        self.finish()
+
+    def test_cyclone_unicast_peers_mission_over_three_hosts(self):
+        self.start_fleet("cyclone", peers=True)
+        self.finish()
+
+    def test_fastdds_discovery_server_mission_over_three_hosts(self):
+        self.start_fleet("fastdds", server=f"{self.lan.address['c']}:{65000 + self.fleet.domain}")
+        self.finish()
+
+    def test_host_cut_off_for_three_leases_heals(self):
+        """Host b's bridge port goes down for 3 s (3 leases): its robots are taken out, come back when
+        the link heals, rejoin, and the mission completes with no collision."""
+        log = self.start_fleet("cyclone", config=self.fleet.config_with(replacement_timeout_s=30))
+        wait_for(lambda: any(int(done) >= 2 for done in re.findall(r"tasks (\d+)/16", read(log))), 120,
+                 "the mission under way (two tasks done)")
+        self.lan.port("b", up=False)
+        wait_for(lambda: len(re.findall(r"robot robot[4-7] taken out", read(log))) >= 1, 30, "the cut seen")
+        time.sleep(3.0)  # the cut lasts three leases
+        self.lan.port("b", up=True)
+        wait_for(lambda: "joined" in read(log).split("taken out")[-1], 60, "host b's robots back")
+        self.finish()
+
+
+if __name__ == "__main__":
+    unittest.main()
