@@ -41,16 +41,18 @@ std::string interface_address(const std::string& name_or_address) {
 
 std::vector<std::string> parse_peers(const std::string& peers) {
   std::vector<std::string> result;
-  std::stringstream list(peers);
-  std::string peer;
-  while (std::getline(list, peer, ',')) {
+  if (peers.empty()) return result;
+  std::size_t from = 0;
+  for (;;) {  // every entry, empty ones too ("a,,b", "a,")
+    const std::size_t comma = peers.find(',', from);
+    const std::string peer = peers.substr(from, comma == std::string::npos ? std::string::npos : comma - from);
     if (!is_ipv4(peer)) {
       throw std::invalid_argument("peer '" + peer + "' in '" + peers + "' is not an IPv4 address (A.B.C.D,A.B.C.D)");
     }
     result.push_back(peer);
+    if (comma == std::string::npos) return result;
+    from = comma + 1;
   }
-  if (result.empty() && !peers.empty()) throw std::invalid_argument("peers '" + peers + "': no address");
-  return result;
 }
 
 void check_network(const std::string& network_interface, const std::string& peers) {

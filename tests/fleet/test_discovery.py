@@ -17,6 +17,7 @@ TESTS = [
     "test_mission_through_a_discovery_server",
     "test_server_killed_and_restarted_while_a_robot_restarts",
     "test_bad_discovery_options_are_refused_clearly",
+    "test_bad_network_options_are_refused_clearly",
 ]
 
 
@@ -171,6 +172,28 @@ class DiscoveryTest(unittest.TestCase):
         result = run([f"{BIN}/ctsfleet-coordinator", "--config", config])
         self.assertEqual(result.returncode, 2, result.stdout + result.stderr)
         self.assertIn("discovery_servers", result.stderr)
+
+    def test_bad_network_options_are_refused_clearly(self):
+        domain = str(self.fleet.domain)
+        for dds in ("cyclone", "fastdds"):
+            for args, says in ((["--iface", "nosuch0"], "no such interface"),
+                               (["--peers", "127.0.0.1"], "need a network interface"),
+                               (["--iface", "lo", "--peers", "1.2.3"], "not an IPv4 address"),
+                               (["--iface", "lo", "--peers", "127.0.0.1,"], "not an IPv4 address")):
+                for program in ([f"{BIN}/ctsfleet-agent", "--id", "robot0", "--start", "1,1"],
+                                [f"{BIN}/ctsfleet-monitor"],
+                                [f"{BIN}/ctsfleet-coordinator", "--config", CONFIG]):
+                    result = run([*program, "--dds", dds, "--domain", domain, *args])
+                    self.assertEqual(result.returncode, 2, f"{program[0]} {args}: {result.stdout}{result.stderr}")
+                    self.assertIn(says, result.stderr, f"{program[0]} {args}")
+        config = self.fleet.config_with()
+        with open(config) as f:
+            text = f.read()
+        with open(config, "w") as f:
+            f.write(text.replace("dds:\n", "dds:\n  interface: nosuch0\n"))
+        result = run([f"{BIN}/ctsfleet-coordinator", "--config", config])
+        self.assertEqual(result.returncode, 2, result.stdout + result.stderr)
+        self.assertIn("nosuch0", result.stderr)
 
 
 if __name__ == "__main__":
