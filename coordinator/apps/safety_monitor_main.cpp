@@ -94,6 +94,9 @@ int main(int argc, char** argv) {
     // delivery delay: stamps + offset put every robot on this monitor's clock, so hosts whose
     // clocks disagree by seconds are judged alike.
     std::map<std::string, int64_t> clock_offset_ms;  // "id#incarnation" -> offset
+    // A restarted robot: (old process, new process); the old one's last stay ends where the new
+    // one's first begins.
+    std::vector<std::pair<std::string, std::string>> handovers;
     handlers.on_state = [&](const fleet_transport::RobotState& s) {
       const int64_t received_ms = fleet_transport::wall_clock_ms();
       const std::lock_guard<std::mutex> lock(mutex);
@@ -131,8 +134,9 @@ int main(int argc, char** argv) {
             // first further away (its first states were not heard): when it left is unknown,
             // so that stay is not judged, as for a lost state.
             if (std::abs(last.x - s.cell_x) + std::abs(last.y - s.cell_y) <= 1) {
-              // This stamp on the old process's clock (the new one may run on another host).
-              last.to_ms = s.stamp_ms + clock_offset_ms[key] - clock_offset_ms[s.robot_id + "#" + std::to_string(other)];
+              // Closed when judged, once both processes' clocks are known well (the new one's
+              // first state may have waited for discovery: its offset is not yet its own).
+              handovers.emplace_back(s.robot_id + "#" + std::to_string(other), key);
             } else {
               ++gaps;
               last.to_ms = last.from_ms;
@@ -174,6 +178,12 @@ int main(int argc, char** argv) {
         visit.from_ms += offset;
         if (visit.to_ms != INT64_MAX) visit.to_ms += offset;
       }
+    }
+    for (const auto& [old_process, new_process] : handovers) {
+      std::vector<Visit>& old_path = visits[old_process];
+      const std::vector<Visit>& new_path = visits[new_process];
+      if (old_path.empty() || new_path.empty() || old_path.back().to_ms != INT64_MAX) continue;
+      old_path.back().to_ms = std::max(old_path.back().from_ms, new_path.front().from_ms);
     }
     std::map<std::pair<int, int>, std::vector<std::pair<const Visit*, const std::string*>>> by_cell;
     int64_t cell_visits = 0;
