@@ -33,10 +33,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// The UDP port of a fleet's discovery server: above the ports of every DDS domain a test or a
-// benchmark uses (domain d takes 7400 + 250 d onwards) and above Linux's ephemeral ports.
-int discovery_server_port(int domain) { return 65000 + domain; }
-
 std::string read_file(const std::string& path) {
   std::ifstream in(path);
   std::stringstream text;
@@ -225,7 +221,7 @@ int main(int argc, char** argv) {
                                  << "\n  silence_timeout_s: 3\n  mission_timeout_s: 300\n  replacement_timeout_s: 2\n";
       pid_t discovery_server = -1;
       if (discovery == "server") {
-        const std::string listen = "127.0.0.1:" + std::to_string(discovery_server_port(domain));
+        const std::string listen = "127.0.0.1:" + std::to_string(fleet_transport::default_discovery_server_port(domain));
         std::vector<std::string> args{(here / "ctsfleet-discovery").string(), "--domain", std::to_string(domain),
                                       "--listen", listen, "--dds-config-dir", dds_config_dir, "--state-dir",
                                       (work / ("discovery-state-" + std::to_string(n))).string()};

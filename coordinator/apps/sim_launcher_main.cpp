@@ -208,7 +208,7 @@ int main(int argc, char** argv) {
       }
       std::vector<std::string> discovery_options;
       if (discovery == "server") {
-        const std::string listen = "127.0.0.1:" + std::to_string(65000 + domain);  // above every domain's ports
+        const std::string listen = "127.0.0.1:" + std::to_string(fleet_transport::default_discovery_server_port(domain));
         const std::string log = log_dir + "/discovery.log";
         std::vector<std::string> args{(here / "ctsfleet-discovery").string(), "--domain", std::to_string(domain),
                                       "--listen", listen, "--state-dir", log_dir + "/discovery-state"};

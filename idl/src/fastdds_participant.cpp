@@ -11,6 +11,7 @@
 
 #include "fleet_transport/transport.hpp"
 #include "middleware_log.hpp"
+#include "network_settings.hpp"
 
 namespace fleet_transport {
 
@@ -42,27 +43,6 @@ DomainParticipantQos profile_qos() {
   return qos;
 }
 
-// "HOST:PORT": an IPv4 locator, or std::invalid_argument naming `what`.
-eprosima::fastrtps::rtps::Locator_t udp_locator(const std::string& host_port, const std::string& what) {
-  const auto colon = host_port.rfind(':');
-  const std::string host = host_port.substr(0, colon);
-  int port = -1;
-  try {
-    if (colon != std::string::npos) port = std::stoi(host_port.substr(colon + 1));
-  } catch (const std::exception&) {
-  }
-  eprosima::fastrtps::rtps::Locator_t locator;
-  if (colon == std::string::npos || port < 1 || port > 65535 ||
-      !eprosima::fastrtps::rtps::IPLocator::isIPv4(host) ||
-      !eprosima::fastrtps::rtps::IPLocator::setIPv4(locator, host)) {
-    throw std::invalid_argument(what + ": '" + host_port + "' is not an IPv4 HOST:PORT (e.g. 127.0.0.1:11811)");
-  }
-  locator.port = static_cast<uint32_t>(port);
-  return locator;
-}
-
-}  // namespace
-
 // UDPv4 on `address` only (no shared memory: the fleet's processes may be on other hosts).
 void use_interface(const std::string& address, DomainParticipantQos& qos) {
   auto udp = std::make_shared<eprosima::fastdds::rtps::UDPv4TransportDescriptor>();
@@ -71,6 +51,8 @@ void use_interface(const std::string& address, DomainParticipantQos& qos) {
   qos.transport().user_transports.push_back(udp);
   qos.transport().use_builtin_transports = false;
 }
+
+}  // namespace
 
 DomainParticipantQos fastdds_participant_qos(const TransportConfig& config) {
   const SecurityFiles& security = config.security;
@@ -87,18 +69,9 @@ DomainParticipantQos fastdds_participant_qos(const TransportConfig& config) {
     }
   }
   add_security(security, qos);
-  if (discovery_servers.empty()) return qos;
-  if (security.enabled()) throw std::invalid_argument(kSecureDiscoveryServerUnsupported);
+  if (discovery_servers.empty()) return qos;  // the list was checked by make_transport
   auto& discovery = qos.wire_protocol().builtin.discovery_config;
   eprosima::fastdds::rtps::RemoteServerList_t servers;
-  // Check every entry ourselves first: Fast DDS's parser says only that the list is wrong.
-  std::size_t from = 0;
-  while (from <= discovery_servers.size()) {
-    const std::size_t to = std::min(discovery_servers.find(';', from), discovery_servers.size());
-    const std::string entry = discovery_servers.substr(from, to - from);
-    if (!entry.empty()) udp_locator(entry, "discovery server");
-    from = to + 1;
-  }
   if (!eprosima::fastdds::rtps::load_environment_server_info(discovery_servers, servers) || servers.empty()) {
     throw std::invalid_argument("discovery servers '" + discovery_servers + "': expected HOST:PORT;HOST:PORT");
   }
@@ -111,11 +84,12 @@ DomainParticipantQos fastdds_participant_qos(const TransportConfig& config) {
 }
 
 DomainParticipantQos fastdds_server_qos(int server_id, const std::string& listen) {
+  const HostPort address = parse_host_port(listen, "--listen");
   DomainParticipantQos qos = PARTICIPANT_QOS_DEFAULT;
-  if (listen.rfind("127.", 0) == 0) {
+  if (address.host.rfind("127.", 0) == 0) {
     qos = profile_qos();  // the loopback file's transport
   } else {
-    use_interface(listen.substr(0, listen.rfind(':')), qos);
+    use_interface(address.host, qos);
   }
   auto& builtin = qos.wire_protocol().builtin;
   // A backup server keeps what it knows in a file of the working directory, so that a server
@@ -127,7 +101,10 @@ DomainParticipantQos fastdds_server_qos(int server_id, const std::string& listen
     throw std::invalid_argument("server id " + std::to_string(server_id) + " out of range (0-255)");
   }
   builtin.metatrafficUnicastLocatorList.clear();
-  builtin.metatrafficUnicastLocatorList.push_back(udp_locator(listen, "--listen"));
+  eprosima::fastrtps::rtps::Locator_t locator;
+  eprosima::fastrtps::rtps::IPLocator::setIPv4(locator, address.host);
+  locator.port = address.port;
+  builtin.metatrafficUnicastLocatorList.push_back(locator);
   builtin.initialPeersList.clear();
   return qos;
 }

@@ -20,6 +20,36 @@ bool is_ipv4(const std::string& text) {
 
 }  // namespace
 
+HostPort parse_host_port(const std::string& text, const std::string& what) {
+  const std::size_t colon = text.rfind(':');
+  const std::string host = colon == std::string::npos ? text : text.substr(0, colon);
+  const std::string port = colon == std::string::npos ? "" : text.substr(colon + 1);
+  const bool port_ok = !port.empty() && port.size() <= 5 && port.find_first_not_of("0123456789") == std::string::npos &&
+                       std::stoi(port) >= 1 && std::stoi(port) <= 65535;
+  if (!port_ok || !is_ipv4(host)) {
+    throw std::invalid_argument(what + " '" + text + "' is not an IPv4 HOST:PORT (e.g. 127.0.0.1:11811)");
+  }
+  return {host, static_cast<uint16_t>(std::stoi(port))};
+}
+
+void check_discovery_servers(Vendor vendor, const std::string& servers, bool secure) {
+  if (servers.empty()) return;
+  if (secure) throw std::invalid_argument(kSecureDiscoveryServerUnsupported);
+  if (vendor == Vendor::kCyclone) {
+    throw std::invalid_argument("discovery servers (" + servers +
+                                ") are a Fast DDS option: Cyclone DDS discovers through its config file's peers");
+  }
+  std::size_t from = 0;
+  for (;;) {  // every entry but an empty last one ("A:P;")
+    const std::size_t semicolon = servers.find(';', from);
+    const std::string entry = servers.substr(from, semicolon == std::string::npos ? std::string::npos : semicolon - from);
+    if (semicolon == std::string::npos && entry.empty()) return;
+    parse_host_port(entry, "discovery server in '" + servers + "':");
+    if (semicolon == std::string::npos) return;
+    from = semicolon + 1;
+  }
+}
+
 std::string interface_address(const std::string& name_or_address) {
   ifaddrs* list = nullptr;
   if (getifaddrs(&list) != 0) throw std::runtime_error("cannot list this host's network interfaces");

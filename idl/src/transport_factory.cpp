@@ -1,9 +1,7 @@
-#include <arpa/inet.h>
 #include <unistd.h>
 
 #include <chrono>
 #include <cstdio>
-#include <algorithm>
 #include <cstdlib>
 #include <stdexcept>
 #include <thread>
@@ -22,42 +20,13 @@ void exit_if_shutdown_hangs(double seconds, int exit_code) {
   }).detach();
 }
 
-void check_discovery_servers(Vendor vendor, const std::string& servers, bool secure) {
-  if (servers.empty()) return;
-  if (secure) throw std::invalid_argument(kSecureDiscoveryServerUnsupported);
-  if (vendor == Vendor::kCyclone) {
-    throw std::invalid_argument("discovery servers (" + servers +
-                                ") are a Fast DDS option: Cyclone DDS discovers through its config file's peers");
-  }
-  std::size_t from = 0;
-  while (from <= servers.size()) {
-    const std::size_t to = std::min(servers.find(';', from), servers.size());
-    const std::string entry = servers.substr(from, to - from);
-    from = to + 1;
-    if (entry.empty() && to == servers.size() && !servers.empty() && servers.back() == ';') break;  // "A:P;"
-    const std::size_t colon = entry.rfind(':');
-    in_addr address{};
-    const std::string host = colon == std::string::npos ? entry : entry.substr(0, colon);
-    const std::string port = colon == std::string::npos ? "" : entry.substr(colon + 1);
-    const bool port_ok = !port.empty() && port.size() <= 5 &&
-                         port.find_first_not_of("0123456789") == std::string::npos && std::stoi(port) >= 1 &&
-                         std::stoi(port) <= 65535;
-    if (!port_ok || inet_pton(AF_INET, host.c_str(), &address) != 1) {
-      throw std::invalid_argument("discovery server '" + entry + "' in '" + servers +
-                                  "' is not an IPv4 HOST:PORT (e.g. 127.0.0.1:11811)");
-    }
-  }
-}
-
 std::unique_ptr<Transport> make_transport(const TransportConfig& config, Handlers handlers) {
+  check_network(config.network_interface, config.peers);
+  check_discovery_servers(config.vendor, config.discovery_servers, config.security.enabled());
   // The middleware reads its configuration file from the environment at participant creation.
-  const bool on_network = !config.network_interface.empty() || !config.peers.empty();
-  if (on_network) {
+  if (!config.network_interface.empty()) {
     // A network: no loopback files. Cyclone takes its configuration as XML text; Fast DDS's QoS
     // is made in code (fastdds_participant_qos).
-    if (config.network_interface.empty()) {
-      throw std::invalid_argument("peers (" + config.peers + ") need a network interface (--iface) to reach them on");
-    }
     const std::string address = interface_address(config.network_interface);
     if (config.vendor == Vendor::kCyclone) {
       setenv("CYCLONEDDS_URI", cyclone_network_config(address, parse_peers(config.peers)).c_str(), 1);
@@ -73,7 +42,6 @@ std::unique_ptr<Transport> make_transport(const TransportConfig& config, Handler
     setenv("CYCLONEDDS_URI", ("file://" + dir + cyclone_file).c_str(), 0);
     setenv("FASTRTPS_DEFAULT_PROFILES_FILE", (dir + fastdds_file).c_str(), 0);
   }
-  check_discovery_servers(config.vendor, config.discovery_servers, config.security.enabled());
   if (config.vendor == Vendor::kCyclone) return make_cyclone_transport(config, std::move(handlers));
   return make_fastdds_transport(config, std::move(handlers));
 }

@@ -75,6 +75,11 @@ std::string interface_address(const std::string& name_or_address);
 // The peers of a comma-separated list of IPv4 addresses; std::invalid_argument on a bad one.
 std::vector<std::string> parse_peers(const std::string& peers);
 
+// The UDP port the sim and the fleet benchmark give a domain's discovery server: above the ports
+// of every DDS domain they use (domain d takes 7400 + 250 d onwards) and above Linux's ephemeral
+// ports.
+inline int default_discovery_server_port(int domain) { return 65000 + domain; }
+
 // Throws std::invalid_argument, naming what is wrong, unless the interface exists on this host
 // and the peers parse (both may be empty; peers need an interface).
 void check_network(const std::string& network_interface, const std::string& peers);
