@@ -23,11 +23,20 @@ class FakeTransport : public fleet_transport::Transport {
     ++statuses;
   }
   void set_command_strength(int value) override { strength = value; }
+  void publish_mission_info(const fleet_transport::MissionInfo& info) override { last_mission = info; }
+  void publish_fleet_plan(const fleet_transport::FleetPlan& plan) override { last_plan = plan; }
+  void publish_fleet_event(const fleet_transport::FleetEvent& event) override { events.push_back(event); }
+  void request_task(const fleet_transport::TaskRequest&) override {}
+  void reply_task(const fleet_transport::TaskReply& reply) override { replies.push_back(reply); }
 
   std::vector<fleet_transport::StepCommand> commands;
   fleet_transport::RobotState last_state;
   fleet_transport::FleetStatus last_status;
   fleet_transport::CoordinatorStatus last_coordinator_status;
+  fleet_transport::MissionInfo last_mission;
+  fleet_transport::FleetPlan last_plan;
+  std::vector<fleet_transport::FleetEvent> events;
+  std::vector<fleet_transport::TaskReply> replies;
   int statuses = 0;
   int strength = 0;
 };

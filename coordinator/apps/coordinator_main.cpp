@@ -83,6 +83,7 @@ int main(int argc, char** argv) {
     handlers.on_coordinator_status = [&](const fleet_transport::CoordinatorStatus& s) {
       coordinator.on_coordinator_status(s);
     };
+    handlers.on_task_request = [&](const fleet_transport::TaskRequest& r) { coordinator.on_task_request(r); };
     if (standby) {  // only a standby mirrors another coordinator's progress
       handlers.on_fleet_status = [&](const fleet_transport::FleetStatus& s) { coordinator.on_fleet_status(s); };
     }

@@ -39,7 +39,14 @@ FleetConfig load_fleet_config(const std::string& path) {
   const planner_core::YamlContext r(path);
   FleetConfig config;
   config.source = path;
-  r.only_keys(root, {"mission", "robots", "planner", "dds", "timing", "security"}, "top level");
+  r.only_keys(root, {"mission", "lifelong", "robots", "planner", "dds", "timing", "security"}, "top level");
+  if (const YAML::Node lifelong = root["lifelong"]) {
+    try {
+      config.lifelong = lifelong.as<bool>();
+    } catch (const YAML::Exception&) {
+      r.fail(lifelong, "lifelong", "must be true or false");
+    }
+  }
   if (!root["mission"] || !root["mission"].IsScalar()) r.fail(root, "mission", "missing or not a file name");
   fs::path mission = root["mission"].Scalar();
   if (mission.is_relative()) mission = fs::path(path).parent_path() / mission;

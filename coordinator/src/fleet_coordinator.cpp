@@ -68,6 +68,19 @@ FleetCoordinator::FleetCoordinator(const FleetConfig& config, planner_core::Inst
   if (MissionJournal* journal = options_.journal) {
     term_ = journal->highest_term() + 1;
     if (const auto& resume = journal->resumable()) {
+      for (const JournalResume::AddedTask& added : resume->added_tasks) {
+        const Vertex cell = mission_vertex(added.x, added.y);
+        if (added.task != mission_.task_count() || cell == planner_core::kNoVertex || added.role < 0 ||
+            added.role >= mission_.agent_count()) {
+          throw JournalError("--journal " + journal->path() + ": added task " + std::to_string(added.task) +
+                             " does not fit the mission (task count " + std::to_string(mission_.task_count()) +
+                             ", cell (" + std::to_string(added.x) + "," + std::to_string(added.y) + "))");
+        }
+        mission_.tasks.push_back({cell, {added.role}});
+        mission_.index_tasks();
+        progress_.add_task();
+      }
+      for (int task : resume->cancelled_tasks) progress_.cancel(task);
       for (const fleet_transport::TaskVisit& visit : resume->visits) progress_.mark(visit);
       epoch_ = resume->last_epoch;
       resumed_bindings_ = resume->bindings;
@@ -79,6 +92,7 @@ FleetCoordinator::FleetCoordinator(const FleetConfig& config, planner_core::Inst
     if (!options_.standby) journal->claim(term_, incarnation_, claimed_ms_);
   }
   summary_.tasks_done = summary_.tasks_done_before = progress_.tasks_done();
+  summary_.tasks_total = progress_.tasks_to_do();
   summary_.term = term_;
   spdlog::info("coordinator {} ({}), term {}, mission {}", hex(incarnation_), fleet_transport::to_string(role_), term_,
                mission_id_);
@@ -100,6 +114,14 @@ void FleetCoordinator::on_fleet_status(const fleet_transport::FleetStatus& progr
   Event event;
   event.kind = Event::Kind::kProgress;
   event.progress = progress;
+  events_.push_back(std::move(event));
+}
+
+void FleetCoordinator::on_task_request(const fleet_transport::TaskRequest& request) {
+  const std::lock_guard<std::mutex> lock(events_mutex_);
+  Event event;
+  event.kind = Event::Kind::kTaskRequest;
+  event.request = request;
   events_.push_back(std::move(event));
 }
 
@@ -154,9 +176,10 @@ void FleetCoordinator::request_replan(const std::string& why) {
   replan_requested_ = true;
 }
 
-void FleetCoordinator::lose(RobotRecord& robot, const std::string& why) {
+void FleetCoordinator::lose(RobotRecord& robot, const std::string& why, const char* kind) {
   if (!robot.active) return;
   robot.active = false;
+  report(kind, robot.id, why);
   replanned_after_finish_ = false;
   ++summary_.robots_lost;
   if (robot.has_state) {
@@ -198,7 +221,8 @@ void FleetCoordinator::handle(const Event& event) {
       return;
     case Event::Kind::kState: handle_state(robot, event.state, event.received); return;
     case Event::Kind::kStatus:
-    case Event::Kind::kProgress: return;
+    case Event::Kind::kProgress:
+    case Event::Kind::kTaskRequest: return;
   }
 }
 
@@ -214,13 +238,16 @@ void FleetCoordinator::handle_announcement(RobotRecord& robot, const fleet_trans
       spdlog::warn("robot id {} announced by a second {} robot while a {} robot is active: duplicate id, the "
                    "second is ignored",
                    robot.id, announcement.backend, backend_before);
+      report("refused", robot.id, "a second robot announced this id: duplicate, ignored");
       return;
     case RobotRegistry::Admission::kRefused:
       spdlog::warn("robot {} refused: not in robots.expected of {}", robot.id, config_.source);
+      report("refused", robot.id, "not in robots.expected of " + config_.source);
       return;
     case RobotRegistry::Admission::kRefusedAgain: return;
     case RobotRegistry::Admission::kAdmitted:
       spdlog::info("robot {} announced ({} backend, version {})", robot.id, announcement.backend, announcement.version);
+      report("join", robot.id, "announced (" + announcement.backend + " backend, version " + announcement.version + ")");
       return;
   }
 }
@@ -253,7 +280,7 @@ void FleetCoordinator::handle_state(RobotRecord& robot, const fleet_transport::R
   if (state.status == RobotStatus::kFault) {
     // A robot in fault (a toio cube lifted, disconnected, between cells...) is out until it reports
     // a cell again; its last good cell and the cell it was moving to stay blocked meanwhile.
-    if (robot.active) lose(robot, "reports a fault");
+    if (robot.active) lose(robot, "reports a fault", "fault");
     return;
   }
   const bool had_state = robot.has_state;
@@ -275,7 +302,8 @@ void FleetCoordinator::handle_state(RobotRecord& robot, const fleet_transport::R
     }
     ++summary_.off_plan;
     lose(robot, "off its plan: reports (" + std::to_string(state.cell_x) + "," + std::to_string(state.cell_y) +
-                    "), the plan has it on (" + std::to_string(expected.x) + "," + std::to_string(expected.y) + ")");
+                    "), the plan has it on (" + std::to_string(expected.x) + "," + std::to_string(expected.y) + ")",
+         "off_plan");
     return;
   }
   if (!robot.active) {
@@ -291,6 +319,8 @@ void FleetCoordinator::handle_state(RobotRecord& robot, const fleet_transport::R
       ++summary_.robots_joined;
       replanned_after_finish_ = false;
       bind_roles({&robot});
+      report("join", robot.id, "back on the grid at (" + std::to_string(state.cell_x) + "," +
+                                   std::to_string(state.cell_y) + ")");
       request_replan("robot " + robot.id + " joined");
     }
   }
@@ -438,16 +468,19 @@ bool FleetCoordinator::replan(fleet_transport::Transport& transport) {
   const double limit_s = config_.plan_limit_s(first_plan) * plan_limit_factor_;
   const auto failed = [&](const std::string& why) {
     plan_limit_factor_ = std::min(8.0, plan_limit_factor_ * 2);
+    report("plan_failed", "", why);
     spdlog::error("planning failed ({}); the robots hold; retrying in 1 s with a limit of {:.1f} s", why,
                   config_.plan_limit_s(first_plan) * plan_limit_factor_);
     return false;
   };
   planner_core::SolveResult result;
+  const Clock::time_point solve_started = Clock::now();
   try {
     result = planner_core::make_solver(solver_config)->solve(instance, {planner_core::Deadline::in_seconds(limit_s, interrupt_), {}});
   } catch (const std::exception& e) {  // a solver bug must not end the mission
     return failed(std::string("the solver threw: ") + e.what());
   }
+  last_planning_ms_ = 1000 * seconds_between(solve_started, Clock::now());
   if (!result.solved) return failed(result.failure_reason);
   const planner_core::ValidationReport report =
       planner_core::validate(instance, result.solution, planner_core::ValidationOptions{true});
@@ -464,6 +497,9 @@ bool FleetCoordinator::replan(fleet_transport::Transport& transport) {
   }
   ++plans_made_;
   if (options_.journal) options_.journal->record_epoch(epoch_, term_);
+  if (plan_) {
+    for (int a = 0; a < plan_->agent_count(); ++a) steps_of_earlier_plans_ += plan_->agent(a).finished;
+  }
   plan_ = std::make_unique<PlanExecution>(epoch_, instance.graph, result.solution, built.robots, incarnation_);
   // Task visits count only when made under a plan: a start counts, being the plan's first step.
   for (int a = 0; a < instance.agent_count(); ++a) {
@@ -474,6 +510,12 @@ bool FleetCoordinator::replan(fleet_transport::Transport& transport) {
   for (const auto& task : instance.tasks) visits += static_cast<int>(task.agents.size());
   spdlog::info("plan epoch {}: {} robots, {} task visits, flowtime {}, makespan {}", epoch_, instance.agent_count(),
                visits, report.flowtime, report.makespan);
+  for (int a = 0; a < plan_->agent_count(); ++a) steps_planned_ += static_cast<int64_t>(plan_->moves(a).size());
+  this->report("replan", "",
+               fmt::format("epoch {}: {} robots, {} task visits, flowtime {}, planned in {:.0f} ms", epoch_,
+                           instance.agent_count(), visits, report.flowtime, last_planning_ms_),
+               last_planning_ms_);
+  publish_plan(transport, report.flowtime, last_planning_ms_);
   replan_requested_ = false;
   phase_ = Phase::kExecuting;
   publish_status(transport);  // agents take only epochs their coordinator has announced
@@ -575,6 +617,19 @@ void FleetCoordinator::publish_progress(fleet_transport::Transport& transport) {
     if (robot.role >= 0) std::tie(row.tasks_total, row.tasks_done) = progress_.role_tasks(robot.role);
     status.assignments.push_back(row);
   }
+  status.tasks_total = progress_.tasks_to_do();
+  const std::vector<double>& trips = summary_.round_trips_ms;
+  if (!trips.empty()) {
+    std::vector<double> recent(trips.end() - std::min<size_t>(trips.size(), 200), trips.end());
+    std::sort(recent.begin(), recent.end());
+    status.round_trip_p50_ms = recent[recent.size() / 2];
+    status.round_trip_p99_ms = recent[std::min(recent.size() - 1, recent.size() * 99 / 100)];
+  }
+  status.last_planning_ms = last_planning_ms_;
+  if (!summary_.replan_latencies_s.empty()) status.last_replan_latency_ms = 1000 * summary_.replan_latencies_s.back();
+  status.steps_done = steps_of_earlier_plans_;
+  for (int a = 0; plan_ && a < plan_->agent_count(); ++a) status.steps_done += plan_->agent(a).finished;
+  status.steps_planned = steps_planned_;
   transport.publish_fleet_status(status);
   progress_changed_ = false;
   last_progress_ = Clock::now();
@@ -595,6 +650,10 @@ bool FleetCoordinator::step(fleet_transport::Transport& transport) {
     events.swap(events_);
   }
   for (const Event& event : events) {
+    if (event.kind == Event::Kind::kTaskRequest) {
+      handle_task_request(event.request, transport);
+      continue;
+    }
     handle(event);
     // Match the robot's command channel now, long before its first command.
     if (event.kind == Event::Kind::kAnnouncement && !event.announcement.leaving) {
@@ -640,8 +699,17 @@ bool FleetCoordinator::step(fleet_transport::Transport& transport) {
       }
       dispatch(transport);
       if (mission_complete()) {
-        phase_ = Phase::kDone;
-        summary_.completed = true;
+        if (!lifelong_idle_) {
+          report("mission_done", "", fmt::format("every task done ({} of {}), every robot on its goal",
+                                                 progress_.tasks_done(), progress_.tasks_to_do()));
+        }
+        if (config_.lifelong) {
+          if (!lifelong_idle_) spdlog::info("every task done: the robots park on their goals; waiting for tasks (lifelong)");
+          lifelong_idle_ = true;
+        } else {
+          phase_ = Phase::kDone;
+          summary_.completed = true;
+        }
       } else if (plan_finished()) {
         // Everyone active is done. What is left belongs to roles without robots, or is blocked by a
         // lost robot (a replan from here changed nothing): wait for a robot, then end.
@@ -700,13 +768,19 @@ bool FleetCoordinator::step(fleet_transport::Transport& transport) {
     }
     case Phase::kDone: break;
   }
+  if (role_ == fleet_transport::CoordinatorRole::kActive && phase_ != Phase::kStandby &&
+      (!mission_published_ || mission_changed_)) {
+    publish_mission(transport);
+  }
+  for (const fleet_transport::FleetEvent& event : events_to_publish_) transport.publish_fleet_event(event);
+  events_to_publish_.clear();
   if (now >= next_status_) publish_status(transport);
   if (now >= next_progress_ || (progress_changed_ && seconds_between(last_progress_, now) >= kProgressGapS)) {
     publish_progress(transport);
   }
   if (first_command_sent_) summary_.seconds = seconds_between(first_command_, now);
   if (phase_ == Phase::kDone) return false;
-  if (phase_ != Phase::kStandby && seconds_between(started_, now) > config_.mission_timeout_s) {
+  if (phase_ != Phase::kStandby && !config_.lifelong && seconds_between(started_, now) > config_.mission_timeout_s) {
     spdlog::error("mission timeout after {} s", config_.mission_timeout_s);
     list_pending();
     return false;
@@ -741,6 +815,9 @@ void FleetCoordinator::credit_visits(int role, Vertex cell, const std::string& r
     }
     progress_.mark(visit);
     progress_changed_ = true;
+    if (progress_.task_done(visit.task)) {
+      report("task_done", robot_id, fmt::format("task {} done", visit.task), visit.task);
+    }
   }
 }
 
@@ -780,6 +857,8 @@ void FleetCoordinator::stand_down(const OtherCoordinator& other, fleet_transport
                 "active one and take over if it fails.", summary_.stood_down_because);
   role_ = fleet_transport::CoordinatorRole::kStoodDown;
   phase_ = Phase::kDone;
+  transport.publish_fleet_event({incarnation_, fleet_transport::wall_clock_ms(), "stood_down", "",
+                                 summary_.stood_down_because, 0});
   plan_.reset();  // not one more command
   publish_status(transport);
 }
@@ -877,6 +956,9 @@ void FleetCoordinator::take_over(fleet_transport::Transport& transport, const Ot
     }
   }
   bind_roles(rest);
+  report("takeover", "",
+         fmt::format("coordinator {} silent for {:.2f} s: {} takes over as term {}", hex(old.status.coordinator),
+                     seconds_between(old.heard, now), hex(incarnation_), term_));
   others_.erase(old.status.coordinator);
   phase_ = Phase::kSettling;
   settle_deadline_ = now;

@@ -137,7 +137,12 @@ MissionJournal::MissionJournal(const std::string& path, const std::string& finge
         "CREATE TABLE IF NOT EXISTS bindings(run INTEGER NOT NULL, role INTEGER NOT NULL, robot TEXT NOT NULL,"
         " PRIMARY KEY(run, role));"
         "CREATE TABLE IF NOT EXISTS visits(run INTEGER NOT NULL, task INTEGER NOT NULL, role INTEGER NOT NULL,"
-        " robot TEXT NOT NULL, epoch INTEGER NOT NULL, at_ms INTEGER NOT NULL, PRIMARY KEY(run, task, role));");
+        " robot TEXT NOT NULL, epoch INTEGER NOT NULL, at_ms INTEGER NOT NULL, PRIMARY KEY(run, task, role));"
+        "CREATE TABLE IF NOT EXISTS tasks_added(run INTEGER NOT NULL, task INTEGER NOT NULL, x INTEGER NOT NULL,"
+        " y INTEGER NOT NULL, role INTEGER NOT NULL, request TEXT NOT NULL, at_ms INTEGER NOT NULL,"
+        " PRIMARY KEY(run, task));"
+        "CREATE TABLE IF NOT EXISTS tasks_cancelled(run INTEGER NOT NULL, task INTEGER NOT NULL,"
+        " request TEXT NOT NULL, at_ms INTEGER NOT NULL, PRIMARY KEY(run, task));");
     std::string format, recorded;
     {
       Statement meta(*this, "SELECT key, value FROM meta");
@@ -193,6 +198,15 @@ void MissionJournal::read_resumable() {
     Statement bindings(*this, "SELECT role, robot FROM bindings WHERE run = ?1 AND robot != ''", {resume.run});
     while (bindings.next()) resume.bindings[static_cast<int>(bindings.number(0))] = bindings.text(1);
   }
+  {
+    Statement added(*this, "SELECT task, x, y, role FROM tasks_added WHERE run = ?1 ORDER BY task", {resume.run});
+    while (added.next()) {
+      resume.added_tasks.push_back({static_cast<int>(added.number(0)), static_cast<int>(added.number(1)),
+                                    static_cast<int>(added.number(2)), static_cast<int>(added.number(3))});
+    }
+    Statement cancelled(*this, "SELECT task FROM tasks_cancelled WHERE run = ?1 ORDER BY task", {resume.run});
+    while (cancelled.next()) resume.cancelled_tasks.push_back(static_cast<int>(cancelled.number(0)));
+  }
   Statement visits(*this, "SELECT task, role FROM visits WHERE run = ?1 ORDER BY task, role", {resume.run});
   while (visits.next()) {
     resume.visits.push_back({static_cast<int>(visits.number(0)), static_cast<int>(visits.number(1))});
@@ -232,6 +246,19 @@ void MissionJournal::record_visit(const fleet_transport::TaskVisit& visit, const
   Statement(*this, "INSERT OR IGNORE INTO visits VALUES(?1, ?2, ?3, ?4, ?5, ?6)",
             {run_, static_cast<int64_t>(visit.task), static_cast<int64_t>(visit.role), robot_id,
              static_cast<int64_t>(epoch), fleet_transport::wall_clock_ms()})
+      .run();
+}
+
+void MissionJournal::record_task_added(int task, int x, int y, int role, const std::string& request_id) {
+  Statement(*this, "INSERT INTO tasks_added VALUES(?1, ?2, ?3, ?4, ?5, ?6, ?7)",
+            {run_, static_cast<int64_t>(task), static_cast<int64_t>(x), static_cast<int64_t>(y),
+             static_cast<int64_t>(role), request_id, fleet_transport::wall_clock_ms()})
+      .run();
+}
+
+void MissionJournal::record_task_cancelled(int task, const std::string& request_id) {
+  Statement(*this, "INSERT OR IGNORE INTO tasks_cancelled VALUES(?1, ?2, ?3, ?4)",
+            {run_, static_cast<int64_t>(task), request_id, fleet_transport::wall_clock_ms()})
       .run();
 }
 

@@ -7,6 +7,27 @@ namespace coordinator {
 MissionProgress::MissionProgress(const planner_core::Instance& mission)
     : mission_(mission), robot_of_role_(mission.agent_count()) {
   for (const planner_core::Task& task : mission.tasks) task_done_.emplace_back(task.agents.size(), 0);
+  cancelled_.assign(task_done_.size(), 0);
+}
+
+void MissionProgress::add_task() {
+  task_done_.emplace_back(mission_.tasks.back().agents.size(), 0);
+  cancelled_.push_back(0);
+}
+
+bool MissionProgress::task_done(int task) const {
+  const std::vector<char>& visits = task_done_[task];
+  return !cancelled_[task] && std::find(visits.begin(), visits.end(), 0) == visits.end();
+}
+
+bool MissionProgress::cancel(int task) {
+  if (task < 0 || task >= task_count() || cancelled_[task] || task_done(task)) return false;
+  cancelled_[task] = 1;
+  return true;
+}
+
+int MissionProgress::tasks_to_do() const {
+  return task_count() - static_cast<int>(std::count(cancelled_.begin(), cancelled_.end(), 1));
 }
 
 bool MissionProgress::any_role_free() const {
@@ -17,7 +38,7 @@ std::vector<fleet_transport::TaskVisit> MissionProgress::visits_due_at(int role,
   std::vector<fleet_transport::TaskVisit> due;
   for (int t : mission_.tasks_of_agent[role]) {
     const planner_core::Task& task = mission_.tasks[t];
-    if (task.at != cell) continue;
+    if (task.at != cell || cancelled_[t]) continue;
     for (size_t k = 0; k < task.agents.size(); ++k) {
       if (task.agents[k] == role && !task_done_[t][k]) due.push_back({t, role});
     }
@@ -54,7 +75,7 @@ std::vector<fleet_transport::TaskVisit> MissionProgress::done_visits() const {
 
 int MissionProgress::tasks_done() const {
   int done = 0;
-  for (const auto& visits : task_done_) done += std::find(visits.begin(), visits.end(), 0) == visits.end() ? 1 : 0;
+  for (int t = 0; t < task_count(); ++t) done += task_done(t) ? 1 : 0;
   return done;
 }
 
@@ -62,6 +83,7 @@ std::pair<int, int> MissionProgress::role_tasks(int role) const {
   int total = 0, visited_count = 0;
   for (int t : mission_.tasks_of_agent[role]) {
     const planner_core::Task& task = mission_.tasks[t];
+    if (cancelled_[t]) continue;
     ++total;
     for (size_t k = 0; k < task.agents.size(); ++k) {
       if (task.agents[k] == role && task_done_[t][k]) ++visited_count;
@@ -72,6 +94,7 @@ std::pair<int, int> MissionProgress::role_tasks(int role) const {
 
 bool MissionProgress::work_waits_for_a_robot() const {
   for (int t = 0; t < task_count(); ++t) {
+    if (cancelled_[t]) continue;
     for (size_t k = 0; k < task_done_[t].size(); ++k) {
       if (!task_done_[t][k] && robot_of_role_[mission_.tasks[t].agents[k]].empty()) return true;
     }
@@ -82,6 +105,7 @@ bool MissionProgress::work_waits_for_a_robot() const {
 std::vector<std::string> MissionProgress::pending_visits() const {
   std::vector<std::string> lines;
   for (int t = 0; t < task_count(); ++t) {
+    if (cancelled_[t]) continue;
     for (size_t k = 0; k < task_done_[t].size(); ++k) {
       if (task_done_[t][k]) continue;
       const int role = mission_.tasks[t].agents[k];

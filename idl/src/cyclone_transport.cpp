@@ -25,6 +25,31 @@ void copy_string(char (&out)[N], const std::string& in) {
   out[N - 1] = '\0';
 }
 
+// Points a wire sequence at a vector's elements (no copy; the vector outlives the write).
+template <typename Sequence, typename Element>
+void borrow(Sequence& sequence, std::vector<Element>& elements) {
+  sequence._length = sequence._maximum = static_cast<uint32_t>(elements.size());
+  sequence._buffer = elements.data();
+  sequence._release = false;
+}
+
+template <typename Sequence>
+auto elements_of(const Sequence& sequence) {
+  return std::vector(sequence._buffer, sequence._buffer + sequence._length);
+}
+
+std::vector<GridCell> cells_of(const dds_sequence_fleet_GridCell& sequence) {
+  std::vector<GridCell> cells;
+  for (const fleet_GridCell& cell : elements_of(sequence)) cells.push_back({cell.x, cell.y});
+  return cells;
+}
+
+std::vector<fleet_GridCell> wire_cells(const std::vector<GridCell>& cells) {
+  std::vector<fleet_GridCell> wire;
+  for (const GridCell& cell : cells) wire.push_back({cell.x, cell.y});
+  return wire;
+}
+
 fleet_RobotStatus to_wire(RobotStatus s) {
   switch (s) {
     case RobotStatus::kIdle: return fleet_ROBOT_IDLE;
@@ -140,7 +165,7 @@ class CycloneTransport : public Transport {
   void tear_down() {
     if (participant_ > 0) dds_delete(participant_);
     participant_ = 0;
-    for (dds_qos_t** qos : {&registry_qos_, &state_qos_, &command_qos_}) {
+    for (dds_qos_t** qos : {&registry_qos_, &state_qos_, &command_qos_, &events_qos_, &requests_qos_}) {
       if (*qos) dds_delete_qos(*qos);
       *qos = nullptr;
     }
@@ -185,6 +210,20 @@ class CycloneTransport : public Transport {
     command_topic_ = make_topic(&fleet_StepCommand_desc, "rt/fleet/step_command");
     status_topic_ = make_topic(&fleet_FleetStatus_desc, "rt/fleet/fleet_status");
     coordinator_topic_ = make_topic(&fleet_CoordinatorStatus_desc, "rt/fleet/coordinator_status");
+    mission_topic_ = make_topic(&fleet_MissionInfo_desc, "rt/fleet/mission_info");
+    plan_topic_ = make_topic(&fleet_FleetPlan_desc, "rt/fleet/fleet_plan");
+    event_topic_ = make_topic(&fleet_FleetEvent_desc, "rt/fleet/fleet_event");
+    request_topic_ = make_topic(&fleet_TaskRequest_desc, "rt/fleet/task_request");
+    reply_topic_ = make_topic(&fleet_TaskReply_desc, "rt/fleet/task_reply");
+    dds_qos_t* events = events_qos_ = dds_create_qos();
+    dds_qset_reliability(events, DDS_RELIABILITY_RELIABLE, DDS_SECS(1));
+    dds_qset_durability(events, DDS_DURABILITY_TRANSIENT_LOCAL);
+    dds_qset_history(events, DDS_HISTORY_KEEP_LAST, kEventHistory);
+    dds_qset_durability_service(events, 0, DDS_HISTORY_KEEP_LAST, kEventHistory, DDS_LENGTH_UNLIMITED,
+                                DDS_LENGTH_UNLIMITED, DDS_LENGTH_UNLIMITED);
+    dds_qos_t* requests = requests_qos_ = dds_create_qos();
+    dds_qset_reliability(requests, DDS_RELIABILITY_RELIABLE, DDS_SECS(1));
+    dds_qset_history(requests, DDS_HISTORY_KEEP_LAST, 16);
 
     // Writers are made on first use: a process writes few of the topics, and every idle writer
     // would still be matched with every reader of the fleet. The ones a role surely writes are
@@ -210,6 +249,11 @@ class CycloneTransport : public Transport {
     if (handlers_.on_coordinator_status) {
       make_reader(coordinator_topic_, registry, &CycloneTransport::coordinator_statuses_available);
     }
+    if (handlers_.on_mission_info) make_reader(mission_topic_, registry, &CycloneTransport::missions_available);
+    if (handlers_.on_fleet_plan) make_reader(plan_topic_, registry, &CycloneTransport::plans_available);
+    if (handlers_.on_fleet_event) make_reader(event_topic_, events, &CycloneTransport::events_available);
+    if (handlers_.on_task_request) make_reader(request_topic_, requests, &CycloneTransport::requests_available);
+    if (handlers_.on_task_reply) make_reader(reply_topic_, requests, &CycloneTransport::replies_available);
   }
 
 
@@ -309,10 +353,96 @@ class CycloneTransport : public Transport {
     wire.done_visits._length = wire.done_visits._maximum = static_cast<uint32_t>(visits.size());
     wire.done_visits._buffer = visits.data();
     wire.done_visits._release = false;
+    wire.round_trip_p50_ms = s.round_trip_p50_ms;
+    wire.round_trip_p99_ms = s.round_trip_p99_ms;
+    wire.last_planning_ms = s.last_planning_ms;
+    wire.last_replan_latency_ms = s.last_replan_latency_ms;
+    wire.steps_done = s.steps_done;
+    wire.steps_planned = s.steps_planned;
     check(dds_write(writer(status_writer_, status_topic_, registry_qos_), &wire), "write fleet status");
   }
 
+  void publish_mission_info(const MissionInfo& m) override {
+    std::vector<fleet_GridCell> goals = wire_cells(m.goals);
+    std::vector<std::vector<int32_t>> roles;
+    std::vector<fleet_MissionTask> tasks(m.tasks.size());
+    for (const MissionTask& task : m.tasks) roles.emplace_back(task.roles.begin(), task.roles.end());
+    for (size_t i = 0; i < tasks.size(); ++i) {
+      tasks[i].x = m.tasks[i].x;
+      tasks[i].y = m.tasks[i].y;
+      tasks[i].cancelled = m.tasks[i].cancelled;
+      borrow(tasks[i].roles, roles[i]);
+    }
+    std::string rows = m.map_rows;
+    fleet_MissionInfo wire{};
+    wire.coordinator = m.coordinator;
+    copy_string(wire.mission_id, m.mission_id);
+    wire.width = m.width;
+    wire.height = m.height;
+    wire.map_rows = rows.data();
+    borrow(wire.goals, goals);
+    borrow(wire.tasks, tasks);
+    wire.lifelong = m.lifelong;
+    check(dds_write(writer(mission_writer_, mission_topic_, registry_qos_), &wire), "write mission info");
+  }
+
+  void publish_fleet_plan(const FleetPlan& p) override {
+    std::vector<std::vector<fleet_GridCell>> paths;
+    std::vector<fleet_RobotPlan> robots(p.robots.size());
+    for (const RobotPlan& robot : p.robots) paths.push_back(wire_cells(robot.path));
+    for (size_t i = 0; i < robots.size(); ++i) {
+      copy_string(robots[i].robot_id, p.robots[i].robot_id);
+      robots[i].role = p.robots[i].role;
+      borrow(robots[i].path, paths[i]);
+    }
+    fleet_FleetPlan wire{};
+    wire.coordinator = p.coordinator;
+    wire.plan_epoch = p.plan_epoch;
+    wire.made_ms = p.made_ms;
+    wire.planning_ms = p.planning_ms;
+    wire.flowtime = p.flowtime;
+    borrow(wire.robots, robots);
+    check(dds_write(writer(plan_writer_, plan_topic_, registry_qos_), &wire), "write fleet plan");
+  }
+
+  void publish_fleet_event(const FleetEvent& e) override {
+    fleet_FleetEvent wire{};
+    wire.coordinator = e.coordinator;
+    wire.stamp_ms = e.stamp_ms;
+    copy_string(wire.kind, e.kind);
+    copy_string(wire.robot_id, e.robot_id);
+    copy_string(wire.text, e.text);
+    wire.value = e.value;
+    check(dds_write(writer(event_writer_, event_topic_, events_qos_), &wire), "write fleet event");
+  }
+
+  void request_task(const TaskRequest& r) override {
+    fleet_TaskRequest wire{};
+    copy_string(wire.request_id, r.request_id);
+    wire.action = static_cast<fleet_TaskAction>(r.action);
+    wire.x = r.x;
+    wire.y = r.y;
+    copy_string(wire.robot_id, r.robot_id);
+    wire.task = r.task;
+    check(dds_write(writer(request_writer_, request_topic_, requests_qos_), &wire), "write task request");
+  }
+
+  void reply_task(const TaskReply& r) override {
+    std::string listing = r.listing;
+    fleet_TaskReply wire{};
+    copy_string(wire.request_id, r.request_id);
+    wire.coordinator = r.coordinator;
+    wire.accepted = r.accepted;
+    copy_string(wire.reason, r.reason);
+    wire.task = r.task;
+    copy_string(wire.robot_id, r.robot_id);
+    wire.listing = listing.data();
+    check(dds_write(writer(reply_writer_, reply_topic_, requests_qos_), &wire), "write task reply");
+  }
+
  private:
+  static constexpr int kEventHistory = 64;
+
   dds_entity_t make_topic(const dds_topic_descriptor_t* descriptor, const char* name) {
     const dds_entity_t topic = dds_create_topic(participant_, descriptor, name, nullptr, nullptr);
     check(topic, name);
@@ -501,7 +631,75 @@ class CycloneTransport : public Transport {
         const fleet_Assignment& row = w.assignments._buffer[i];
         s.assignments.push_back({row.robot_id, row.role, row.tasks_done, row.tasks_total});
       }
+      s.round_trip_p50_ms = w.round_trip_p50_ms;
+      s.round_trip_p99_ms = w.round_trip_p99_ms;
+      s.last_planning_ms = w.last_planning_ms;
+      s.last_replan_latency_ms = w.last_replan_latency_ms;
+      s.steps_done = w.steps_done;
+      s.steps_planned = w.steps_planned;
       self->handlers_.on_fleet_status(s);
+    });
+  }
+
+  static void missions_available(dds_entity_t reader, void* arg) {
+    auto* self = static_cast<CycloneTransport*>(arg);
+    take_all<fleet_MissionInfo>(reader, [self](const fleet_MissionInfo& w, const dds_sample_info_t& info) {
+      if (!info.valid_data) return;
+      MissionInfo m;
+      m.coordinator = w.coordinator;
+      m.mission_id = w.mission_id;
+      m.width = w.width;
+      m.height = w.height;
+      m.map_rows = w.map_rows ? w.map_rows : "";
+      m.goals = cells_of(w.goals);
+      for (const fleet_MissionTask& task : elements_of(w.tasks)) {
+        m.tasks.push_back({task.x, task.y, elements_of(task.roles), task.cancelled});
+      }
+      m.lifelong = w.lifelong;
+      self->handlers_.on_mission_info(m);
+    });
+  }
+
+  static void plans_available(dds_entity_t reader, void* arg) {
+    auto* self = static_cast<CycloneTransport*>(arg);
+    take_all<fleet_FleetPlan>(reader, [self](const fleet_FleetPlan& w, const dds_sample_info_t& info) {
+      if (!info.valid_data) return;
+      FleetPlan p;
+      p.coordinator = w.coordinator;
+      p.plan_epoch = w.plan_epoch;
+      p.made_ms = w.made_ms;
+      p.planning_ms = w.planning_ms;
+      p.flowtime = w.flowtime;
+      for (const fleet_RobotPlan& robot : elements_of(w.robots)) {
+        p.robots.push_back({robot.robot_id, robot.role, cells_of(robot.path)});
+      }
+      self->handlers_.on_fleet_plan(p);
+    });
+  }
+
+  static void events_available(dds_entity_t reader, void* arg) {
+    auto* self = static_cast<CycloneTransport*>(arg);
+    take_all<fleet_FleetEvent>(reader, [self](const fleet_FleetEvent& w, const dds_sample_info_t& info) {
+      if (!info.valid_data) return;
+      self->handlers_.on_fleet_event({w.coordinator, w.stamp_ms, w.kind, w.robot_id, w.text, w.value});
+    });
+  }
+
+  static void requests_available(dds_entity_t reader, void* arg) {
+    auto* self = static_cast<CycloneTransport*>(arg);
+    take_all<fleet_TaskRequest>(reader, [self](const fleet_TaskRequest& w, const dds_sample_info_t& info) {
+      if (!info.valid_data) return;
+      self->handlers_.on_task_request(
+          {w.request_id, static_cast<TaskAction>(w.action), w.x, w.y, w.robot_id, w.task});
+    });
+  }
+
+  static void replies_available(dds_entity_t reader, void* arg) {
+    auto* self = static_cast<CycloneTransport*>(arg);
+    take_all<fleet_TaskReply>(reader, [self](const fleet_TaskReply& w, const dds_sample_info_t& info) {
+      if (!info.valid_data) return;
+      self->handlers_.on_task_reply({w.request_id, w.coordinator, w.accepted, w.reason, w.task, w.robot_id,
+                                     w.listing ? w.listing : ""});
     });
   }
 
@@ -510,7 +708,9 @@ class CycloneTransport : public Transport {
   std::string test_partition_of_;  // see TransportConfig::test_partition_of
   dds_entity_t participant_ = 0;
   dds_entity_t announcement_topic_ = 0, state_topic_ = 0, command_topic_ = 0, status_topic_ = 0, coordinator_topic_ = 0;
-  dds_entity_t status_writer_ = 0, coordinator_writer_ = 0;
+  dds_entity_t mission_topic_ = 0, plan_topic_ = 0, event_topic_ = 0, request_topic_ = 0, reply_topic_ = 0;
+  dds_entity_t status_writer_ = 0, coordinator_writer_ = 0, mission_writer_ = 0, plan_writer_ = 0, event_writer_ = 0,
+               request_writer_ = 0, reply_writer_ = 0;
   std::map<std::string, dds_entity_t> command_writers_;  // robot id -> writer in its partition
   std::map<std::string, RobotWriters> robot_writers_;   // robot id -> its writers, in its partition
   struct WriterPartitions {
@@ -519,7 +719,8 @@ class CycloneTransport : public Transport {
   };
   std::unordered_map<dds_instance_handle_t, WriterPartitions> partitions_of_writer_;
   std::mutex partitions_mutex_;
-  dds_qos_t *registry_qos_ = nullptr, *state_qos_ = nullptr, *command_qos_ = nullptr;
+  dds_qos_t *registry_qos_ = nullptr, *state_qos_ = nullptr, *command_qos_ = nullptr, *events_qos_ = nullptr,
+            *requests_qos_ = nullptr;
   std::mutex writers_mutex_;
 };
 

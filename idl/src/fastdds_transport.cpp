@@ -262,6 +262,33 @@ class FastDdsTransport : public Transport {
     Topic* command = make_topic<fleet::StepCommandPubSubType>("rt/fleet/step_command");
     Topic* status = make_topic<fleet::FleetStatusPubSubType>("rt/fleet/fleet_status");
     coordinator_topic_ = make_topic<fleet::CoordinatorStatusPubSubType>("rt/fleet/coordinator_status");
+    mission_topic_ = make_topic<fleet::MissionInfoPubSubType>("rt/fleet/mission_info");
+    plan_topic_ = make_topic<fleet::FleetPlanPubSubType>("rt/fleet/fleet_plan");
+    event_topic_ = make_topic<fleet::FleetEventPubSubType>("rt/fleet/fleet_event");
+    request_topic_ = make_topic<fleet::TaskRequestPubSubType>("rt/fleet/task_request");
+    reply_topic_ = make_topic<fleet::TaskReplyPubSubType>("rt/fleet/task_reply");
+    DataWriterQos& events_w = events_w_;
+    events_w.reliability().kind = RELIABLE_RELIABILITY_QOS;
+    events_w.durability().kind = TRANSIENT_LOCAL_DURABILITY_QOS;
+    events_w.history().kind = KEEP_LAST_HISTORY_QOS;
+    events_w.history().depth = kEventHistory;
+    events_w.reliable_writer_qos().times.heartbeatPeriod = heartbeat;
+    DataReaderQos events_r = DATAREADER_QOS_DEFAULT;
+    events_r.reliability().kind = RELIABLE_RELIABILITY_QOS;
+    events_r.durability().kind = TRANSIENT_LOCAL_DURABILITY_QOS;
+    events_r.history().kind = KEEP_LAST_HISTORY_QOS;
+    events_r.history().depth = kEventHistory;
+    DataWriterQos& requests_w = requests_w_;
+    requests_w.reliability().kind = RELIABLE_RELIABILITY_QOS;
+    requests_w.durability().kind = VOLATILE_DURABILITY_QOS;
+    requests_w.history().kind = KEEP_LAST_HISTORY_QOS;
+    requests_w.history().depth = 16;
+    requests_w.reliable_writer_qos().times.heartbeatPeriod = heartbeat;
+    DataReaderQos requests_r = DATAREADER_QOS_DEFAULT;
+    requests_r.reliability().kind = RELIABLE_RELIABILITY_QOS;
+    requests_r.durability().kind = VOLATILE_DURABILITY_QOS;
+    requests_r.history().kind = KEEP_LAST_HISTORY_QOS;
+    requests_r.history().depth = 16;
     // Writers are made on first use: a process writes few of the topics, and every idle writer
     // would still be matched with every reader of the fleet.
     announcement_topic_ = announcement;
@@ -333,7 +360,67 @@ class FastDdsTransport : public Transport {
         for (const fleet::Assignment& row : w.assignments()) {
           s.assignments.push_back({row.robot_id().to_string(), row.role(), row.tasks_done(), row.tasks_total()});
         }
+        s.round_trip_p50_ms = w.round_trip_p50_ms();
+        s.round_trip_p99_ms = w.round_trip_p99_ms();
+        s.last_planning_ms = w.last_planning_ms();
+        s.last_replan_latency_ms = w.last_replan_latency_ms();
+        s.steps_done = w.steps_done();
+        s.steps_planned = w.steps_planned();
         handlers_.on_fleet_status(s);
+      });
+    }
+    if (handlers_.on_mission_info) {
+      listen<fleet::MissionInfo>(mission_topic_, registry_r, [this](const fleet::MissionInfo& w, const SampleInfo& info) {
+        if (!info.valid_data) return;
+        MissionInfo m;
+        m.coordinator = w.coordinator();
+        m.mission_id = w.mission_id().to_string();
+        m.width = w.width();
+        m.height = w.height();
+        m.map_rows = w.map_rows();
+        m.goals = cells_of(w.goals());
+        for (const fleet::MissionTask& task : w.tasks()) {
+          m.tasks.push_back({task.x(), task.y(), std::vector<int>(task.roles().begin(), task.roles().end()),
+                             task.cancelled()});
+        }
+        m.lifelong = w.lifelong();
+        handlers_.on_mission_info(m);
+      });
+    }
+    if (handlers_.on_fleet_plan) {
+      listen<fleet::FleetPlan>(plan_topic_, registry_r, [this](const fleet::FleetPlan& w, const SampleInfo& info) {
+        if (!info.valid_data) return;
+        FleetPlan p;
+        p.coordinator = w.coordinator();
+        p.plan_epoch = w.plan_epoch();
+        p.made_ms = w.made_ms();
+        p.planning_ms = w.planning_ms();
+        p.flowtime = w.flowtime();
+        for (const fleet::RobotPlan& robot : w.robots()) {
+          p.robots.push_back({robot.robot_id().to_string(), robot.role(), cells_of(robot.path())});
+        }
+        handlers_.on_fleet_plan(p);
+      });
+    }
+    if (handlers_.on_fleet_event) {
+      listen<fleet::FleetEvent>(event_topic_, events_r, [this](const fleet::FleetEvent& w, const SampleInfo& info) {
+        if (!info.valid_data) return;
+        handlers_.on_fleet_event({w.coordinator(), w.stamp_ms(), w.kind().to_string(), w.robot_id().to_string(),
+                                  w.text().to_string(), w.value()});
+      });
+    }
+    if (handlers_.on_task_request) {
+      listen<fleet::TaskRequest>(request_topic_, requests_r, [this](const fleet::TaskRequest& w, const SampleInfo& info) {
+        if (!info.valid_data) return;
+        handlers_.on_task_request({w.request_id().to_string(), static_cast<TaskAction>(w.action()), w.x(), w.y(),
+                                   w.robot_id().to_string(), w.task()});
+      });
+    }
+    if (handlers_.on_task_reply) {
+      listen<fleet::TaskReply>(reply_topic_, requests_r, [this](const fleet::TaskReply& w, const SampleInfo& info) {
+        if (!info.valid_data) return;
+        handlers_.on_task_reply({w.request_id().to_string(), w.coordinator(), w.accepted(), w.reason().to_string(),
+                                 w.task(), w.robot_id().to_string(), w.listing()});
       });
     }
   }
@@ -442,10 +529,109 @@ class FastDdsTransport : public Transport {
       visits.push_back(visit);
     }
     wire.done_visits(visits);
+    wire.round_trip_p50_ms(s.round_trip_p50_ms);
+    wire.round_trip_p99_ms(s.round_trip_p99_ms);
+    wire.last_planning_ms(s.last_planning_ms);
+    wire.last_replan_latency_ms(s.last_replan_latency_ms);
+    wire.steps_done(s.steps_done);
+    wire.steps_planned(s.steps_planned);
     writer(status_writer_, status_topic_, registry_w_)->write(&wire);
   }
 
+  void publish_mission_info(const MissionInfo& m) override {
+    fleet::MissionInfo wire;
+    wire.coordinator(m.coordinator);
+    wire.mission_id(m.mission_id);
+    wire.width(m.width);
+    wire.height(m.height);
+    wire.map_rows(m.map_rows);
+    wire.goals(wire_cells(m.goals));
+    std::vector<fleet::MissionTask> tasks;
+    for (const MissionTask& t : m.tasks) {
+      fleet::MissionTask task;
+      task.x(t.x);
+      task.y(t.y);
+      task.roles(std::vector<int32_t>(t.roles.begin(), t.roles.end()));
+      task.cancelled(t.cancelled);
+      tasks.push_back(task);
+    }
+    wire.tasks(tasks);
+    wire.lifelong(m.lifelong);
+    writer(mission_writer_, mission_topic_, registry_w_)->write(&wire);
+  }
+
+  void publish_fleet_plan(const FleetPlan& p) override {
+    fleet::FleetPlan wire;
+    wire.coordinator(p.coordinator);
+    wire.plan_epoch(p.plan_epoch);
+    wire.made_ms(p.made_ms);
+    wire.planning_ms(p.planning_ms);
+    wire.flowtime(p.flowtime);
+    std::vector<fleet::RobotPlan> robots;
+    for (const RobotPlan& r : p.robots) {
+      fleet::RobotPlan robot;
+      robot.robot_id(r.robot_id);
+      robot.role(r.role);
+      robot.path(wire_cells(r.path));
+      robots.push_back(robot);
+    }
+    wire.robots(robots);
+    writer(plan_writer_, plan_topic_, registry_w_)->write(&wire);
+  }
+
+  void publish_fleet_event(const FleetEvent& e) override {
+    fleet::FleetEvent wire;
+    wire.coordinator(e.coordinator);
+    wire.stamp_ms(e.stamp_ms);
+    wire.kind(e.kind.substr(0, 16));
+    wire.robot_id(e.robot_id.substr(0, kMaxRobotIdLength));
+    wire.text(e.text.substr(0, kMaxEventTextLength));
+    wire.value(e.value);
+    writer(event_writer_, event_topic_, events_w_)->write(&wire);
+  }
+
+  void request_task(const TaskRequest& r) override {
+    fleet::TaskRequest wire;
+    wire.request_id(r.request_id.substr(0, kMaxRequestIdLength));
+    wire.action(static_cast<fleet::TaskAction>(r.action));
+    wire.x(r.x);
+    wire.y(r.y);
+    wire.robot_id(r.robot_id.substr(0, kMaxRobotIdLength));
+    wire.task(r.task);
+    writer(request_writer_, request_topic_, requests_w_)->write(&wire);
+  }
+
+  void reply_task(const TaskReply& r) override {
+    fleet::TaskReply wire;
+    wire.request_id(r.request_id.substr(0, kMaxRequestIdLength));
+    wire.coordinator(r.coordinator);
+    wire.accepted(r.accepted);
+    wire.reason(r.reason.substr(0, kMaxEventTextLength));
+    wire.task(r.task);
+    wire.robot_id(r.robot_id.substr(0, kMaxRobotIdLength));
+    wire.listing(r.listing);
+    writer(reply_writer_, reply_topic_, requests_w_)->write(&wire);
+  }
+
  private:
+  static constexpr int kEventHistory = 64;
+
+  static std::vector<GridCell> cells_of(const std::vector<fleet::GridCell>& wire) {
+    std::vector<GridCell> cells;
+    for (const fleet::GridCell& cell : wire) cells.push_back({cell.x(), cell.y()});
+    return cells;
+  }
+  static std::vector<fleet::GridCell> wire_cells(const std::vector<GridCell>& cells) {
+    std::vector<fleet::GridCell> wire;
+    for (const GridCell& cell : cells) {
+      fleet::GridCell w;
+      w.x(cell.x);
+      w.y(cell.y);
+      wire.push_back(w);
+    }
+    return wire;
+  }
+
   template <typename PubSubType>
   Topic* make_topic(const std::string& name) {
     TypeSupport type(new PubSubType());
@@ -565,13 +751,16 @@ class FastDdsTransport : public Transport {
   DomainParticipant* participant_ = nullptr;
   Publisher* publisher_ = nullptr;
   Subscriber* subscriber_ = nullptr;
-  DataWriter *status_writer_ = nullptr, *coordinator_writer_ = nullptr;
-  Topic* coordinator_topic_ = nullptr;
+  DataWriter *status_writer_ = nullptr, *coordinator_writer_ = nullptr, *mission_writer_ = nullptr,
+             *plan_writer_ = nullptr, *event_writer_ = nullptr, *request_writer_ = nullptr, *reply_writer_ = nullptr;
+  Topic *coordinator_topic_ = nullptr, *mission_topic_ = nullptr, *plan_topic_ = nullptr, *event_topic_ = nullptr,
+        *request_topic_ = nullptr, *reply_topic_ = nullptr;
   std::map<std::string, DataWriter*> command_writers_;  // robot id -> writer in its partition
   std::map<std::string, RobotWriters> robot_writers_;   // robot id -> its writers, in its partition
   Topic *announcement_topic_ = nullptr, *state_topic_ = nullptr, *command_topic_ = nullptr, *status_topic_ = nullptr;
   DataWriterQos registry_w_ = DATAWRITER_QOS_DEFAULT, state_w_ = DATAWRITER_QOS_DEFAULT,
-                command_w_ = DATAWRITER_QOS_DEFAULT;
+                command_w_ = DATAWRITER_QOS_DEFAULT, events_w_ = DATAWRITER_QOS_DEFAULT,
+                requests_w_ = DATAWRITER_QOS_DEFAULT;
   std::mutex writers_mutex_;
   std::vector<std::unique_ptr<DataReaderListener>> listeners_;
   std::vector<DataReader*> readers_;

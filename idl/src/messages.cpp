@@ -18,6 +18,15 @@ const char* to_string(RobotStatus status) {
   return "unknown";
 }
 
+const char* to_string(TaskAction action) {
+  switch (action) {
+    case TaskAction::kAdd: return "add";
+    case TaskAction::kCancel: return "cancel";
+    case TaskAction::kList: return "list";
+  }
+  return "unknown";
+}
+
 const char* to_string(CoordinatorRole role) {
   switch (role) {
     case CoordinatorRole::kActive: return "active";

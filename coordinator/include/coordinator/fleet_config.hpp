@@ -14,6 +14,9 @@ namespace coordinator {
 struct FleetConfig {
   std::string source;            // the YAML file
   std::string mission;           // CTS-MAPF instance: its agents are the mission's roles
+  // Lifelong: when every task is done the robots park on their goals and the coordinator keeps
+  // running, waiting for tasks added at runtime (ctsfleet-task add), with no mission timeout.
+  bool lifelong = false;
   bool any_robots = true;        // robots: expected: any
   std::vector<std::string> expected_robots;
   int quorum = 1;                // start once this many robots are bound (any mode)

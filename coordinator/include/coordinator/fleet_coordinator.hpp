@@ -30,6 +30,7 @@
 #include "coordinator/mission_progress.hpp"
 #include "coordinator/plan_execution.hpp"
 #include "coordinator/robot_registry.hpp"
+#include "coordinator/task_assignment.hpp"
 #include "fleet_transport/transport.hpp"
 #include "planner_core/instance.hpp"
 
@@ -77,6 +78,9 @@ class FleetCoordinator {
   void on_robot_gone(const std::string& robot_id, fleet_transport::GoneReason reason);
   void on_coordinator_status(const fleet_transport::CoordinatorStatus& status);
   void on_fleet_status(const fleet_transport::FleetStatus& progress);
+  // An operator's task request (ctsfleet-task, the dashboard): answered on the reply topic by the
+  // active coordinator; a repeated request id gets the same answer again.
+  void on_task_request(const fleet_transport::TaskRequest& request);
 
   // One iteration; false once the mission has ended (completed, or timed out).
   bool step(fleet_transport::Transport& transport);
@@ -97,7 +101,8 @@ class FleetCoordinator {
  private:
   enum class Phase { kWaiting, kStandby, kExecuting, kSettling, kDone };
   struct Event {
-    enum class Kind { kAnnouncement, kState, kGone, kStatus, kProgress } kind = Kind::kAnnouncement;
+    enum class Kind { kAnnouncement, kState, kGone, kStatus, kProgress, kTaskRequest } kind = Kind::kAnnouncement;
+    fleet_transport::TaskRequest request;
     fleet_transport::CoordinatorStatus status;
     fleet_transport::FleetStatus progress;
     fleet_transport::Announcement announcement;
@@ -131,7 +136,8 @@ class FleetCoordinator {
   void handle_announcement(RobotRecord& robot, const fleet_transport::Announcement& announcement);
   void handle_state(RobotRecord& robot, const fleet_transport::RobotState& state, Clock::time_point received);
   bool accept_incarnation(RobotRecord& robot, const fleet_transport::RobotState& state, Clock::time_point now);
-  void lose(RobotRecord& robot, const std::string& why);
+  // Takes a robot out; `kind` is the operators' event (lost, fault, off_plan).
+  void lose(RobotRecord& robot, const std::string& why, const char* kind = "lost");
   void bind_roles(const std::vector<RobotRecord*>& robots);
   bool replan(fleet_transport::Transport& transport);
   void update_progress();
@@ -144,6 +150,18 @@ class FleetCoordinator {
   void request_replan(const std::string& why);
   void list_pending();
   planner_core::Vertex mission_vertex(int x, int y) const;
+  // Operators' tasks (see on_task_request).
+  void handle_task_request(const fleet_transport::TaskRequest& request, fleet_transport::Transport& transport);
+  fleet_transport::TaskReply add_task(const fleet_transport::TaskRequest& request);
+  fleet_transport::TaskReply cancel_task(const fleet_transport::TaskRequest& request);
+  std::string task_listing() const;
+  // Each planned robot with a role: where it stands, its task visits to make in its plan's order, its goal.
+  std::vector<Tour> current_tours() const;
+  // What operators see: the mission (map, goals, tasks), the plan, events (queued by report and
+  // published at the end of the step, where the transport is at hand).
+  void publish_mission(fleet_transport::Transport& transport);
+  void publish_plan(fleet_transport::Transport& transport, int64_t flowtime, double planning_ms);
+  void report(const std::string& kind, const std::string& robot_id, const std::string& text, double value = 0);
   RobotRecord* robot_of_agent(int a);
   const RobotRecord* robot_of_agent(int a) const;
 
@@ -188,6 +206,16 @@ class FleetCoordinator {
   const std::atomic<bool>* interrupt_ = nullptr;  // grows after each failed planning attempt, back to 1 on success
   std::unique_ptr<PlanExecution> plan_;  // the plan being executed
   MissionSummary summary_;
+
+  std::map<std::string, fleet_transport::TaskReply> replies_;  // request id -> the answer given
+  std::deque<std::string> reply_order_;                       // oldest first, to forget old ones
+  std::vector<fleet_transport::FleetEvent> events_to_publish_;
+  bool mission_published_ = false;
+  bool mission_changed_ = false;
+  bool lifelong_idle_ = false;       // lifelong: every task done, waiting for tasks
+  double last_planning_ms_ = 0;
+  int64_t steps_of_earlier_plans_ = 0;  // moves confirmed under plans replaced since
+  int64_t steps_planned_ = 0;           // moves of every plan made, each from its start
 };
 
 }  // namespace coordinator

@@ -37,6 +37,14 @@ struct JournalResume {
   int last_epoch = 0;
   std::map<int, std::string> bindings;             // role -> robot id
   std::vector<fleet_transport::TaskVisit> visits;  // done
+  // Tasks added at runtime, in the order they were added (task ids from the mission's count on).
+  struct AddedTask {
+    int task = 0;
+    int x = 0, y = 0;
+    int role = 0;
+  };
+  std::vector<AddedTask> added_tasks;
+  std::vector<int> cancelled_tasks;
 };
 
 class MissionJournal {
@@ -58,6 +66,9 @@ class MissionJournal {
   void record_epoch(int epoch, uint32_t term);
   void record_binding(int role, const std::string& robot_id);  // "" = the role lost its robot
   void record_visit(const fleet_transport::TaskVisit& visit, const std::string& robot_id, int epoch);
+  // An operator's task, added to the run (task = its id) or cancelled.
+  void record_task_added(int task, int x, int y, int role, const std::string& request_id);
+  void record_task_cancelled(int task, const std::string& request_id);
   // The run ended: "completed", "timeout", "interrupted", "stood down"...
   void finish(const std::string& outcome);
 

@@ -31,12 +31,21 @@ class MissionProgress {
   void visit(int role, planner_core::Vertex cell);
   // Every visit done, for the fleet status and the journal.
   std::vector<fleet_transport::TaskVisit> done_visits() const;
-  // Whether task t's k-th role (mission.tasks[t].agents[k]) has visited.
-  bool visited(int task, size_t k) const { return task_done_[task][k] != 0; }
+  // Whether task t's k-th role (mission.tasks[t].agents[k]) has visited, or need not (cancelled).
+  bool visited(int task, size_t k) const { return task_done_[task][k] != 0 || cancelled_[task]; }
   int task_count() const { return static_cast<int>(task_done_.size()); }
-  // Tasks every one of whose roles has visited.
+  // The mission has a new task, appended to its tasks (mission.tasks.back()), none of it done.
+  void add_task();
+  // No visit to `task` is owed any more; it counts neither as done nor as to do. False when it
+  // is no task, or is done or cancelled already.
+  bool cancel(int task);
+  bool cancelled(int task) const { return cancelled_[task] != 0; }
+  bool task_done(int task) const;
+  // Tasks not cancelled.
+  int tasks_to_do() const;
+  // Tasks (not cancelled) every one of whose roles has visited.
   int tasks_done() const;
-  bool all_tasks_done() const { return tasks_done() == task_count(); }
+  bool all_tasks_done() const { return tasks_done() == tasks_to_do(); }
   // (tasks of the role, of which visited) for the fleet status.
   std::pair<int, int> role_tasks(int role) const;
   // Some visit is owed by a role that has no robot.
@@ -48,6 +57,7 @@ class MissionProgress {
   const planner_core::Instance& mission_;
   std::vector<std::string> robot_of_role_;
   std::vector<std::vector<char>> task_done_;  // [task][index in task.agents]
+  std::vector<char> cancelled_;               // [task]
 };
 
 }  // namespace coordinator

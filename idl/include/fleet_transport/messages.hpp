@@ -85,7 +85,94 @@ struct FleetStatus {
   int robots = 0;
   std::vector<Assignment> assignments;
   std::vector<TaskVisit> done_visits;
+  // Figures for operators (0 until measured).
+  double round_trip_p50_ms = 0;
+  double round_trip_p99_ms = 0;
+  double last_planning_ms = 0;
+  double last_replan_latency_ms = 0;
+  int64_t steps_done = 0;     // moves confirmed, over every plan so far
+  int64_t steps_planned = 0;  // moves in the plans so far (each plan counted from where it started)
 };
+
+struct GridCell {
+  int x = 0;
+  int y = 0;
+  bool operator==(const GridCell&) const = default;
+};
+
+// A task of the mission: its cell and the roles that must visit it. Tasks added at runtime are
+// appended (a task's index is its id); a cancelled task stays in the list, marked.
+struct MissionTask {
+  int x = 0;
+  int y = 0;
+  std::vector<int> roles;
+  bool cancelled = false;
+  bool operator==(const MissionTask&) const = default;
+};
+
+// What a coordinator drives: the map ('.' free, '@' wall; row y = 0 first), goals and tasks.
+struct MissionInfo {
+  uint64_t coordinator = 0;
+  std::string mission_id;
+  int width = 0;
+  int height = 0;
+  std::string map_rows;  // height rows of width characters, joined by '\n'
+  std::vector<GridCell> goals;  // per role
+  std::vector<MissionTask> tasks;
+  bool lifelong = false;
+};
+
+// One robot's part of a plan: its start, then the target of each action.
+struct RobotPlan {
+  std::string robot_id;
+  int role = -1;
+  std::vector<GridCell> path;  // path[0] = start; path[i + 1] = target of action i
+};
+
+struct FleetPlan {
+  uint64_t coordinator = 0;
+  int plan_epoch = 0;
+  int64_t made_ms = 0;
+  double planning_ms = 0;
+  int64_t flowtime = 0;
+  std::vector<RobotPlan> robots;
+};
+
+// Something an operator wants to know happened (kinds: see idl/fleet.idl).
+struct FleetEvent {
+  uint64_t coordinator = 0;
+  int64_t stamp_ms = 0;
+  std::string kind;
+  std::string robot_id;
+  std::string text;
+  double value = 0;
+};
+
+enum class TaskAction { kAdd, kCancel, kList };
+const char* to_string(TaskAction action);
+
+struct TaskRequest {
+  std::string request_id;
+  TaskAction action = TaskAction::kAdd;
+  int x = 0;
+  int y = 0;
+  std::string robot_id;  // "" = any robot
+  int task = -1;
+};
+
+struct TaskReply {
+  std::string request_id;
+  uint64_t coordinator = 0;
+  bool accepted = false;
+  std::string reason;
+  int task = -1;
+  std::string robot_id;
+  std::string listing;
+};
+
+// Longest strings the wire types carry (longer ones are cut).
+constexpr size_t kMaxEventTextLength = 256;
+constexpr size_t kMaxRequestIdLength = 64;
 
 // The order among active coordinators that every process applies alike: a higher term wins, then
 // the earlier claim, then the lower incarnation. True when `a` outranks `b`.

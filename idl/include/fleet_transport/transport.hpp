@@ -98,6 +98,11 @@ struct Handlers {
   std::function<void(const StepCommand&)> on_command;
   std::function<void(const CoordinatorStatus&)> on_coordinator_status;
   std::function<void(const FleetStatus&)> on_fleet_status;
+  std::function<void(const MissionInfo&)> on_mission_info;
+  std::function<void(const FleetPlan&)> on_fleet_plan;
+  std::function<void(const FleetEvent&)> on_fleet_event;
+  std::function<void(const TaskRequest&)> on_task_request;
+  std::function<void(const TaskReply&)> on_task_reply;
   // A robot's announcement instance lost its writer (process died: lease expired) or was disposed.
   std::function<void(const std::string& robot_id, GoneReason reason)> on_robot_gone;
   // Something refused by the transport that the process should log: e.g. a robot state or
@@ -119,6 +124,14 @@ class Transport {
   virtual void prepare_commands_for(const std::string& robot_id) = 0;
   virtual void publish_coordinator_status(const CoordinatorStatus& status) = 0;
   virtual void publish_fleet_status(const FleetStatus& status) = 0;
+  // For operators (dashboard, ctsfleet-task): mission, plan and events reliable; mission and plan
+  // transient-local keep-last 1 per coordinator, events transient-local keep-last 64 (a
+  // dashboard started late sees the recent ones); task requests and replies reliable, volatile.
+  virtual void publish_mission_info(const MissionInfo& info) = 0;
+  virtual void publish_fleet_plan(const FleetPlan& plan) = 0;
+  virtual void publish_fleet_event(const FleetEvent& event) = 0;
+  virtual void request_task(const TaskRequest& request) = 0;
+  virtual void reply_task(const TaskReply& reply) = 0;
   // Changes the ownership strength of this process's command writers (a standby taking over).
   virtual void set_command_strength(int strength) = 0;
 };

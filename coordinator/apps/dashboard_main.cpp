@@ -1,0 +1,187 @@
+// ctsfleet-dashboard: the fleet in a browser. An observer on the DDS domain (it hears the topics
+// robots and coordinators publish; nothing else ties it to them) serving a live page: the map,
+// every robot where it reports itself, its plan and next tasks, the tasks' states, the events and
+// the fleet's figures; a click on a free cell asks the coordinator for a task there. It can record
+// what it hears (--record FILE), replay such a file at any speed (--replay FILE), and show a plan
+// written by ctsfleet-solve moving (--plan SOLUTION --instance INSTANCE).
+#include <spdlog/spdlog.h>
+
+#include <arpa/inet.h>
+
+#include <atomic>
+#include <chrono>
+#include <iostream>
+#include <thread>
+
+#include "dashboard/dashboard_server.hpp"
+#include "dashboard/history.hpp"
+#include "dashboard/message_json.hpp"
+#include "observer_options.hpp"
+#include "planner_core/input_error.hpp"
+
+namespace {
+
+using dashboard::HistoryEntry;
+using dashboard::Json;
+
+bool is_loopback(const std::string& host) {
+  in_addr address{};
+  return host == "localhost" || (inet_pton(AF_INET, host.c_str(), &address) == 1 && (ntohl(address.s_addr) >> 24) == 127);
+}
+
+// Plays `entries` into the server on a clock that runs `speed` times as fast as the wall clock.
+class Replay {
+ public:
+  Replay(std::vector<HistoryEntry> entries, double speed) : entries_(std::move(entries)), speed_(speed) {
+    start_ms_ = entries_.empty() ? 0 : entries_.front().t_ms;
+    anchor_replayed_ms_ = start_ms_;
+    anchor_real_ = std::chrono::steady_clock::now();
+  }
+  int64_t now_ms() {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    return replayed_at(std::chrono::steady_clock::now());
+  }
+  void set_speed(double speed) {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    const auto now = std::chrono::steady_clock::now();
+    anchor_replayed_ms_ = replayed_at(now);
+    anchor_real_ = now;
+    speed_ = speed;
+  }
+  void run(dashboard::DashboardServer& server, const std::atomic<bool>& stop) {
+    size_t next = 0;
+    while (!stop) {
+      const int64_t now = now_ms();
+      while (next < entries_.size() && entries_[next].t_ms <= now) server.apply(entries_[next++]);
+      server.touch();  // the clock moved: robots may turn lost
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+  }
+
+ private:
+  int64_t replayed_at(std::chrono::steady_clock::time_point now) const {
+    const double real_ms = std::chrono::duration<double, std::milli>(now - anchor_real_).count();
+    const int64_t end = entries_.empty() ? 0 : entries_.back().t_ms;
+    return std::min(end, anchor_replayed_ms_ + static_cast<int64_t>(real_ms * speed_));
+  }
+  std::vector<HistoryEntry> entries_;
+  std::mutex mutex_;
+  double speed_;
+  int64_t start_ms_ = 0;
+  int64_t anchor_replayed_ms_ = 0;
+  std::chrono::steady_clock::time_point anchor_real_;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  ctsfleet::Program program("ctsfleet-dashboard", "a live web page of the fleet; record, replay, or show a plan");
+  CLI::App& app = program.app();
+  ctsfleet::ObserverOptions dds("dashboard");
+  dds.add_to(app);
+  std::string host = "127.0.0.1", record, replay, plan, instance;
+  int port = 8080;
+  double speed = 1, lost_after_s = 2, duration_s = 0;
+  int step_ms = 300;
+  app.add_option("--port", port, "HTTP port (0: any free one, printed)")->check(CLI::Range(0, 65535))->capture_default_str();
+  app.add_option("--listen", host, "address to serve on (127.0.0.1: this host only; 0.0.0.0: every interface)")
+      ->capture_default_str();
+  app.add_option("--record", record, "write every message heard to this history file (JSON Lines)")
+      ->check(ctsfleet::writable_file());
+  auto* replay_option =
+      app.add_option("--replay", replay, "replay a history file instead of listening to DDS")->check(CLI::ExistingFile);
+  auto* plan_option = app.add_option("--plan", plan, "show this ctsfleet-solve solution moving (with --instance)")
+                          ->check(CLI::ExistingFile);
+  auto* instance_option = app.add_option("--instance", instance, "the instance the --plan solves")->check(CLI::ExistingFile);
+  plan_option->needs(instance_option);
+  instance_option->needs(plan_option);
+  replay_option->excludes(plan_option);
+  app.add_option("--speed", speed, "replay speed (1 = as recorded; the page can change it)")
+      ->check(ctsfleet::number_in(0.01, 1000))
+      ->capture_default_str();
+  app.add_option("--step-ms", step_ms, "--plan: milliseconds per timestep")->check(CLI::Range(10, 60000))->capture_default_str();
+  app.add_option("--lost-after", lost_after_s, "show a robot lost after this many seconds without a word from it")
+      ->check(ctsfleet::positive_seconds(3600))
+      ->capture_default_str();
+  app.add_option("--duration", duration_s, "stop after this many seconds (0: until Ctrl-C)")
+      ->check(ctsfleet::number_in(0, 1e7))
+      ->capture_default_str();
+  return program.main(argc, argv, [&] {
+    const std::atomic<bool>& stop = ctsfleet::stop_requested();
+    const bool live = replay.empty() && plan.empty();
+    std::vector<HistoryEntry> entries;
+    if (!replay.empty()) entries = dashboard::load_history(replay);
+    if (!plan.empty()) {
+      const planner_core::Instance loaded = planner_core::load_instance(instance);
+      const planner_core::SolutionFile solution = planner_core::read_solution(plan, *loaded.graph);
+      if (solution.solution.empty()) throw planner_core::InputError(plan + ": no timesteps in it");
+      for (const planner_core::Config& config : solution.solution) {
+        if (static_cast<int>(config.size()) != loaded.agent_count()) {
+          throw planner_core::InputError(plan + ": " + std::to_string(config.size()) + " agents per timestep, but " +
+                                         instance + " has " + std::to_string(loaded.agent_count()));
+        }
+      }
+      entries = dashboard::plan_history(loaded, solution.solution, step_ms);
+    }
+    if (!live && !record.empty()) throw planner_core::InputError("--record: only a live dashboard records");
+    const fleet_transport::TransportConfig config = dds.transport_config();
+    std::unique_ptr<dashboard::HistoryRecorder> recorder;
+    if (!record.empty()) recorder = std::make_unique<dashboard::HistoryRecorder>(record);
+
+    std::unique_ptr<fleet_transport::Transport> transport;
+    dashboard::DashboardServer server(
+        lost_after_s,
+        live ? dashboard::DashboardServer::RequestTask([&](const fleet_transport::TaskRequest& r) {
+          if (transport) transport->request_task(r);
+        })
+             : nullptr,
+        recorder.get());
+    server.bind(host, port);
+    if (!is_loopback(host) && !config.security.enabled()) {
+      spdlog::warn("serving on {} without DDS Security: anyone who can reach this port sees the fleet and can give "
+                   "it tasks", host);
+    }
+    std::unique_ptr<Replay> replayer;
+    std::thread replay_thread;
+    if (live) {
+      fleet_transport::Handlers handlers;
+      const auto heard = [&server](const char* type, Json message) {
+        server.apply({fleet_transport::wall_clock_ms(), type, std::move(message)});
+      };
+      handlers.on_announcement = [heard](const fleet_transport::Announcement& m) { heard("announcement", m); };
+      handlers.on_robot_gone = [heard](const std::string& id, fleet_transport::GoneReason reason) {
+        heard("gone", {{"robot_id", id},
+                       {"reason", reason == fleet_transport::GoneReason::kGoodbye ? "goodbye" : "liveliness lost"}});
+      };
+      handlers.on_state = [heard](const fleet_transport::RobotState& m) { heard("state", m); };
+      handlers.on_coordinator_status = [heard](const fleet_transport::CoordinatorStatus& m) { heard("coordinator", m); };
+      handlers.on_fleet_status = [heard](const fleet_transport::FleetStatus& m) { heard("status", m); };
+      handlers.on_mission_info = [heard](const fleet_transport::MissionInfo& m) { heard("mission", m); };
+      handlers.on_fleet_plan = [heard](const fleet_transport::FleetPlan& m) { heard("plan", m); };
+      handlers.on_fleet_event = [heard](const fleet_transport::FleetEvent& m) { heard("event", m); };
+      handlers.on_task_reply = [&server](const fleet_transport::TaskReply& r) { server.on_task_reply(r); };
+      handlers.on_refused = [](const std::string& what) { spdlog::warn("refused: {}", what); };
+      transport = fleet_transport::make_transport(config, handlers);
+    } else {
+      replayer = std::make_unique<Replay>(std::move(entries), speed);
+      server.set_clock([&replayer] { return replayer->now_ms(); });
+      server.set_replay_control([&replayer](double s) { replayer->set_speed(s); });
+      replay_thread = std::thread([&] { replayer->run(server, stop); });
+    }
+    std::thread http_thread([&server] { server.serve(); });
+    std::cout << "dashboard: http://" << (host == "0.0.0.0" ? "127.0.0.1" : host) << ":" << server.port() << "/"
+              << std::endl;
+    const auto started = std::chrono::steady_clock::now();
+    while (!stop && (duration_s <= 0 || std::chrono::steady_clock::now() - started <
+                                            std::chrono::duration<double>(duration_s))) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    }
+    ctsfleet::stop_requested() = true;
+    server.stop();
+    http_thread.join();
+    if (replay_thread.joinable()) replay_thread.join();
+    fleet_transport::exit_if_shutdown_hangs(5, 0);
+    transport.reset();
+    return 0;
+  });
+}

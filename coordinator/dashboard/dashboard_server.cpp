@@ -1,0 +1,214 @@
+#include "dashboard/dashboard_server.hpp"
+
+#include <httplib.h>
+#include <spdlog/spdlog.h>
+
+#include <chrono>
+#include <random>
+
+#include "dashboard/message_json.hpp"
+#include "dashboard/web_assets.hpp"
+
+namespace dashboard {
+
+namespace {
+
+constexpr auto kFrameGap = std::chrono::milliseconds(50);  // at most 20 frames per second per page
+constexpr auto kHeartbeat = std::chrono::seconds(1);       // a frame at least this often
+constexpr int kStreamThreads = 32;                         // pages (and requests) served at once
+constexpr double kTaskAnswerS = 5;                         // how long a task request waits for the coordinator
+
+std::string sse(const std::string& event, const Json& data) { return "event: " + event + "\ndata: " + data.dump() + "\n\n"; }
+
+void reply_json(httplib::Response& response, int status, const Json& body) {
+  response.status = status;
+  response.set_content(body.dump(), "application/json");
+}
+
+}  // namespace
+
+DashboardServer::DashboardServer(double lost_after_s, RequestTask request_task, HistoryRecorder* recorder)
+    : http_(std::make_unique<httplib::Server>()),
+      request_task_(std::move(request_task)),
+      recorder_(recorder),
+      now_ms_(fleet_transport::wall_clock_ms),
+      view_(lost_after_s) {
+  http_->new_task_queue = [] { return new httplib::ThreadPool(kStreamThreads); };
+  add_routes();
+}
+
+DashboardServer::~DashboardServer() { stop(); }
+
+void DashboardServer::apply(const HistoryEntry& entry) {
+  if (recorder_ != nullptr) recorder_->write(entry);
+  const std::lock_guard<std::mutex> lock(mutex_);
+  dashboard::apply(view_, entry);
+  ++changes_;
+  changed_.notify_all();
+}
+
+void DashboardServer::touch() {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  ++changes_;
+  changed_.notify_all();
+}
+
+void DashboardServer::on_task_reply(const fleet_transport::TaskReply& reply) {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  const auto found = pending_.find(reply.request_id);
+  if (found == pending_.end() || found->second) return;  // not ours, or answered already
+  found->second = reply;
+  answered_.notify_all();
+}
+
+fleet_transport::TaskReply DashboardServer::request(fleet_transport::TaskRequest request) {
+  {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    static std::mt19937_64 random{std::random_device{}()};
+    request.request_id = "dashboard-" + std::to_string(random() % 1000000000) + "-" + std::to_string(++requests_made_);
+    pending_[request.request_id];
+  }
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                                                std::chrono::duration<double>(kTaskAnswerS));
+  std::unique_lock<std::mutex> lock(mutex_);
+  while (!pending_[request.request_id] && std::chrono::steady_clock::now() < deadline && !stopping_) {
+    lock.unlock();
+    request_task_(request);  // again every second until answered (the coordinator answers repeats alike)
+    lock.lock();
+    answered_.wait_until(lock, std::min<std::chrono::steady_clock::time_point>(
+                                   deadline, std::chrono::steady_clock::now() + std::chrono::seconds(1)));
+  }
+  std::optional<fleet_transport::TaskReply> answer = pending_[request.request_id];
+  pending_.erase(request.request_id);
+  if (answer) return *answer;
+  fleet_transport::TaskReply none;
+  none.request_id = request.request_id;
+  none.reason = "no coordinator answered within " + std::to_string(static_cast<int>(kTaskAnswerS)) + " s";
+  return none;
+}
+
+Json DashboardServer::frame() const {
+  Json frame = view_.frame_json(now_ms_());
+  frame["replay"] = static_cast<bool>(set_speed_);
+  return frame;
+}
+
+void DashboardServer::add_routes() {
+  http_->Get("/", [](const httplib::Request&, httplib::Response& response) {
+    const WebAsset& page = web_assets().at("/index.html");
+    response.set_content(page.body, page.content_type);
+  });
+  for (const auto& [path, asset] : web_assets()) {
+    http_->Get(path, [&asset = asset](const httplib::Request&, httplib::Response& response) {
+      response.set_header("Cache-Control", "no-cache");
+      response.set_content(asset.body, asset.content_type);
+    });
+  }
+  http_->Get("/api/frame", [this](const httplib::Request&, httplib::Response& response) {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    reply_json(response, 200, frame());
+  });
+  http_->Get("/api/mission", [this](const httplib::Request&, httplib::Response& response) {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    reply_json(response, 200, view_.mission_json());
+  });
+  http_->Get("/api/plan", [this](const httplib::Request&, httplib::Response& response) {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    reply_json(response, 200, view_.plan_json());
+  });
+  http_->Get("/api/stream", [this](const httplib::Request&, httplib::Response& response) {
+    response.set_header("Cache-Control", "no-cache");
+    // Per page: what it has been sent so far.
+    auto sent = std::make_shared<std::tuple<int, int, uint64_t>>(-1, -1, ~uint64_t{0});  // mission, plan, changes
+    response.set_chunked_content_provider("text/event-stream", [this, sent](size_t, httplib::DataSink& sink) {
+      std::string out;
+      {
+        std::unique_lock<std::mutex> lock(mutex_);
+        auto& [mission, plan, changes] = *sent;
+        changed_.wait_for(lock, kHeartbeat, [&] { return stopping_ || changes_ != changes; });
+        if (stopping_) return false;
+        changes = changes_;
+        if (view_.mission_version() != mission) {
+          mission = view_.mission_version();
+          out += sse("mission", view_.mission_json());
+        }
+        if (view_.plan_version() != plan) {
+          plan = view_.plan_version();
+          out += sse("plan", view_.plan_json());
+        }
+        out += sse("frame", frame());
+      }
+      if (!sink.write(out.data(), out.size())) return false;  // the page went away
+      std::this_thread::sleep_for(kFrameGap);
+      return true;
+    });
+  });
+  http_->Post("/api/tasks", [this](const httplib::Request& http_request, httplib::Response& response) {
+    if (!request_task_) {
+      reply_json(response, 409, {{"accepted", false}, {"reason", "a replay: tasks cannot be added to it"}});
+      return;
+    }
+    fleet_transport::TaskRequest request;
+    try {
+      const Json body = Json::parse(http_request.body);
+      const std::string action = body.value("action", "add");
+      if (action == "add") {
+        request.action = fleet_transport::TaskAction::kAdd;
+        request.x = body.at("x").get<int>();
+        request.y = body.at("y").get<int>();
+        request.robot_id = body.value("robot", "");
+      } else if (action == "cancel") {
+        request.action = fleet_transport::TaskAction::kCancel;
+        request.task = body.at("task").get<int>();
+      } else {
+        throw std::invalid_argument("action must be add or cancel, not '" + action + "'");
+      }
+      if (request.robot_id.size() > fleet_transport::kMaxRobotIdLength) {
+        throw std::invalid_argument("robot ids have at most 32 characters");
+      }
+    } catch (const std::exception& e) {
+      reply_json(response, 400, {{"accepted", false}, {"reason", std::string("bad request: ") + e.what()}});
+      return;
+    }
+    const fleet_transport::TaskReply reply = this->request(request);
+    reply_json(response, 200,
+               {{"accepted", reply.accepted}, {"reason", reply.reason}, {"task", reply.task}, {"robot", reply.robot_id}});
+  });
+  http_->Post("/api/replay", [this](const httplib::Request& http_request, httplib::Response& response) {
+    if (!set_speed_) {
+      reply_json(response, 409, {{"reason", "not a replay"}});
+      return;
+    }
+    try {
+      const double speed = Json::parse(http_request.body).at("speed").get<double>();
+      if (!(speed >= 0 && speed <= 1000)) throw std::invalid_argument("speed must be in [0, 1000] (0 pauses)");
+      set_speed_(speed);
+      touch();
+      reply_json(response, 200, {{"speed", speed}});
+    } catch (const std::exception& e) {
+      reply_json(response, 400, {{"reason", std::string("bad request: ") + e.what()}});
+    }
+  });
+}
+
+void DashboardServer::bind(const std::string& host, int port) {
+  port_ = port == 0 ? http_->bind_to_any_port(host) : (http_->bind_to_port(host, port) ? port : -1);
+  if (port_ <= 0) {
+    throw std::runtime_error("cannot listen on " + host + ":" + std::to_string(port) +
+                             " (in use, or not an address of this host)");
+  }
+}
+
+void DashboardServer::serve() { http_->listen_after_bind(); }
+
+void DashboardServer::stop() {
+  {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    stopping_ = true;
+    changed_.notify_all();
+    answered_.notify_all();
+  }
+  if (http_) http_->stop();
+}
+
+}  // namespace dashboard

@@ -1,0 +1,92 @@
+// FleetView: what the dashboard knows of the fleet, built from the messages it hears (live from
+// DDS, or replayed from a history file): the mission and plan of the coordinator it follows (the
+// highest-ranked active one, else the last one heard), every robot's last state, and the events.
+// It turns them into the JSON the page draws: the mission and the plan (sent when they change)
+// and frames (robots, tasks' states, figures, recent events; sent many times a second). Not
+// thread-safe: the server guards it. Times are wall-clock ms on the dashboard's host (a replay
+// gives the recorded ones).
+#pragma once
+
+#include <cstdint>
+#include <deque>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+
+#include "fleet_transport/messages.hpp"
+#include "fleet_transport/transport.hpp"
+
+namespace dashboard {
+
+using Json = nlohmann::json;
+
+class FleetView {
+ public:
+  // A robot heard of nothing for `lost_after_s` is shown lost.
+  explicit FleetView(double lost_after_s = 2.0) : lost_after_ms_(static_cast<int64_t>(lost_after_s * 1000)) {}
+
+  void on_announcement(const fleet_transport::Announcement& announcement, int64_t heard_ms);
+  void on_robot_gone(const std::string& robot_id, fleet_transport::GoneReason reason, int64_t heard_ms);
+  void on_state(const fleet_transport::RobotState& state, int64_t heard_ms);
+  void on_coordinator_status(const fleet_transport::CoordinatorStatus& status, int64_t heard_ms);
+  void on_fleet_status(const fleet_transport::FleetStatus& status, int64_t heard_ms);
+  void on_mission(const fleet_transport::MissionInfo& mission, int64_t heard_ms);
+  void on_plan(const fleet_transport::FleetPlan& plan, int64_t heard_ms);
+  void on_event(const fleet_transport::FleetEvent& event, int64_t heard_ms);
+
+  // Grow by one whenever the followed coordinator's mission (or plan) changes.
+  int mission_version() const { return mission_version_; }
+  int plan_version() const { return plan_version_; }
+  // {"version", "width", "height", "rows": [...], "goals": [[x,y]...], "tasks": [{"id","x","y","roles","cancelled"}], "lifelong"}
+  // or null before any mission was heard.
+  Json mission_json() const;
+  // {"version", "epoch", "planning_ms", "flowtime", "robots": {id: {"role", "path": [[x,y]...]}}} or null.
+  Json plan_json() const;
+  // The live picture at `now_ms` (see docs/DASHBOARD.md for the fields).
+  Json frame_json(int64_t now_ms) const;
+
+  // What a robot is doing, as the page shows it: moving, waiting (on the plan's order), parked
+  // (plan done), fault, off_plan, lost, left.
+  std::string robot_status(const std::string& robot_id, int64_t now_ms) const;
+  // Index into the robot's plan path of the next cell it goes to (path.size() when done; -1 when it
+  // is in no plan).
+  int path_from(const std::string& robot_id) const;
+  // The robot's pending tasks in the order its plan visits them.
+  std::vector<int> next_tasks(const std::string& robot_id) const;
+  size_t robot_count() const { return robots_.size(); }
+
+ private:
+  struct Robot {
+    std::optional<fleet_transport::RobotState> state;
+    int64_t heard_ms = 0;
+    std::string backend;
+    std::optional<fleet_transport::GoneReason> gone;
+    bool off_plan = false;
+  };
+  struct Coordinator {
+    fleet_transport::CoordinatorStatus status;
+    int64_t heard_ms = 0;
+    std::optional<fleet_transport::MissionInfo> mission;
+    std::optional<fleet_transport::FleetPlan> plan;
+    std::optional<fleet_transport::FleetStatus> progress;
+  };
+
+  const Coordinator* followed() const;
+  Coordinator& coordinator(uint64_t id);
+  void refollow();  // re-evaluates which coordinator is followed; bumps versions on a change
+  const fleet_transport::RobotPlan* plan_of(const std::string& robot_id) const;
+  int role_of(const std::string& robot_id) const;
+  bool visited(int task, int role) const;
+
+  int64_t lost_after_ms_;
+  std::map<std::string, Robot> robots_;
+  std::map<uint64_t, Coordinator> coordinators_;
+  uint64_t followed_ = 0;
+  int mission_version_ = 0;
+  int plan_version_ = 0;
+  std::deque<Json> events_;  // newest last
+  int64_t events_total_ = 0;
+};
+
+}  // namespace dashboard

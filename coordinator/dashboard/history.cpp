@@ -1,0 +1,184 @@
+#include "dashboard/history.hpp"
+
+#include <algorithm>
+#include <set>
+
+#include "dashboard/message_json.hpp"
+#include "planner_core/input_error.hpp"
+#include "planner_core/validator.hpp"
+
+namespace dashboard {
+
+using fleet_transport::GoneReason;
+
+void apply(FleetView& view, const HistoryEntry& entry) {
+  const Json& m = entry.message;
+  const int64_t t = entry.t_ms;
+  try {
+    if (entry.type == "state") {
+      view.on_state(m.get<fleet_transport::RobotState>(), t);
+    } else if (entry.type == "announcement") {
+      view.on_announcement(m.get<fleet_transport::Announcement>(), t);
+    } else if (entry.type == "gone") {
+      view.on_robot_gone(m.at("robot_id").get<std::string>(),
+                         m.at("reason").get<std::string>() == "goodbye" ? GoneReason::kGoodbye : GoneReason::kLivelinessLost,
+                         t);
+    } else if (entry.type == "coordinator") {
+      view.on_coordinator_status(m.get<fleet_transport::CoordinatorStatus>(), t);
+    } else if (entry.type == "status") {
+      view.on_fleet_status(m.get<fleet_transport::FleetStatus>(), t);
+    } else if (entry.type == "mission") {
+      view.on_mission(m.get<fleet_transport::MissionInfo>(), t);
+    } else if (entry.type == "plan") {
+      view.on_plan(m.get<fleet_transport::FleetPlan>(), t);
+    } else if (entry.type == "event") {
+      view.on_event(m.get<fleet_transport::FleetEvent>(), t);
+    } else {
+      throw std::invalid_argument("unknown message type '" + entry.type + "'");
+    }
+  } catch (const nlohmann::json::exception& e) {
+    throw std::invalid_argument("a '" + entry.type + "' message: " + e.what());
+  }
+}
+
+HistoryRecorder::HistoryRecorder(const std::string& path) : out_(path, std::ios::trunc) {
+  if (!out_) throw planner_core::InputError("--record " + path + ": cannot create the file");
+  out_ << Json{{"format", kHistoryFormat}}.dump() << "\n" << std::flush;
+}
+
+void HistoryRecorder::write(const HistoryEntry& entry) {
+  const std::string line = Json{{"t", entry.t_ms}, {"type", entry.type}, {"msg", entry.message}}.dump();
+  const std::lock_guard<std::mutex> lock(mutex_);
+  out_ << line << "\n" << std::flush;
+}
+
+std::vector<HistoryEntry> load_history(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw planner_core::InputError(path + ": cannot open it");
+  std::vector<HistoryEntry> entries;
+  std::string line;
+  int number = 0;
+  FleetView check;  // every entry must apply: a bad one is reported with its line now, not mid-replay
+  while (std::getline(in, line)) {
+    ++number;
+    const std::string where = path + ":" + std::to_string(number) + ": ";
+    if (line.empty()) continue;
+    Json row;
+    try {
+      row = Json::parse(line);
+    } catch (const nlohmann::json::exception& e) {
+      throw planner_core::InputError(where + "not JSON (" + e.what() + ")");
+    }
+    if (number == 1) {
+      if (!row.is_object() || row.value("format", "") != kHistoryFormat) {
+        throw planner_core::InputError(where + "not a ctsfleet history (its first line must be {\"format\": \"" +
+                                       std::string(kHistoryFormat) + "\"})");
+      }
+      continue;
+    }
+    try {
+      HistoryEntry entry{row.at("t").get<int64_t>(), row.at("type").get<std::string>(), row.at("msg")};
+      apply(check, entry);
+      entries.push_back(std::move(entry));
+    } catch (const std::exception& e) {
+      throw planner_core::InputError(where + e.what());
+    }
+  }
+  if (number == 0) throw planner_core::InputError(path + ": empty, not a ctsfleet history");
+  std::stable_sort(entries.begin(), entries.end(),
+                   [](const HistoryEntry& a, const HistoryEntry& b) { return a.t_ms < b.t_ms; });
+  return entries;
+}
+
+std::vector<HistoryEntry> plan_history(const planner_core::Instance& instance, const planner_core::Solution& solution,
+                                       int64_t step_ms) {
+  constexpr uint64_t kViewer = 1;  // the "coordinator" of a plan shown without a fleet
+  const planner_core::Graph& map = *instance.graph;
+  const auto cell = [&](planner_core::Vertex v) {
+    const planner_core::Cell c = map.cell_of(v);
+    return fleet_transport::GridCell{c.x, c.y};
+  };
+  const auto robot = [](int j) { return "agent" + std::to_string(j); };
+  std::vector<HistoryEntry> out;
+  const auto add = [&](int64_t t, const std::string& type, Json message) { out.push_back({t, type, std::move(message)}); };
+
+  const planner_core::ValidationReport report = planner_core::validate(instance, solution);
+  fleet_transport::FleetEvent verdict{kViewer, 0, report.ok() ? "replan" : "plan_failed", "", "", 0};
+  verdict.text = report.ok() ? "plan of " + instance.source + ": valid, flowtime " + std::to_string(report.flowtime) +
+                                   ", makespan " + std::to_string(report.makespan)
+                             : "plan of " + instance.source + " FAILS validation: " + report.summary();
+  add(0, "coordinator", fleet_transport::CoordinatorStatus{kViewer, 1, 0, fleet_transport::CoordinatorRole::kActive,
+                                                           "plan", 1});
+  fleet_transport::MissionInfo mission;
+  mission.coordinator = kViewer;
+  mission.mission_id = "plan";
+  mission.width = map.width();
+  mission.height = map.height();
+  for (int y = 0; y < map.height(); ++y) {
+    if (y > 0) mission.map_rows += '\n';
+    for (int x = 0; x < map.width(); ++x) mission.map_rows += map.is_free({x, y}) ? '.' : '@';
+  }
+  for (planner_core::Vertex goal : instance.goals) mission.goals.push_back(cell(goal));
+  for (const planner_core::Task& task : instance.tasks) {
+    const fleet_transport::GridCell at = cell(task.at);
+    mission.tasks.push_back({at.x, at.y, task.agents, false});
+  }
+  add(0, "mission", mission);
+  fleet_transport::FleetPlan plan{kViewer, 1, 0, 0, report.flowtime, {}};
+  for (int j = 0; j < instance.agent_count(); ++j) {
+    fleet_transport::RobotPlan part{robot(j), j, {}};
+    for (const planner_core::Config& config : solution) part.path.push_back(cell(config[j]));
+    plan.robots.push_back(std::move(part));
+  }
+  add(0, "plan", plan);
+  verdict.stamp_ms = 0;
+  add(0, "event", verdict);
+
+  std::set<std::pair<int, int>> done;  // (task, agent)
+  fleet_transport::FleetStatus status{kViewer, 1, 0, instance.task_count(), instance.agent_count(), {}, {}};
+  for (int j = 0; j < instance.agent_count(); ++j) status.assignments.push_back({robot(j), j, 0, 0});
+  for (size_t t = 0; t < solution.size(); ++t) {
+    const int64_t at = static_cast<int64_t>(t) * step_ms;
+    for (int j = 0; j < instance.agent_count(); ++j) {
+      const fleet_transport::GridCell here = cell(solution[t][j]);
+      fleet_transport::RobotState state;
+      state.robot_id = robot(j);
+      state.cell_x = here.x;
+      state.cell_y = here.y;
+      state.pose_x = here.x;
+      state.pose_y = here.y;
+      state.plan_epoch = 1;
+      state.coordinator = kViewer;
+      state.incarnation = 1;
+      state.seq_number = 2 * t + 1;
+      state.stamp_ms = at;
+      state.action_index = static_cast<int>(t) - 1;  // arrived at the target of action t - 1
+      state.status = fleet_transport::RobotStatus::kArrived;
+      add(at, "state", state);
+      if (t + 1 < solution.size()) {  // on its way to the next step's cell
+        state.action_index = static_cast<int>(t);
+        state.status = fleet_transport::RobotStatus::kMoving;
+        state.seq_number = 2 * t + 2;
+        add(at + 1, "state", state);
+      }
+      for (int task : instance.tasks_of_agent[j]) {
+        if (instance.tasks[task].at == solution[t][j] && done.insert({task, j}).second) {
+          status.done_visits.push_back({task, j});
+        }
+      }
+    }
+    status.tasks_done = 0;
+    for (int task = 0; task < instance.task_count(); ++task) {
+      const auto& agents = instance.tasks[task].agents;
+      status.tasks_done += std::all_of(agents.begin(), agents.end(), [&](int j) { return done.count({task, j}) > 0; });
+    }
+    status.steps_done = static_cast<int64_t>(t) * instance.agent_count();
+    status.steps_planned = static_cast<int64_t>(solution.size() - 1) * instance.agent_count();
+    add(at, "status", status);
+    add(at, "coordinator", fleet_transport::CoordinatorStatus{kViewer, 1, 0, fleet_transport::CoordinatorRole::kActive,
+                                                              "plan", 1});
+  }
+  return out;
+}
+
+}  // namespace dashboard

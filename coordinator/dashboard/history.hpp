@@ -1,0 +1,52 @@
+// A fleet's history: every message the dashboard heard, with the time it heard it, one JSON object
+// per line (JSON Lines; the first line names the format). Written live by `ctsfleet-dashboard
+// --record FILE`, replayed at any speed by `--replay FILE`. A plan written by ctsfleet-solve
+// becomes a history too (robots stepping through it), so it plays in the same viewer.
+#pragma once
+
+#include <cstdint>
+#include <fstream>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "dashboard/fleet_view.hpp"
+#include "planner_core/instance.hpp"
+#include "planner_core/solution.hpp"
+
+namespace dashboard {
+
+inline constexpr const char* kHistoryFormat = "ctsfleet-history-1";
+
+// One message: its kind ("state", "announcement", "gone", "coordinator", "status", "mission",
+// "plan", "event") and the message as message_json.hpp writes it.
+struct HistoryEntry {
+  int64_t t_ms = 0;
+  std::string type;
+  Json message;
+};
+
+// Feeds one entry to the view; throws std::invalid_argument naming what is wrong with it.
+void apply(FleetView& view, const HistoryEntry& entry);
+
+class HistoryRecorder {
+ public:
+  // Creates (truncates) `path`; throws planner_core::InputError when it cannot.
+  explicit HistoryRecorder(const std::string& path);
+  // Thread-safe; each line is flushed, so a killed dashboard leaves a readable file.
+  void write(const HistoryEntry& entry);
+
+ private:
+  std::mutex mutex_;
+  std::ofstream out_;
+};
+
+// Reads a history file, sorted by time. Throws planner_core::InputError naming the file and line.
+std::vector<HistoryEntry> load_history(const std::string& path);
+
+// A solution of `instance` as a history: one step every `step_ms`; robots agent0..agentN-1; the
+// validator's verdict as the first event.
+std::vector<HistoryEntry> plan_history(const planner_core::Instance& instance, const planner_core::Solution& solution,
+                                       int64_t step_ms);
+
+}  // namespace dashboard

@@ -1,0 +1,37 @@
+// Tasks given to a running fleet: checking an operator's request against the mission's map and
+// choosing the robot for a new task by cheapest insertion (the robot whose current tour -- where it
+// stands, its task visits still to make in the order its plan makes them, its goal -- grows least
+// when the task is put at its best place in it). Pure functions: no DDS, no clock.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "planner_core/dist_table.hpp"
+#include "planner_core/instance.hpp"
+
+namespace coordinator {
+
+// One robot's tour as its plan makes it: stops[0] is where it stands, the last stop its goal.
+struct Tour {
+  std::string robot_id;
+  int role = -1;
+  std::vector<planner_core::Vertex> stops;
+};
+
+struct TaskPlacement {
+  int tour = -1;        // index into the tours; -1: no tour can reach the task
+  size_t position = 0;  // the task goes before stops[position]
+  int added_steps = 0;  // how much longer the tour gets
+};
+
+// The cheapest insertion of `task` into one of `tours` (ties: the first tour, the earliest place).
+// Tours that cannot reach the task are skipped.
+TaskPlacement cheapest_insertion(planner_core::DistTable& distances, planner_core::Vertex task,
+                                 const std::vector<Tour>& tours);
+
+// Why a task at (x, y) cannot be added to `mission` ("" when it can): off the map, or a wall.
+std::string task_cell_refusal(const planner_core::Instance& mission, int x, int y);
+
+}  // namespace coordinator

@@ -1,0 +1,276 @@
+// FleetCoordinator's side facing operators: tasks added, cancelled and listed at runtime, and what
+// it publishes for dashboards (the mission, the plan, events). See fleet_coordinator.hpp.
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <sstream>
+
+#include "coordinator/fleet_coordinator.hpp"
+#include "planner_core/dist_table.hpp"
+
+namespace coordinator {
+
+using fleet_transport::TaskAction;
+using fleet_transport::TaskReply;
+using fleet_transport::TaskRequest;
+using planner_core::Vertex;
+
+namespace {
+
+constexpr size_t kRepliesKept = 256;  // answers remembered for requests sent again
+
+std::string cell_text(int x, int y) { return fmt::format("({},{})", x, y); }
+
+TaskReply refusal(const TaskRequest& request, const std::string& reason) {
+  TaskReply reply;
+  reply.request_id = request.request_id;
+  reply.reason = reason;
+  reply.task = request.action == TaskAction::kCancel ? request.task : -1;
+  return reply;
+}
+
+}  // namespace
+
+void FleetCoordinator::report(const std::string& kind, const std::string& robot_id, const std::string& text,
+                              double value) {
+  events_to_publish_.push_back({incarnation_, fleet_transport::wall_clock_ms(), kind, robot_id, text, value});
+}
+
+void FleetCoordinator::handle_task_request(const TaskRequest& request, fleet_transport::Transport& transport) {
+  if (role_ != fleet_transport::CoordinatorRole::kActive) return;  // the active coordinator answers
+  if (request.request_id.empty()) {
+    spdlog::warn("task request without a request id ignored (it could not be answered)");
+    return;
+  }
+  if (const auto known = replies_.find(request.request_id); known != replies_.end()) {
+    transport.reply_task(known->second);  // the requester did not hear the answer: say it again
+    return;
+  }
+  TaskReply reply;
+  switch (request.action) {
+    case TaskAction::kAdd: reply = add_task(request); break;
+    case TaskAction::kCancel: reply = cancel_task(request); break;
+    case TaskAction::kList:
+      reply.request_id = request.request_id;
+      reply.accepted = true;
+      reply.listing = task_listing();
+      reply.reason = std::to_string(progress_.task_count()) + " tasks";
+      break;
+  }
+  reply.coordinator = incarnation_;
+  if (request.action != TaskAction::kList) {
+    if (reply.accepted) {
+      spdlog::info("task request {} ({}): {}", request.request_id, to_string(request.action), reply.reason);
+    } else {
+      spdlog::warn("task request {} ({}) refused: {}", request.request_id, to_string(request.action), reply.reason);
+      report("task_refused", request.robot_id, reply.reason);
+    }
+  }
+  replies_[reply.request_id] = reply;
+  reply_order_.push_back(reply.request_id);
+  if (reply_order_.size() > kRepliesKept) {
+    replies_.erase(reply_order_.front());
+    reply_order_.pop_front();
+  }
+  transport.reply_task(reply);
+}
+
+std::vector<Tour> FleetCoordinator::current_tours() const {
+  std::vector<Tour> tours;
+  for (const auto& [id, robot] : robots_) {
+    if (!robot.active || !robot.has_state || robot.role < 0) continue;
+    const Vertex here = mission_vertex(robot.last.cell_x, robot.last.cell_y);
+    if (here == planner_core::kNoVertex) continue;
+    // The cells its plan still takes it through, in order.
+    std::vector<Vertex> ahead;
+    const int a = robot.plan_agent;
+    if (plan_ && a >= 0 && a < plan_->agent_count()) {
+      const std::vector<Move>& moves = plan_->moves(a);
+      for (size_t m = plan_->agent(a).finished; m < moves.size(); ++m) {
+        const planner_core::Cell cell = plan_->target(a, static_cast<int>(m));
+        ahead.push_back(mission_vertex(cell.x, cell.y));
+      }
+    }
+    std::vector<std::pair<size_t, Vertex>> due;  // (where on the plan, task cell)
+    for (int t : mission_.tasks_of_agent[robot.role]) {
+      const std::vector<int>& roles = mission_.tasks[t].agents;
+      for (size_t k = 0; k < roles.size(); ++k) {
+        if (roles[k] != robot.role || progress_.visited(t, k)) continue;
+        const Vertex at = mission_.tasks[t].at;
+        due.emplace_back(std::find(ahead.begin(), ahead.end(), at) - ahead.begin(), at);
+      }
+    }
+    std::stable_sort(due.begin(), due.end());
+    Tour tour{id, robot.role, {here}};
+    for (const auto& [order, cell] : due) tour.stops.push_back(cell);
+    tour.stops.push_back(mission_.goals[robot.role]);
+    tours.push_back(std::move(tour));
+  }
+  return tours;
+}
+
+TaskReply FleetCoordinator::add_task(const TaskRequest& request) {
+  if (!driving()) {
+    return refusal(request, phase_ == Phase::kWaiting
+                                ? "the mission has not started: robots are not bound to roles yet; add tasks once it runs"
+                                : "the mission has ended");
+  }
+  if (const std::string wrong = task_cell_refusal(mission_, request.x, request.y); !wrong.empty()) {
+    return refusal(request, wrong);
+  }
+  const Vertex cell = mission_vertex(request.x, request.y);
+  std::vector<Tour> tours = current_tours();
+  if (!request.robot_id.empty()) {
+    const RobotRecord* robot = robots_.find(request.robot_id);
+    if (robot == nullptr || !robot->announced) return refusal(request, "unknown robot '" + request.robot_id + "'");
+    if (!robot->active) return refusal(request, "robot " + request.robot_id + " is out (lost, in fault or off its plan)");
+    if (robot->role < 0) {
+      return refusal(request, "robot " + request.robot_id + " has no role (an extra robot, parked): give the task to a "
+                              "robot with a role, or to any");
+    }
+    std::erase_if(tours, [&](const Tour& tour) { return tour.robot_id != request.robot_id; });
+    if (tours.empty()) return refusal(request, "robot " + request.robot_id + " has not reported a cell yet");
+  }
+  if (tours.empty()) return refusal(request, "no robot with a role is active to take it");
+  // The same cell pending for the same robot (or, for any robot, for anyone) is a duplicate.
+  for (int t = 0; t < mission_.task_count(); ++t) {
+    if (mission_.tasks[t].at != cell || progress_.cancelled(t) || progress_.task_done(t)) continue;
+    for (int role : mission_.tasks[t].agents) {
+      if (request.robot_id.empty() || progress_.robot_of(role) == request.robot_id) {
+        return refusal(request, "duplicate: task " + std::to_string(t) + " at " + cell_text(request.x, request.y) +
+                                    " is already pending" +
+                                    (progress_.robot_of(role).empty() ? "" : " for robot " + progress_.robot_of(role)));
+      }
+    }
+  }
+  planner_core::DistTable distances(*mission_.graph);
+  const TaskPlacement placement = cheapest_insertion(distances, cell, tours);
+  if (placement.tour < 0) {
+    return refusal(request, cell_text(request.x, request.y) + " cannot be reached from " +
+                                (request.robot_id.empty() ? "any robot's cell" : "robot " + request.robot_id + "'s cell"));
+  }
+  const Tour& chosen = tours[placement.tour];
+  const int task = mission_.task_count();
+  if (options_.journal) {
+    try {
+      options_.journal->record_task_added(task, request.x, request.y, chosen.role, request.request_id);
+    } catch (const JournalError& e) {
+      return refusal(request, std::string("the journal could not record it: ") + e.what());
+    }
+  }
+  mission_.tasks.push_back({cell, {chosen.role}});
+  mission_.index_tasks();
+  progress_.add_task();
+  summary_.tasks_total = progress_.tasks_to_do();
+  mission_changed_ = true;
+  progress_changed_ = true;
+  lifelong_idle_ = false;
+  replanned_after_finish_ = false;
+  TaskReply reply;
+  reply.request_id = request.request_id;
+  reply.accepted = true;
+  reply.task = task;
+  reply.robot_id = chosen.robot_id;
+  reply.reason = "task " + std::to_string(task) + " at " + cell_text(request.x, request.y) + " given to robot " +
+                 chosen.robot_id + " (role " + std::to_string(chosen.role) + "); its tour grows by " +
+                 std::to_string(placement.added_steps) + " steps";
+  report("task_added", chosen.robot_id, reply.reason, task);
+  request_replan("task " + std::to_string(task) + " added for robot " + chosen.robot_id);
+  return reply;
+}
+
+TaskReply FleetCoordinator::cancel_task(const TaskRequest& request) {
+  const int task = request.task;
+  if (task < 0 || task >= progress_.task_count()) {
+    return refusal(request, "no task " + std::to_string(task) + " (the mission has tasks 0 to " +
+                                std::to_string(progress_.task_count() - 1) + ")");
+  }
+  if (progress_.cancelled(task)) return refusal(request, "task " + std::to_string(task) + " is cancelled already");
+  if (progress_.task_done(task)) return refusal(request, "task " + std::to_string(task) + " is done already");
+  if (options_.journal) {
+    try {
+      options_.journal->record_task_cancelled(task, request.request_id);
+    } catch (const JournalError& e) {
+      return refusal(request, std::string("the journal could not record it: ") + e.what());
+    }
+  }
+  progress_.cancel(task);
+  summary_.tasks_total = progress_.tasks_to_do();
+  mission_changed_ = true;
+  progress_changed_ = true;
+  TaskReply reply;
+  reply.request_id = request.request_id;
+  reply.accepted = true;
+  reply.task = task;
+  reply.reason = "task " + std::to_string(task) + " cancelled";
+  report("task_cancelled", "", reply.reason, task);
+  request_replan(reply.reason);
+  return reply;
+}
+
+std::string FleetCoordinator::task_listing() const {
+  std::ostringstream out;
+  for (int t = 0; t < mission_.task_count(); ++t) {
+    const planner_core::Cell at = mission_.graph->cell_of(mission_.tasks[t].at);
+    out << "task " << t << " at " << cell_text(at.x, at.y) << ": "
+        << (progress_.cancelled(t) ? "cancelled" : progress_.task_done(t) ? "done" : "pending");
+    const std::vector<int>& roles = mission_.tasks[t].agents;
+    for (size_t k = 0; k < roles.size(); ++k) {
+      const std::string& robot = progress_.robot_of(roles[k]);
+      out << (k == 0 ? "; " : ", ") << "role " << roles[k] << " (" << (robot.empty() ? "no robot" : "robot " + robot)
+          << (progress_.visited(t, k) && !progress_.cancelled(t) ? ", visited" : "") << ")";
+    }
+    out << "\n";
+  }
+  return out.str();
+}
+
+void FleetCoordinator::publish_mission(fleet_transport::Transport& transport) {
+  const planner_core::Graph& map = *mission_.graph;
+  fleet_transport::MissionInfo info;
+  info.coordinator = incarnation_;
+  info.mission_id = mission_id_;
+  info.width = map.width();
+  info.height = map.height();
+  for (int y = 0; y < map.height(); ++y) {
+    if (y > 0) info.map_rows += '\n';
+    for (int x = 0; x < map.width(); ++x) info.map_rows += map.is_free({x, y}) ? '.' : '@';
+  }
+  for (Vertex goal : mission_.goals) {
+    const planner_core::Cell cell = map.cell_of(goal);
+    info.goals.push_back({cell.x, cell.y});
+  }
+  for (int t = 0; t < mission_.task_count(); ++t) {
+    const planner_core::Cell cell = map.cell_of(mission_.tasks[t].at);
+    info.tasks.push_back({cell.x, cell.y, mission_.tasks[t].agents, progress_.cancelled(t)});
+  }
+  info.lifelong = config_.lifelong;
+  transport.publish_mission_info(info);
+  mission_published_ = true;
+  mission_changed_ = false;
+}
+
+void FleetCoordinator::publish_plan(fleet_transport::Transport& transport, int64_t flowtime, double planning_ms) {
+  fleet_transport::FleetPlan plan;
+  plan.coordinator = incarnation_;
+  plan.plan_epoch = epoch_;
+  plan.made_ms = fleet_transport::wall_clock_ms();
+  plan.planning_ms = planning_ms;
+  plan.flowtime = flowtime;
+  for (int a = 0; a < plan_->agent_count(); ++a) {
+    fleet_transport::RobotPlan robot;
+    robot.robot_id = plan_->agent(a).robot_id;
+    const RobotRecord* record = robots_.find(robot.robot_id);
+    robot.role = record != nullptr ? record->role : -1;
+    const planner_core::Cell start = plan_->position(a);
+    robot.path.push_back({start.x, start.y});
+    for (int m = 0; m < static_cast<int>(plan_->moves(a).size()); ++m) {
+      const planner_core::Cell cell = plan_->target(a, m);
+      robot.path.push_back({cell.x, cell.y});
+    }
+    plan.robots.push_back(std::move(robot));
+  }
+  transport.publish_fleet_plan(plan);
+}
+
+}  // namespace coordinator
