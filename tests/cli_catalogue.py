@@ -48,6 +48,8 @@ def base_args(program, domain):
         "ctsfleet-monitor": ["--duration", "0.3", "--domain", str(domain)],
         "ctsfleet-fleetbench": ["-n", "2", "--domain", str(domain), "--kill-after", "0", "--step", "0.05"],
         "ctsfleet-agent": ["--id", f"catalogue{domain}", "--domain", str(domain)],
+        "ctsfleet-task": ["list", "--domain", str(domain), "--timeout", "0.5"],
+        "ctsfleet-dashboard": ["--domain", str(domain), "--port", "0", "--duration", "0.5"],
         "ctsfleet-toio-emulator": ["--bus", "unix:path=" + out("no-bus"), "--cube", "a@200,200"],
         "ctsfleet-toio-calibrate": ["fit", "--mat", MAT, "-o", out("mat.yaml"), "--point", "0,0=125,175",
                                     "--point", "1,0=175,175", "--point", "0,1=125,225"],
@@ -55,7 +57,7 @@ def base_args(program, domain):
 
 PROGRAMS = ["ctsfleet-solve", "ctsfleet-gen", "ctsfleet-bench", "ctsfleet-seqbench", "ctsfleet-coordinator",
             "ctsfleet-sim", "ctsfleet-monitor", "ctsfleet-fleetbench", "ctsfleet-agent", "ctsfleet-toio-emulator",
-            "ctsfleet-toio-calibrate"]
+            "ctsfleet-toio-calibrate", "ctsfleet-task", "ctsfleet-dashboard"]
 # Programs that run until stopped when their input is good: give them this long, then SIGTERM.
 LONG_RUNNING = {"ctsfleet-coordinator": 2.5, "ctsfleet-sim": 3.0, "ctsfleet-fleetbench": 3.0, "ctsfleet-agent": 2.0}
 

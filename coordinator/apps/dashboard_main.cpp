@@ -132,7 +132,13 @@ int main(int argc, char** argv) {
     dashboard::DashboardServer server(
         lost_after_s,
         live ? dashboard::DashboardServer::RequestTask([&](const fleet_transport::TaskRequest& r) {
-          if (transport) transport->request_task(r);
+          if (!transport) return;
+          try {
+            transport->request_task(r);
+          } catch (const std::exception& e) {
+            spdlog::error("cannot send the task request ({}); with DDS Security this dashboard's --identity must be "
+                          "enrolled as an operator (ctsfleet-ca add-operator DIR NAME)", e.what());
+          }
         })
              : nullptr,
         recorder.get());

@@ -41,6 +41,7 @@ int main(int argc, char** argv) {
       ->check(ctsfleet::positive_seconds(3600))
       ->capture_default_str();
   app.require_subcommand(1);
+  app.fallthrough();  // `ctsfleet-task list --domain 3` as well as `ctsfleet-task --domain 3 list`
   fleet_transport::TaskRequest request;
   request.request_id = new_request_id();
   std::string at;
@@ -95,7 +96,12 @@ int main(int argc, char** argv) {
     std::unique_lock<std::mutex> lock(mutex);
     while (!reply && std::chrono::steady_clock::now() < deadline && !ctsfleet::stop_requested()) {
       lock.unlock();
-      transport->request_task(request);  // again until answered: the first may precede discovery
+      try {
+        transport->request_task(request);  // again until answered: the first may precede discovery
+      } catch (const std::runtime_error& e) {
+        throw std::runtime_error(std::string(e.what()) + "; with DDS Security, --identity must be enrolled as an "
+                                 "operator (ctsfleet-ca add-operator DIR NAME)");
+      }
       lock.lock();
       answered.wait_until(lock, std::min<std::chrono::steady_clock::time_point>(
                                             deadline, std::chrono::steady_clock::now() + std::chrono::seconds(1)),

@@ -25,6 +25,8 @@ void make_throwaway_fleet_ca(const fs::path& program_dir, const fs::path& dir, c
   run({"init", dir.string(), "--days", "2"});
   run({"add-coordinator", dir.string(), "coordinator", "--days", "1"});
   run({"add-observer", dir.string(), "monitor", "--days", "1"});
+  run({"add-operator", dir.string(), "dashboard", "--days", "1"});
+  run({"add-operator", dir.string(), "operator", "--days", "1"});
   for (const std::string& robot : robots) run({"add-robot", dir.string(), robot, "--days", "1"});
 }
 

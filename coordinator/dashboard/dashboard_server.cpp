@@ -7,6 +7,7 @@
 #include <random>
 
 #include "dashboard/message_json.hpp"
+#include "planner_core/input_error.hpp"
 #include "dashboard/web_assets.hpp"
 
 namespace dashboard {
@@ -194,8 +195,8 @@ void DashboardServer::add_routes() {
 void DashboardServer::bind(const std::string& host, int port) {
   port_ = port == 0 ? http_->bind_to_any_port(host) : (http_->bind_to_port(host, port) ? port : -1);
   if (port_ <= 0) {
-    throw std::runtime_error("cannot listen on " + host + ":" + std::to_string(port) +
-                             " (in use, or not an address of this host)");
+    throw planner_core::InputError("--listen " + host + " --port " + std::to_string(port) +
+                                   ": cannot listen there (the port is in use, or that is not an address of this host)");
   }
 }
 

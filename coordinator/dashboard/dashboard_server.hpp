@@ -42,7 +42,7 @@ class DashboardServer {
   // Wakes the streams (e.g. the replay clock moved although no message came).
   void touch();
 
-  // Binds; throws std::runtime_error when the address or port cannot be had.
+  // Binds; throws planner_core::InputError when the address or port cannot be had.
   void bind(const std::string& host, int port);
   int port() const { return port_; }
   // Serves until stop(); call from one thread.

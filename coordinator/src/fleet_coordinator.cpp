@@ -772,7 +772,9 @@ bool FleetCoordinator::step(fleet_transport::Transport& transport) {
       (!mission_published_ || mission_changed_)) {
     publish_mission(transport);
   }
-  for (const fleet_transport::FleetEvent& event : events_to_publish_) transport.publish_fleet_event(event);
+  for_operators("events", [&] {
+    for (const fleet_transport::FleetEvent& event : events_to_publish_) transport.publish_fleet_event(event);
+  });
   events_to_publish_.clear();
   if (now >= next_status_) publish_status(transport);
   if (now >= next_progress_ || (progress_changed_ && seconds_between(last_progress_, now) >= kProgressGapS)) {
@@ -857,8 +859,10 @@ void FleetCoordinator::stand_down(const OtherCoordinator& other, fleet_transport
                 "active one and take over if it fails.", summary_.stood_down_because);
   role_ = fleet_transport::CoordinatorRole::kStoodDown;
   phase_ = Phase::kDone;
-  transport.publish_fleet_event({incarnation_, fleet_transport::wall_clock_ms(), "stood_down", "",
-                                 summary_.stood_down_because, 0});
+  for_operators("events", [&] {
+    transport.publish_fleet_event(
+        {incarnation_, fleet_transport::wall_clock_ms(), "stood_down", "", summary_.stood_down_because, 0});
+  });
   plan_.reset();  // not one more command
   publish_status(transport);
 }

@@ -31,6 +31,19 @@ TaskReply refusal(const TaskRequest& request, const std::string& reason) {
 
 }  // namespace
 
+// What operators see never stops the fleet: a refused writer (access control of a fleet enrolled
+// before these topics existed) or a middleware error is logged once and the mission goes on.
+void FleetCoordinator::for_operators(const char* what, const std::function<void()>& publish) {
+  try {
+    publish();
+  } catch (const std::exception& e) {
+    if (operator_topics_failed_.insert(what).second) {
+      spdlog::warn("cannot publish the {} for operators ({}); the mission goes on without it. With DDS Security, "
+                   "re-enrol the coordinator with this version's ctsfleet-ca", what, e.what());
+    }
+  }
+}
+
 void FleetCoordinator::report(const std::string& kind, const std::string& robot_id, const std::string& text,
                               double value) {
   events_to_publish_.push_back({incarnation_, fleet_transport::wall_clock_ms(), kind, robot_id, text, value});
@@ -43,7 +56,7 @@ void FleetCoordinator::handle_task_request(const TaskRequest& request, fleet_tra
     return;
   }
   if (const auto known = replies_.find(request.request_id); known != replies_.end()) {
-    transport.reply_task(known->second);  // the requester did not hear the answer: say it again
+    for_operators("task replies", [&] { transport.reply_task(known->second); });  // unheard: say it again
     return;
   }
   TaskReply reply;
@@ -72,7 +85,7 @@ void FleetCoordinator::handle_task_request(const TaskRequest& request, fleet_tra
     replies_.erase(reply_order_.front());
     reply_order_.pop_front();
   }
-  transport.reply_task(reply);
+  for_operators("task replies", [&] { transport.reply_task(reply); });
 }
 
 std::vector<Tour> FleetCoordinator::current_tours() const {
@@ -245,7 +258,7 @@ void FleetCoordinator::publish_mission(fleet_transport::Transport& transport) {
     info.tasks.push_back({cell.x, cell.y, mission_.tasks[t].agents, progress_.cancelled(t)});
   }
   info.lifelong = config_.lifelong;
-  transport.publish_mission_info(info);
+  for_operators("mission", [&] { transport.publish_mission_info(info); });
   mission_published_ = true;
   mission_changed_ = false;
 }
@@ -270,7 +283,7 @@ void FleetCoordinator::publish_plan(fleet_transport::Transport& transport, int64
     }
     plan.robots.push_back(std::move(robot));
   }
-  transport.publish_fleet_plan(plan);
+  for_operators("plan", [&] { transport.publish_fleet_plan(plan); });
 }
 
 }  // namespace coordinator

@@ -9,6 +9,7 @@
 #include "coordinator/plan_builder.hpp"
 #include "coordinator/plan_execution.hpp"
 #include "coordinator/robot_registry.hpp"
+#include "coordinator/task_assignment.hpp"
 #include "planner_core/validator.hpp"
 
 namespace coordinator {
@@ -58,6 +59,70 @@ TEST(MissionProgress, PendingVisitsNameRoleAndRobot) {
   EXPECT_FALSE(progress.work_waits_for_a_robot());
   progress.unbind(1);
   EXPECT_EQ(progress.robot_of(1), "");
+}
+
+TEST(MissionProgress, AddedTasksCountAndCancelledOnesCountNeitherWay) {
+  planner_core::Instance mission = small_mission();
+  MissionProgress progress(mission);
+  progress.visit(0, mission.graph->vertex_at({2, 0}));
+  EXPECT_EQ(progress.tasks_done(), 1);
+  mission.tasks.push_back({mission.graph->vertex_at({3, 1}), {1}});
+  mission.index_tasks();
+  progress.add_task();
+  EXPECT_EQ(progress.task_count(), 4);
+  EXPECT_EQ(progress.tasks_to_do(), 4);
+  EXPECT_EQ(progress.role_tasks(1), std::make_pair(3, 0));
+  EXPECT_FALSE(progress.cancel(0));   // done already
+  EXPECT_FALSE(progress.cancel(7));   // no such task
+  EXPECT_TRUE(progress.cancel(3));
+  EXPECT_FALSE(progress.cancel(3));   // cancelled already
+  EXPECT_EQ(progress.tasks_to_do(), 3);
+  EXPECT_TRUE(progress.visited(3, 0));  // nobody owes it a visit: plans leave it out
+  EXPECT_TRUE(progress.visits_due_at(1, mission.graph->vertex_at({3, 1})).empty());
+  EXPECT_EQ(progress.role_tasks(1), std::make_pair(2, 0));
+  progress.visit(1, mission.graph->vertex_at({2, 2}));
+  progress.visit(0, mission.graph->vertex_at({2, 1}));
+  progress.visit(1, mission.graph->vertex_at({2, 1}));
+  EXPECT_EQ(progress.tasks_done(), 3);
+  EXPECT_TRUE(progress.all_tasks_done());  // the cancelled one is not waited for
+  EXPECT_TRUE(progress.pending_visits().empty());
+}
+
+TEST(TaskAssignment, CheapestInsertionPicksTheTourThatGrowsLeastAtItsBestPlace) {
+  // 7x1 corridor: robot a stands at 0 bound for 6; robot b stands at 3 on its goal.
+  const planner_core::Graph line(7, 1, {"......."});
+  planner_core::DistTable distances(line);
+  const auto v = [&](int x) { return line.vertex_at({x, 0}); };
+  const std::vector<Tour> tours = {{"a", 0, {v(0), v(6)}}, {"b", 1, {v(3)}}};
+  // On a's way: free for a; b would go there and back.
+  TaskPlacement placement = cheapest_insertion(distances, v(5), tours);
+  EXPECT_EQ(placement.tour, 0);
+  EXPECT_EQ(placement.position, 1u);
+  EXPECT_EQ(placement.added_steps, 0);
+  // A tour of one stop (parked on its goal): there and back.
+  placement = cheapest_insertion(distances, v(4), {tours[1]});
+  EXPECT_EQ(placement.tour, 0);
+  EXPECT_EQ(placement.added_steps, 2);
+  // Between two stops, where it costs least.
+  const std::vector<Tour> zigzag = {{"c", 0, {v(0), v(6), v(1), v(6)}}};
+  placement = cheapest_insertion(distances, v(2), zigzag);
+  EXPECT_EQ(placement.added_steps, 0);
+  EXPECT_EQ(placement.position, 1u);  // on the way from 0 to 6
+}
+
+TEST(TaskAssignment, UnreachableTasksFindNoTourAndBadCellsAreNamed) {
+  // Two rooms: x 0-2 and x 4-6, split by a wall column.
+  planner_core::Instance mission;
+  mission.graph = std::make_shared<const planner_core::Graph>(7, 2, std::vector<std::string>{"...@...", "...@..."});
+  planner_core::DistTable distances(*mission.graph);
+  const auto v = [&](int x, int y) { return mission.graph->vertex_at({x, y}); };
+  const std::vector<Tour> left = {{"a", 0, {v(0, 0), v(2, 1)}}};
+  EXPECT_EQ(cheapest_insertion(distances, v(5, 0), left).tour, -1);
+  EXPECT_EQ(cheapest_insertion(distances, v(5, 0), {}).tour, -1);
+  EXPECT_EQ(task_cell_refusal(mission, 1, 1), "");
+  EXPECT_EQ(task_cell_refusal(mission, 3, 0), "(3,0) is a wall");
+  EXPECT_EQ(task_cell_refusal(mission, 7, 0), "(7,0) is off the map (7 x 2)");
+  EXPECT_EQ(task_cell_refusal(mission, -1, 0), "(-1,0) is off the map (7 x 2)");
 }
 
 TEST(RobotRegistry, AdmissionRules) {

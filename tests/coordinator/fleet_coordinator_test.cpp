@@ -61,10 +61,12 @@ FleetConfig config_for(int robots) {
 
 // Runs the coordinator until it ends; robots answer each command with an arrival on its target.
 // Returns the cells each robot stood on, checking every step that no two robots share one.
-// `each_iteration` may add robots (announced and heard at once).
+// `each_iteration` may add robots (announced and heard at once); `operate` is called every
+// iteration with the wire (an operator's requests, the replies) and ends the run when it returns false.
+using Operate = std::function<bool(FleetCoordinator&, FakeTransport&, int iteration)>;
 std::map<std::string, std::vector<planner_core::Cell>> run(
     FleetCoordinator& coordinator, std::vector<FakeRobot>& robots,
-    const std::function<void(std::vector<FakeRobot>&)>& each_iteration = {}) {
+    const std::function<void(std::vector<FakeRobot>&)>& each_iteration = {}, const Operate& operate = {}) {
   FakeTransport transport;
   std::map<std::string, std::vector<planner_core::Cell>> visited;
   for (FakeRobot& robot : robots) {
@@ -73,6 +75,7 @@ std::map<std::string, std::vector<planner_core::Cell>> run(
     visited[robot.id].push_back(robot.cell);
   }
   for (int iteration = 0; iteration < 200000 && coordinator.step(transport); ++iteration) {
+    if (operate && !operate(coordinator, transport, iteration)) break;
     if (each_iteration) {
       const size_t before = robots.size();
       each_iteration(robots);
@@ -298,6 +301,172 @@ TEST(PlanExecution, AllowsOnlyThePlannedCellAndTheTargetInFlight) {
   ASSERT_TRUE(execution.due_command(0, PlanExecution::Clock::now(), 1.0, 0).has_value());
   EXPECT_TRUE(execution.allows(0, {1, 0}));
   EXPECT_FALSE(execution.allows(0, {2, 0}));
+}
+
+
+namespace runtime_tasks {
+
+fleet_transport::TaskRequest add(const std::string& id, int x, int y, const std::string& robot = "") {
+  fleet_transport::TaskRequest request;
+  request.request_id = id;
+  request.action = fleet_transport::TaskAction::kAdd;
+  request.x = x;
+  request.y = y;
+  request.robot_id = robot;
+  return request;
+}
+
+fleet_transport::TaskRequest cancel(const std::string& id, int task) {
+  fleet_transport::TaskRequest request;
+  request.request_id = id;
+  request.action = fleet_transport::TaskAction::kCancel;
+  request.task = task;
+  return request;
+}
+
+// The reply to request `id` the coordinator sent last, or nullptr.
+const fleet_transport::TaskReply* reply_to(const FakeTransport& wire, const std::string& id) {
+  for (auto it = wire.replies.rbegin(); it != wire.replies.rend(); ++it) {
+    if (it->request_id == id) return &*it;
+  }
+  return nullptr;
+}
+
+}  // namespace runtime_tasks
+
+TEST(FleetCoordinator, TasksAddedWhileItRunsAreCheckedGivenToARobotAndDone) {
+  using namespace runtime_tasks;
+  planner_core::Instance mission = planner_core::load_instance(CTSFLEET_CONFIG_DIR "/default/mission-8.yaml");
+  std::vector<FakeRobot> robots = robots_on_their_starts(mission);
+  const int mission_tasks = mission.task_count();
+  FleetCoordinator coordinator(config_for(mission.agent_count()), std::move(mission));
+  bool asked = false;
+  std::map<std::string, fleet_transport::TaskReply> replies;
+  const auto visited = run(coordinator, robots, {}, [&](FleetCoordinator& c, FakeTransport& wire, int) {
+    if (!asked && wire.last_plan.plan_epoch >= 1) {  // the mission runs
+      asked = true;
+      c.on_task_request(add("wall", 0, 0));
+      c.on_task_request(add("off-map", 99, 1));
+      c.on_task_request(add("unknown-robot", 1, 1, "nobody"));
+      c.on_task_request(add("duplicate", 8, 1, "robot2"));  // task 0 waits there for role 2
+      c.on_task_request(add("for-robot3", 1, 1, "robot3"));
+      c.on_task_request(add("for-any", 28, 2));
+      c.on_task_request(add("for-any", 28, 2));             // sent again: answered again, added once
+      c.on_task_request(cancel("cancel-nothing", 99));
+      c.on_task_request({});                                 // no request id: cannot be answered
+    }
+    for (const fleet_transport::TaskReply& reply : wire.replies) replies[reply.request_id] = reply;
+    return true;
+  });
+  ASSERT_TRUE(asked);
+  const auto reason = [&](const std::string& id) { return replies.count(id) ? replies[id].reason : "(no reply)"; };
+  EXPECT_NE(reason("wall").find("(0,0) is a wall"), std::string::npos) << reason("wall");
+  EXPECT_NE(reason("off-map").find("off the map (32 x 32)"), std::string::npos) << reason("off-map");
+  EXPECT_NE(reason("unknown-robot").find("unknown robot 'nobody'"), std::string::npos) << reason("unknown-robot");
+  EXPECT_NE(reason("duplicate").find("duplicate: task 0"), std::string::npos) << reason("duplicate");
+  EXPECT_NE(reason("cancel-nothing").find("no task 99"), std::string::npos) << reason("cancel-nothing");
+  for (const char* refused : {"wall", "off-map", "unknown-robot", "duplicate", "cancel-nothing"}) {
+    EXPECT_FALSE(replies[refused].accepted) << refused;
+  }
+  ASSERT_TRUE(replies["for-robot3"].accepted) << reason("for-robot3");
+  ASSERT_TRUE(replies["for-any"].accepted) << reason("for-any");
+  EXPECT_EQ(replies["for-robot3"].task, mission_tasks);
+  EXPECT_EQ(replies["for-robot3"].robot_id, "robot3");
+  EXPECT_EQ(replies["for-any"].task, mission_tasks + 1);
+  const MissionSummary& summary = coordinator.summary();
+  EXPECT_TRUE(summary.completed);
+  EXPECT_EQ(summary.tasks_total, mission_tasks + 2);  // the repeated request added nothing
+  EXPECT_EQ(summary.tasks_done, summary.tasks_total);
+  const auto& robot3 = visited.at("robot3");
+  EXPECT_NE(std::find(robot3.begin(), robot3.end(), planner_core::Cell{1, 1}), robot3.end());
+  const auto& chosen = visited.at(replies["for-any"].robot_id);
+  EXPECT_NE(std::find(chosen.begin(), chosen.end(), planner_core::Cell{28, 2}), chosen.end());
+}
+
+TEST(FleetCoordinator, ALifelongMissionWaitsForTasksGivenInWaves) {
+  using namespace runtime_tasks;
+  planner_core::Instance mission = planner_core::load_instance(CTSFLEET_CONFIG_DIR "/default/mission-8.yaml");
+  std::vector<FakeRobot> robots = robots_on_their_starts(mission);
+  const int mission_tasks = mission.task_count();
+  FleetConfig config = config_for(mission.agent_count());
+  config.lifelong = true;
+  config.mission_timeout_s = 0.5;  // no timeout in lifelong mode: the waves take longer than this
+  FleetCoordinator coordinator(config, std::move(mission));
+  const std::vector<std::vector<planner_core::Cell>> waves = {{{1, 1}}, {{28, 2}, {4, 2}}, {{16, 1}}};
+  size_t wave = 0;
+  int idle_rounds = 0;
+  bool cancelled_checked = false;
+  run(coordinator, robots, {}, [&](FleetCoordinator& c, FakeTransport& wire, int iteration) {
+    const int done_events = static_cast<int>(std::count_if(wire.events.begin(), wire.events.end(),
+                                                           [](const auto& e) { return e.kind == "mission_done"; }));
+    if (done_events <= static_cast<int>(wave)) return true;  // still working on the last wave
+    if (wave == waves.size()) return ++idle_rounds < 200;    // parked after the last wave: still running
+    if (wave == 1 && !cancelled_checked) {  // between waves: a done task cannot be cancelled
+      c.on_task_request(cancel("cancel-done", mission_tasks));
+      cancelled_checked = true;
+    }
+    for (size_t t = 0; t < waves[wave].size(); ++t) {
+      const planner_core::Cell cell = waves[wave][t];
+      c.on_task_request(add("wave" + std::to_string(wave) + "-" + std::to_string(t) + "-" + std::to_string(iteration),
+                            cell.x, cell.y));
+    }
+    ++wave;
+    return true;
+  });
+  const MissionSummary& summary = coordinator.summary();
+  EXPECT_EQ(wave, waves.size());
+  EXPECT_EQ(idle_rounds, 200);           // it kept running after every task was done
+  EXPECT_FALSE(summary.completed);       // a lifelong mission never completes by itself
+  EXPECT_EQ(summary.tasks_total, mission_tasks + 4);
+  EXPECT_EQ(summary.tasks_done, mission_tasks + 4);
+}
+
+TEST(FleetCoordinator, ACancelledTaskIsNotVisitedAndCountsNeitherWay) {
+  using namespace runtime_tasks;
+  planner_core::Instance mission = planner_core::load_instance(CTSFLEET_CONFIG_DIR "/default/mission-8.yaml");
+  std::vector<FakeRobot> robots = robots_on_their_starts(mission);
+  const int mission_tasks = mission.task_count();
+  FleetCoordinator coordinator(config_for(mission.agent_count()), std::move(mission));
+  bool asked = false;
+  std::optional<fleet_transport::TaskReply> added, cancelled, again;
+  const auto visited = run(coordinator, robots, {}, [&](FleetCoordinator& c, FakeTransport& wire, int) {
+    if (!asked && wire.last_plan.plan_epoch >= 1) {
+      asked = true;
+      c.on_task_request(add("add", 28, 2, "robot5"));  // handled in order in one step: added, then
+      c.on_task_request(cancel("cancel", mission_tasks));  // withdrawn before any plan includes it
+      c.on_task_request(cancel("cancel-again", mission_tasks));
+    }
+    if (const auto* r = reply_to(wire, "add")) added = *r;
+    if (const auto* r = reply_to(wire, "cancel")) cancelled = *r;
+    if (const auto* r = reply_to(wire, "cancel-again")) again = *r;
+    return true;
+  });
+  ASSERT_TRUE(added && cancelled && again);
+  EXPECT_TRUE(added->accepted) << added->reason;
+  EXPECT_TRUE(cancelled->accepted) << cancelled->reason;
+  EXPECT_FALSE(again->accepted);
+  EXPECT_NE(again->reason.find("cancelled already"), std::string::npos) << again->reason;
+  const MissionSummary& summary = coordinator.summary();
+  EXPECT_TRUE(summary.completed);
+  EXPECT_EQ(summary.tasks_total, mission_tasks);
+  const auto& robot5 = visited.at("robot5");
+  EXPECT_EQ(std::find(robot5.begin(), robot5.end(), planner_core::Cell{28, 2}), robot5.end());
+}
+
+TEST(FleetCoordinator, OnlyTheActiveCoordinatorAnswersTaskRequests) {
+  using namespace runtime_tasks;
+  planner_core::Instance mission = planner_core::load_instance(CTSFLEET_CONFIG_DIR "/default/mission-8.yaml");
+  FleetCoordinator standby(config_for(mission.agent_count()), mission, {true, nullptr});
+  FleetCoordinator waiting(config_for(mission.agent_count()), mission);  // no robot yet: not started
+  FakeTransport standby_wire, waiting_wire;
+  standby.on_task_request(add("r1", 1, 1));
+  waiting.on_task_request(add("r2", 1, 1));
+  standby.step(standby_wire);
+  waiting.step(waiting_wire);
+  EXPECT_TRUE(standby_wire.replies.empty());
+  ASSERT_EQ(waiting_wire.replies.size(), 1u);
+  EXPECT_FALSE(waiting_wire.replies[0].accepted);
+  EXPECT_NE(waiting_wire.replies[0].reason.find("has not started"), std::string::npos);
 }
 
 }  // namespace

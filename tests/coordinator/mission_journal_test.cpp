@@ -103,6 +103,27 @@ TEST_F(JournalTest, AFolderThatCannotHoldTheFileIsNamed) {
   EXPECT_NE(error.find("--journal " + missing), std::string::npos) << error;
 }
 
+TEST_F(JournalTest, TasksAddedAndCancelledAtRuntimeAreFoundAgain) {
+  {
+    MissionJournal journal(path, "aaaa", "test mission");
+    journal.claim(1, 0x11, 1000);
+    journal.record_task_added(16, 4, 2, 3, "request-a");
+    journal.record_task_added(17, 1, 1, 0, "request-b");
+    journal.record_task_cancelled(17, "request-c");
+    journal.record_task_cancelled(17, "request-c");  // a repeat changes nothing
+  }
+  MissionJournal again(path, "aaaa", "test mission");
+  ASSERT_TRUE(again.resumable().has_value());
+  const auto& added = again.resumable()->added_tasks;
+  ASSERT_EQ(added.size(), 2u);
+  EXPECT_EQ(added[0].task, 16);
+  EXPECT_EQ(added[0].x, 4);
+  EXPECT_EQ(added[0].y, 2);
+  EXPECT_EQ(added[0].role, 3);
+  EXPECT_EQ(added[1].task, 17);
+  EXPECT_EQ(again.resumable()->cancelled_tasks, std::vector<int>{17});
+}
+
 TEST(MissionFingerprint, SameMissionSameFingerprintAnyChangeAnother) {
   auto graph = std::make_shared<const planner_core::Graph>(3, 2, std::vector<std::string>{"...", ".@."});
   planner_core::Instance mission;

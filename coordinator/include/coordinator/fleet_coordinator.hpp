@@ -17,6 +17,7 @@
 #include <atomic>
 #include <chrono>
 #include <deque>
+#include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -162,6 +163,7 @@ class FleetCoordinator {
   void publish_mission(fleet_transport::Transport& transport);
   void publish_plan(fleet_transport::Transport& transport, int64_t flowtime, double planning_ms);
   void report(const std::string& kind, const std::string& robot_id, const std::string& text, double value = 0);
+  void for_operators(const char* what, const std::function<void()>& publish);
   RobotRecord* robot_of_agent(int a);
   const RobotRecord* robot_of_agent(int a) const;
 
@@ -210,6 +212,7 @@ class FleetCoordinator {
   std::map<std::string, fleet_transport::TaskReply> replies_;  // request id -> the answer given
   std::deque<std::string> reply_order_;                       // oldest first, to forget old ones
   std::vector<fleet_transport::FleetEvent> events_to_publish_;
+  std::set<std::string> operator_topics_failed_;  // logged once each
   bool mission_published_ = false;
   bool mission_changed_ = false;
   bool lifelong_idle_ = false;       // lifelong: every task done, waiting for tasks

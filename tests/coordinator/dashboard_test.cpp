@@ -1,0 +1,244 @@
+// The dashboard's parts without DDS or a browser: the JSON of every wire message, FleetView (what
+// the page is told about robots, tasks and coordinators), history files and plans as histories.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "dashboard/fleet_view.hpp"
+#include "dashboard/history.hpp"
+#include "dashboard/message_json.hpp"
+#include "planner_core/input_error.hpp"
+
+namespace dashboard {
+namespace {
+
+namespace fs = std::filesystem;
+using fleet_transport::RobotStatus;
+
+// Written as JSON and read back, a message says the same.
+template <typename Message>
+void expect_round_trip(const Message& message) {
+  const Json written = message;
+  const Message read = written.get<Message>();
+  EXPECT_EQ(Json(read), written) << written.dump();
+}
+
+TEST(MessageJson, EveryMessageRoundTripsWithItsFieldNames) {
+  fleet_transport::RobotState state;
+  state.robot_id = "robot7";
+  state.cell_x = 3;
+  state.pose_x = 3.25;
+  state.status = RobotStatus::kMoving;
+  state.seq_number = 18446744073709551615ull;  // uint64 survives
+  state.stamp_ms = 1796196321817;
+  expect_round_trip(state);
+  EXPECT_EQ(Json(state).at("status"), "moving");
+  EXPECT_EQ(Json(state).at("robot_id"), "robot7");
+  expect_round_trip(fleet_transport::Announcement{"r", "toio", "", "1.0", true, 42});
+  expect_round_trip(fleet_transport::StepCommand{"r", 2, 3, 4, 5, 4.0, 5.0, 99, 7, 98});
+  expect_round_trip(fleet_transport::CoordinatorStatus{0xABCDEF0123456789ull, 3, 5, fleet_transport::CoordinatorRole::kStandby,
+                                                       "m", 4});
+  EXPECT_EQ(Json(fleet_transport::CoordinatorStatus{}).at("role"), "active");
+  fleet_transport::FleetStatus status;
+  status.assignments = {{"a", 0, 1, 2}};
+  status.done_visits = {{3, 0}};
+  status.round_trip_p99_ms = 4.5;
+  expect_round_trip(status);
+  expect_round_trip(fleet_transport::MissionInfo{1, "m", 2, 1, "..", {{0, 0}}, {{1, 0, {0}, true}}, true});
+  expect_round_trip(fleet_transport::FleetPlan{1, 2, 3, 4.5, 6, {{"a", 0, {{0, 0}, {1, 0}}}}});
+  expect_round_trip(fleet_transport::FleetEvent{1, 2, "lost", "a", "said goodbye", 0});
+  expect_round_trip(fleet_transport::TaskRequest{"id", fleet_transport::TaskAction::kCancel, 1, 2, "", 5});
+  EXPECT_EQ(Json(fleet_transport::TaskRequest{}).at("action"), "add");
+  expect_round_trip(fleet_transport::TaskReply{"id", 1, true, "ok", 3, "a", "task 0 ...\n"});
+  // A message missing a field is refused, naming it.
+  Json broken = state;
+  broken.erase("cell_y");
+  try {
+    (void)broken.get<fleet_transport::RobotState>();
+    FAIL() << "accepted a state without cell_y";
+  } catch (const nlohmann::json::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("cell_y"), std::string::npos) << e.what();
+  }
+}
+
+// A 4x1 corridor with one coordinator, two robots and three tasks.
+struct ViewTest : ::testing::Test {
+  FleetView view{2.0};
+  static constexpr uint64_t kCoordinator = 0x10;
+
+  void SetUp() override {
+    view.on_coordinator_status({kCoordinator, 1, 100, fleet_transport::CoordinatorRole::kActive, "m", 1}, 1000);
+    // Tasks: 0 at (2,0) for role 0; 1 at (3,0) for role 0; 2 at (1,0) for role 1 (no robot has role 1).
+    view.on_mission({kCoordinator, "m", 4, 1, "....", {{3, 0}, {0, 0}}, {{2, 0, {0}, false}, {3, 0, {0}, false},
+                                                                         {1, 0, {1}, false}}, false},
+                    1000);
+    view.on_plan({kCoordinator, 1, 1000, 5, 3, {{"a", 0, {{0, 0}, {1, 0}, {2, 0}, {3, 0}}}}}, 1000);
+    fleet_transport::FleetStatus status;
+    status.coordinator = kCoordinator;
+    status.assignments = {{"a", 0, 0, 2}, {"b", -1, 0, 0}};
+    view.on_fleet_status(status, 1000);
+  }
+  fleet_transport::RobotState state(const std::string& id, int x, int action, RobotStatus status, uint64_t seq) {
+    fleet_transport::RobotState s;
+    s.robot_id = id;
+    s.cell_x = x;
+    s.plan_epoch = 1;
+    s.action_index = action;
+    s.status = status;
+    s.seq_number = seq;
+    s.coordinator = kCoordinator;
+    s.incarnation = 5;
+    return s;
+  }
+};
+
+TEST_F(ViewTest, RobotsAreMovingWaitingParkedLostOrLeft) {
+  view.on_state(state("a", 0, -1, RobotStatus::kIdle, 1), 1000);
+  EXPECT_EQ(view.robot_status("a", 1000), "waiting");  // in the plan, not started
+  EXPECT_EQ(view.path_from("a"), 1);
+  view.on_state(state("a", 0, 0, RobotStatus::kMoving, 2), 1100);
+  EXPECT_EQ(view.robot_status("a", 1100), "moving");
+  EXPECT_EQ(view.path_from("a"), 1);  // on its way to path[1]
+  view.on_state(state("a", 1, 0, RobotStatus::kArrived, 3), 1200);
+  EXPECT_EQ(view.robot_status("a", 1200), "waiting");
+  EXPECT_EQ(view.path_from("a"), 2);
+  view.on_state(state("a", 0, 0, RobotStatus::kMoving, 2), 1250);  // late, out of order: ignored
+  EXPECT_EQ(view.path_from("a"), 2);
+  view.on_state(state("a", 3, 2, RobotStatus::kArrived, 4), 1300);
+  EXPECT_EQ(view.robot_status("a", 1300), "parked");
+  EXPECT_EQ(view.robot_status("a", 3301), "lost");  // nothing heard for 2 s
+  view.on_state(state("a", 3, 2, RobotStatus::kFault, 5), 3400);
+  EXPECT_EQ(view.robot_status("a", 3400), "fault");
+  view.on_state(state("a", 3, 2, RobotStatus::kArrived, 6), 3500);
+  view.on_event({kCoordinator, 3500, "off_plan", "a", "moved by hand", 0}, 3500);
+  EXPECT_EQ(view.robot_status("a", 3500), "off_plan");
+  view.on_event({kCoordinator, 3600, "join", "a", "back", 0}, 3600);
+  EXPECT_EQ(view.robot_status("a", 3600), "parked");
+  view.on_robot_gone("a", fleet_transport::GoneReason::kLivelinessLost, 3700);
+  EXPECT_EQ(view.robot_status("a", 3700), "lost");
+  view.on_announcement({"a", "sim", "", "1", true, 5}, 3800);
+  EXPECT_EQ(view.robot_status("a", 3800), "left");
+  EXPECT_EQ(view.robot_status("nobody", 3800), "unknown");
+}
+
+TEST_F(ViewTest, NextTasksFollowThePlanAndTaskStatesFollowTheVisits) {
+  view.on_state(state("a", 0, -1, RobotStatus::kIdle, 1), 1000);
+  view.on_state(state("b", 1, -1, RobotStatus::kIdle, 1), 1000);
+  EXPECT_EQ(view.next_tasks("a"), (std::vector<int>{0, 1}));  // (2,0) comes before (3,0) on its path
+  EXPECT_TRUE(view.next_tasks("b").empty());                  // no role
+  Json frame = view.frame_json(1000);
+  EXPECT_EQ(frame["tasks"], Json({"pending", "pending", "unassigned"}));
+  fleet_transport::FleetStatus status;
+  status.coordinator = kCoordinator;
+  status.assignments = {{"a", 0, 1, 2}};
+  status.done_visits = {{0, 0}};
+  view.on_fleet_status(status, 1100);
+  EXPECT_EQ(view.next_tasks("a"), (std::vector<int>{1}));
+  frame = view.frame_json(1100);
+  EXPECT_EQ(frame["tasks"][0], "done");
+  EXPECT_EQ(frame["robots"][0]["id"], "a");
+  EXPECT_EQ(frame["robots"][0]["next_tasks"], Json({1}));
+  EXPECT_EQ(frame["coordinator"]["role"], "active");
+  EXPECT_EQ(frame["coordinator"]["id"], "0000000000000010");  // a string: JavaScript numbers lose 64-bit ids
+}
+
+TEST_F(ViewTest, TheHighestRankedActiveCoordinatorIsFollowed) {
+  const int mission_version = view.mission_version();
+  // A standby is heard: nothing changes. It takes over with a higher term: it is followed.
+  view.on_coordinator_status({0x20, 1, 50, fleet_transport::CoordinatorRole::kStandby, "m", 1}, 1500);
+  EXPECT_EQ(view.mission_version(), mission_version);
+  view.on_mission({0x20, "m", 4, 1, "....", {{3, 0}, {0, 0}}, {}, false}, 1600);
+  EXPECT_EQ(view.mission_json()["tasks"].size(), 3u);  // still the active one's
+  view.on_coordinator_status({0x20, 2, 2000, fleet_transport::CoordinatorRole::kActive, "m", 2}, 2000);
+  EXPECT_GT(view.mission_version(), mission_version);
+  EXPECT_EQ(view.mission_json()["tasks"].size(), 0u);
+  EXPECT_EQ(view.frame_json(2000)["coordinator"]["term"], 2);
+}
+
+struct HistoryTest : ::testing::Test {
+  fs::path dir = fs::temp_directory_path() / ("ctsfleet-history-" + std::to_string(::getpid()) + "-" +
+                                              ::testing::UnitTest::GetInstance()->current_test_info()->name());
+  void SetUp() override { fs::create_directories(dir); }
+  void TearDown() override { fs::remove_all(dir); }
+  std::string write(const std::string& name, const std::string& text) {
+    const std::string path = (dir / name).string();
+    std::ofstream(path) << text;
+    return path;
+  }
+  static std::string error_of(const std::string& path) {
+    try {
+      load_history(path);
+    } catch (const planner_core::InputError& e) {
+      return e.what();
+    }
+    return "";
+  }
+};
+
+TEST_F(HistoryTest, WhatIsRecordedReplaysInTimeOrder) {
+  const std::string path = (dir / "h.jsonl").string();
+  {
+    HistoryRecorder recorder(path);
+    fleet_transport::RobotState s;
+    s.robot_id = "a";
+    s.seq_number = 2;
+    s.cell_x = 2;
+    recorder.write({200, "state", s});
+    s.seq_number = 1;
+    s.cell_x = 1;
+    recorder.write({100, "state", s});
+    recorder.write({150, "gone", {{"robot_id", "b"}, {"reason", "goodbye"}}});
+  }
+  const std::vector<HistoryEntry> entries = load_history(path);
+  ASSERT_EQ(entries.size(), 3u);
+  EXPECT_EQ(entries[0].t_ms, 100);
+  EXPECT_EQ(entries[2].t_ms, 200);
+  FleetView view;
+  for (const HistoryEntry& entry : entries) apply(view, entry);
+  EXPECT_EQ(view.frame_json(200)["robots"][0]["x"], 2);
+  EXPECT_EQ(view.robot_status("b", 200), "left");
+}
+
+TEST_F(HistoryTest, BadFilesAreRefusedNamingTheLine) {
+  const std::string header = "{\"format\": \"ctsfleet-history-1\"}\n";
+  EXPECT_NE(error_of(write("empty", "")).find("empty"), std::string::npos);
+  EXPECT_NE(error_of(write("other", "{\"format\": \"x\"}\n")).find("other:1: not a ctsfleet history"), std::string::npos);
+  EXPECT_NE(error_of(write("json", header + "{\"t\": 1, \n")).find("json:2: not JSON"), std::string::npos);
+  EXPECT_NE(error_of(write("key", header + "{\"t\": 1, \"type\": \"state\"}\n")).find("key:2:"), std::string::npos);
+  EXPECT_NE(error_of(write("type", header + "{\"t\": 1, \"type\": \"teleport\", \"msg\": {}}\n"))
+                .find("type:2: unknown message type 'teleport'"),
+            std::string::npos);
+  const std::string field = error_of(write("field", header + "{\"t\": 1, \"type\": \"state\", \"msg\": {\"robot_id\": 3}}\n"));
+  EXPECT_NE(field.find("field:2: a 'state' message"), std::string::npos) << field;
+  EXPECT_NE(error_of((dir / "missing").string()).find("cannot open"), std::string::npos);
+}
+
+TEST(PlanHistory, APlanPlaysToTheEndWithEveryTaskDone) {
+  planner_core::Instance instance;
+  instance.graph = std::make_shared<const planner_core::Graph>(3, 2, std::vector<std::string>{"...", "..."});
+  const auto v = [&](int x, int y) { return instance.graph->vertex_at({x, y}); };
+  instance.starts = {v(0, 0), v(0, 1)};
+  instance.goals = {v(2, 0), v(2, 1)};
+  instance.tasks = {{v(1, 0), {0}}, {v(1, 1), {1}}};
+  instance.index_tasks();
+  instance.source = "tiny";
+  const planner_core::Solution solution = {{v(0, 0), v(0, 1)}, {v(1, 0), v(1, 1)}, {v(2, 0), v(2, 1)}};
+  const std::vector<HistoryEntry> entries = plan_history(instance, solution, 100);
+  FleetView view;
+  for (const HistoryEntry& entry : entries) apply(view, entry);
+  const Json frame = view.frame_json(entries.back().t_ms);
+  EXPECT_EQ(frame["tasks"], Json({"done", "done"}));
+  EXPECT_EQ(frame["robots"][0]["status"], "parked");
+  EXPECT_EQ(frame["robots"][0]["x"], 2);
+  EXPECT_NE(frame["events"][0]["text"].get<std::string>().find("valid, flowtime 4"), std::string::npos);
+  // A plan with a collision says so.
+  const planner_core::Solution crash = {{v(0, 0), v(0, 1)}, {v(1, 0), v(1, 0)}, {v(2, 0), v(2, 1)}};
+  FleetView crashed;
+  for (const HistoryEntry& entry : plan_history(instance, crash, 100)) apply(crashed, entry);
+  EXPECT_EQ(crashed.frame_json(0)["events"][0]["kind"], "plan_failed");
+}
+
+}  // namespace
+}  // namespace dashboard
