@@ -12,6 +12,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <optional>
 #include <sstream>
 #include <random>
@@ -107,6 +108,11 @@ int main(int argc, char** argv) {
                  "Fast DDS: 'simple' (the default) or 'server' (a ctsfleet-discovery process; open, all-Fast DDS "
                  "fleets only)")
       ->check(CLI::IsMember({"server", "simple"}));
+  int dashboard_port = -1;
+  app.add_option("--dashboard", dashboard_port,
+                 "also run ctsfleet-dashboard on this port (0: any free one) for the whole run, recording the run in "
+                 "LOG_DIR/history.jsonl; its address is printed")
+      ->check(CLI::Range(0, 65535));
   std::string security_dir;
   app.add_option("--security", security_dir,
                  "DDS Security with this fleet directory (made by ctsfleet-ca, with robot0..robotN-1 and a coordinator "
@@ -219,6 +225,27 @@ int main(int argc, char** argv) {
         }
         discovery_options = {"--discovery-server", listen};
         spdlog::info("Fast DDS discovery server on {}", listen);
+      }
+
+      if (dashboard_port >= 0) {
+        if (!security_dir.empty()) fleet_transport::load_fleet_security(fleet_ca.string(), "dashboard");
+        const std::string log = log_dir + "/dashboard.log";
+        std::vector<std::string> args{(here / "ctsfleet-dashboard").string(), "--dds", vendor, "--domain",
+                                      std::to_string(domain), "--port", std::to_string(dashboard_port), "--record",
+                                      log_dir + "/history.jsonl"};
+        if (!config.dds_config_dir.empty()) args.insert(args.end(), {"--dds-config-dir", config.dds_config_dir});
+        if (secure) args.insert(args.end(), {"--security", fleet_ca.string(), "--identity", "dashboard"});
+        args.insert(args.end(), discovery_options.begin(), discovery_options.end());
+        helpers.push_back(coordinator::start_child(args, log));
+        if (!wait_until([&] { return file_contains(log, "dashboard: http://"); }, std::chrono::seconds(30))) {
+          throw std::runtime_error("the dashboard did not start (see " + log + ")");
+        }
+        std::ifstream in(log);
+        std::string line;
+        while (std::getline(in, line)) {
+          if (line.rfind("dashboard: http://", 0) == 0) std::cout << line << std::endl;
+        }
+        spdlog::info("the run is recorded in {}/history.jsonl (replay: ctsfleet-dashboard --replay FILE)", log_dir);
       }
 
       std::vector<pid_t> agents;

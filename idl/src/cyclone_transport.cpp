@@ -210,11 +210,6 @@ class CycloneTransport : public Transport {
     command_topic_ = make_topic(&fleet_StepCommand_desc, "rt/fleet/step_command");
     status_topic_ = make_topic(&fleet_FleetStatus_desc, "rt/fleet/fleet_status");
     coordinator_topic_ = make_topic(&fleet_CoordinatorStatus_desc, "rt/fleet/coordinator_status");
-    mission_topic_ = make_topic(&fleet_MissionInfo_desc, "rt/fleet/mission_info");
-    plan_topic_ = make_topic(&fleet_FleetPlan_desc, "rt/fleet/fleet_plan");
-    event_topic_ = make_topic(&fleet_FleetEvent_desc, "rt/fleet/fleet_event");
-    request_topic_ = make_topic(&fleet_TaskRequest_desc, "rt/fleet/task_request");
-    reply_topic_ = make_topic(&fleet_TaskReply_desc, "rt/fleet/task_reply");
     dds_qos_t* events = events_qos_ = dds_create_qos();
     dds_qset_reliability(events, DDS_RELIABILITY_RELIABLE, DDS_SECS(1));
     dds_qset_durability(events, DDS_DURABILITY_TRANSIENT_LOCAL);
@@ -249,11 +244,11 @@ class CycloneTransport : public Transport {
     if (handlers_.on_coordinator_status) {
       make_reader(coordinator_topic_, registry, &CycloneTransport::coordinator_statuses_available);
     }
-    if (handlers_.on_mission_info) make_reader(mission_topic_, registry, &CycloneTransport::missions_available);
-    if (handlers_.on_fleet_plan) make_reader(plan_topic_, registry, &CycloneTransport::plans_available);
-    if (handlers_.on_fleet_event) make_reader(event_topic_, events, &CycloneTransport::events_available);
-    if (handlers_.on_task_request) make_reader(request_topic_, requests, &CycloneTransport::requests_available);
-    if (handlers_.on_task_reply) make_reader(reply_topic_, requests, &CycloneTransport::replies_available);
+    if (handlers_.on_mission_info) make_reader(mission_topic(), registry, &CycloneTransport::missions_available);
+    if (handlers_.on_fleet_plan) make_reader(plan_topic(), registry, &CycloneTransport::plans_available);
+    if (handlers_.on_fleet_event) make_reader(event_topic(), events, &CycloneTransport::events_available);
+    if (handlers_.on_task_request) make_reader(request_topic(), requests, &CycloneTransport::requests_available);
+    if (handlers_.on_task_reply) make_reader(reply_topic(), requests, &CycloneTransport::replies_available);
   }
 
 
@@ -383,7 +378,7 @@ class CycloneTransport : public Transport {
     borrow(wire.goals, goals);
     borrow(wire.tasks, tasks);
     wire.lifelong = m.lifelong;
-    check(dds_write(writer(mission_writer_, mission_topic_, registry_qos_), &wire), "write mission info");
+    check(dds_write(writer(mission_writer_, mission_topic(), registry_qos_), &wire), "write mission info");
   }
 
   void publish_fleet_plan(const FleetPlan& p) override {
@@ -402,7 +397,7 @@ class CycloneTransport : public Transport {
     wire.planning_ms = p.planning_ms;
     wire.flowtime = p.flowtime;
     borrow(wire.robots, robots);
-    check(dds_write(writer(plan_writer_, plan_topic_, registry_qos_), &wire), "write fleet plan");
+    check(dds_write(writer(plan_writer_, plan_topic(), registry_qos_), &wire), "write fleet plan");
   }
 
   void publish_fleet_event(const FleetEvent& e) override {
@@ -413,7 +408,7 @@ class CycloneTransport : public Transport {
     copy_string(wire.robot_id, e.robot_id);
     copy_string(wire.text, e.text);
     wire.value = e.value;
-    check(dds_write(writer(event_writer_, event_topic_, events_qos_), &wire), "write fleet event");
+    check(dds_write(writer(event_writer_, event_topic(), events_qos_), &wire), "write fleet event");
   }
 
   void request_task(const TaskRequest& r) override {
@@ -424,7 +419,7 @@ class CycloneTransport : public Transport {
     wire.y = r.y;
     copy_string(wire.robot_id, r.robot_id);
     wire.task = r.task;
-    check(dds_write(writer(request_writer_, request_topic_, requests_qos_), &wire), "write task request");
+    check(dds_write(writer(request_writer_, request_topic(), requests_qos_), &wire), "write task request");
   }
 
   void reply_task(const TaskReply& r) override {
@@ -437,11 +432,24 @@ class CycloneTransport : public Transport {
     wire.task = r.task;
     copy_string(wire.robot_id, r.robot_id);
     wire.listing = listing.data();
-    check(dds_write(writer(reply_writer_, reply_topic_, requests_qos_), &wire), "write task reply");
+    check(dds_write(writer(reply_writer_, reply_topic(), requests_qos_), &wire), "write task reply");
   }
 
  private:
   static constexpr int kEventHistory = 64;
+
+  // The operators' topics are made on first use: DDS Security refuses a participant even the
+  // creation of a topic its permissions do not name (a robot's name none of them).
+  dds_entity_t lazy_topic(dds_entity_t& slot, const dds_topic_descriptor_t* descriptor, const char* name) {
+    const std::lock_guard<std::mutex> lock(topics_mutex_);
+    if (slot == 0) slot = make_topic(descriptor, name);
+    return slot;
+  }
+  dds_entity_t mission_topic() { return lazy_topic(mission_topic_, &fleet_MissionInfo_desc, "rt/fleet/mission_info"); }
+  dds_entity_t plan_topic() { return lazy_topic(plan_topic_, &fleet_FleetPlan_desc, "rt/fleet/fleet_plan"); }
+  dds_entity_t event_topic() { return lazy_topic(event_topic_, &fleet_FleetEvent_desc, "rt/fleet/fleet_event"); }
+  dds_entity_t request_topic() { return lazy_topic(request_topic_, &fleet_TaskRequest_desc, "rt/fleet/task_request"); }
+  dds_entity_t reply_topic() { return lazy_topic(reply_topic_, &fleet_TaskReply_desc, "rt/fleet/task_reply"); }
 
   dds_entity_t make_topic(const dds_topic_descriptor_t* descriptor, const char* name) {
     const dds_entity_t topic = dds_create_topic(participant_, descriptor, name, nullptr, nullptr);
@@ -722,6 +730,7 @@ class CycloneTransport : public Transport {
   dds_qos_t *registry_qos_ = nullptr, *state_qos_ = nullptr, *command_qos_ = nullptr, *events_qos_ = nullptr,
             *requests_qos_ = nullptr;
   std::mutex writers_mutex_;
+  std::mutex topics_mutex_;
 };
 
 }  // namespace

@@ -1,0 +1,235 @@
+#!/usr/bin/env python3
+"""Operating a running fleet with real processes over loopback: tasks added with ctsfleet-task in
+mid-mission, a lifelong mission given tasks in waves, and ctsfleet-dashboard opened in a real
+browser (Debian's chromium, headless, driven by chromedriver through Selenium). The safety monitor
+watches every fleet. Every wait is on a condition with a generous deadline."""
+import json
+import os
+import re
+import shutil
+import signal
+import subprocess
+import sys
+import time
+import unittest
+import urllib.request
+
+import yaml
+
+sys.path.insert(0, os.path.dirname(__file__))
+from test_fleet import BIN, CONFIG, DDS_DIR, MISSION, Fleet, failed, read, wait_for  # noqa: E402
+
+TESTS = [
+    "test_tasks_added_mid_mission_are_done_and_bad_ones_refused",
+    "test_lifelong_mission_takes_tasks_in_three_waves",
+    "test_dashboard_in_a_real_browser",
+]
+
+
+def mission():
+    with open(MISSION) as f:
+        return yaml.safe_load(f)
+
+
+def free_cells_away_from_the_mission():
+    """Free cells of the mission map that are no task, start or goal (a task there is new work)."""
+    m = mission()
+    with open(os.path.join(os.path.dirname(MISSION), m["map"])) as f:
+        rows = f.read().split("map\n", 1)[1].split()
+    taken = {tuple(t["at"]) for t in m["tasks"]}
+    taken |= {tuple(a["start"]) for a in m["agents"]} | {tuple(a["goal"]) for a in m["agents"]}
+    return [(x, y) for y, row in enumerate(rows) for x, c in enumerate(row) if c == "." and (x, y) not in taken]
+
+
+def summary_of(text):
+    return json.loads(next(line for line in reversed(text.splitlines()) if line.startswith("{")))
+
+
+class OperationsTest(unittest.TestCase):
+    def setUp(self):
+        self.fleet = Fleet(self._testMethodName, domain=84 + 2 * TESTS.index(self._testMethodName))
+
+    def tearDown(self):
+        self.fleet.close(keep_logs=failed(self))
+
+    def config(self, lifelong):
+        with open(CONFIG) as f:
+            config = yaml.safe_load(f)
+        config["mission"] = os.path.abspath(MISSION)
+        config["dds"]["config_dir"] = os.path.abspath(DDS_DIR)
+        config["lifelong"] = lifelong
+        path = os.path.join(self.fleet.dir, "fleet.yaml")
+        with open(path, "w") as f:
+            yaml.safe_dump(config, f)
+        return path
+
+    def task(self, *args, timeout=60):
+        """Runs ctsfleet-task; returns (exit code, stdout + stderr)."""
+        done = subprocess.run([f"{BIN}/ctsfleet-task", "--domain", str(self.fleet.domain), "--dds-config-dir", DDS_DIR,
+                               "--timeout", "30", *args], capture_output=True, text=True, timeout=timeout)
+        return done.returncode, done.stdout + done.stderr
+
+    def listing(self):
+        code, text = self.task("list")
+        self.assertEqual(code, 0, text)
+        return {int(m.group(1)): m.group(2) for m in re.finditer(r"^task (\d+) at \(\d+,\d+\): (\w+)", text, re.M)}
+
+    def start_fleet(self, lifelong):
+        self.fleet.monitor()
+        self.fleet.agents()
+        self.fleet.coordinator(config=self.config(lifelong), extra=["--json"])
+        wait_for(lambda: "plan epoch" in read(self.fleet.log("coordinator")), 120, "the first plan")
+
+    def assert_safe(self):
+        code, text = self.fleet.monitor_verdict()
+        self.assertIn("overlaps 0", text, text)
+        self.assertEqual(code, 0, text)
+
+    def test_tasks_added_mid_mission_are_done_and_bad_ones_refused(self):
+        self.start_fleet(lifelong=False)
+        cells = free_cells_away_from_the_mission()
+        added = []
+        for args in (["--any"], ["--robot", "robot3"], ["--any"]):
+            x, y = cells[len(added) * 37 % len(cells)]
+            code, text = self.task("add", "--at", f"{x},{y}", *args)
+            self.assertEqual(code, 0, text)
+            match = re.search(r"task (\d+) at \((\d+),(\d+)\) given to robot (\w+)", text)
+            self.assertTrue(match, text)
+            if args[0] == "--robot":
+                self.assertEqual(match.group(4), "robot3")
+            added.append(int(match.group(1)))
+        self.assertEqual(added, [16, 17, 18])
+        # Clumsy operators: each refused with its reason, and nothing changes.
+        for args, reason in ((["add", "--at", "0,0", "--any"], "(0,0) is a wall"),
+                             (["add", "--at", "999,3", "--any"], "off the map"),
+                             (["add", "--at", "1,1", "--robot", "robot99"], "unknown robot 'robot99'"),
+                             (["cancel", "99"], "no task 99")):
+            code, text = self.task(*args)
+            self.assertEqual(code, 1, text)
+            self.assertIn(reason, text)
+        code, text = self.task("add", "--at", "1;1", "--any")
+        self.assertEqual(code, 2, text)
+        self.assertIn("--at '1;1': expected X,Y", text)
+        code = self.fleet.wait_exit("coordinator", 240)
+        text = read(self.fleet.log("coordinator"))
+        self.assertEqual(code, 0, text[-3000:])
+        summary = summary_of(text)
+        self.assertTrue(summary["completed"], summary)
+        self.assertEqual(summary["tasks_total"], 19)
+        self.assertEqual(summary["tasks_done"], 19)
+        self.assert_safe()
+
+    def test_lifelong_mission_takes_tasks_in_three_waves(self):
+        self.start_fleet(lifelong=True)
+        log = self.fleet.log("coordinator")
+        cells = free_cells_away_from_the_mission()
+        next_task = 16
+        for wave, size in enumerate((2, 3, 2)):
+            wait_for(lambda: read(log).count("every task done: the robots park") == wave, 240,
+                     f"the fleet idle before wave {wave}")
+            for i in range(size):
+                x, y = cells[(wave * 7 + i) * 29 % len(cells)]
+                code, text = self.task("add", "--at", f"{x},{y}", "--any")
+                self.assertEqual(code, 0, text)
+                self.assertIn(f"task {next_task} at ({x},{y})", text)
+                next_task += 1
+        wait_for(lambda: read(log).count("every task done: the robots park") == 3, 240, "the last wave done")
+        states = self.listing()
+        self.assertEqual(len(states), 23)
+        self.assertTrue(all(state == "done" for state in states.values()), states)
+        time.sleep(2)  # lifelong: nothing ends it but the operator
+        self.assertIsNone(self.fleet.processes["coordinator"].poll(), read(log)[-2000:])
+        self.fleet.processes["coordinator"].send_signal(signal.SIGINT)
+        self.fleet.wait_exit("coordinator", 60)
+        self.assert_safe()
+
+    def test_dashboard_in_a_real_browser(self):
+        browser = chromium_driver()
+        if browser is None:
+            return
+        self.addCleanup(browser.quit)
+        self.start_fleet(lifelong=True)
+        dashboard = self.fleet.start("dashboard", [f"{BIN}/ctsfleet-dashboard", "--domain", str(self.fleet.domain),
+                                                   "--dds-config-dir", DDS_DIR, "--port", "0"])
+        log = self.fleet.log("dashboard")
+        wait_for(lambda: "dashboard: http://" in read(log), 60, "the dashboard's address")
+        url = re.search(r"dashboard: (http://\S+)", read(log)).group(1)
+        browser.get(url)
+        drawn = lambda: browser.execute_script("return window.ctsfleet.drawn()")
+        wait_for(lambda: len(drawn()) == 8, 60, "eight robots drawn")
+        # The robots move on the page: over 2 s at least one is drawn a cell away from where it was.
+        before = drawn()
+        time.sleep(2)
+        after = drawn()
+        moved = [r for r in before if abs(before[r]["x"] - after[r]["x"]) + abs(before[r]["y"] - after[r]["y"]) >= 1]
+        self.assertTrue(moved, f"no robot moved on the page in 2 s: {before} -> {after}")
+        # What the page draws is what robots report on the wire (the dashboard's /api/frame).
+        frame = json.load(urllib.request.urlopen(url + "api/frame", timeout=10))
+        page = drawn()
+        for robot in frame["robots"]:
+            at = page[robot["id"]]
+            self.assertLessEqual(abs(at["x"] - robot["pose_x"]) + abs(at["y"] - robot["pose_y"]), 2.0,
+                                 f"{robot['id']} drawn at {at}, reported at {robot['pose_x']},{robot['pose_y']}")
+        # Every task done, the robots park on their goals: drawn exactly there.
+        wait_for(lambda: "every task done: the robots park" in read(self.fleet.log("coordinator")), 240,
+                 "the mission's tasks done")
+        goals = {f"robot{j}": tuple(a["goal"]) for j, a in enumerate(mission()["agents"])}
+        wait_for(lambda: all(abs(drawn()[r]["x"] - g[0]) < 0.05 and abs(drawn()[r]["y"] - g[1]) < 0.05
+                             for r, g in goals.items()), 30, f"robots drawn on their goals {goals}")
+        # A click on a free cell gives the fleet a task there, and a robot reaches it.
+        x, y = free_cells_away_from_the_mission()[40]
+        canvas = browser.find_element("id", "map")
+        offset = browser.execute_script(f"return window.ctsfleet.cellOffset({x}, {y})")
+        from selenium.webdriver.common.action_chains import ActionChains
+        ActionChains(browser).move_to_element_with_offset(
+            canvas, offset[0] - canvas.size["width"] / 2, offset[1] - canvas.size["height"] / 2).click().perform()
+        result = lambda: browser.find_element("id", "task-result").text
+        wait_for(lambda: "given to robot" in result() or "refused" in result(), 60, "the coordinator's answer")
+        self.assertIn(f"task 16 at ({x},{y}) given to robot", result())
+        robot = re.search(r"given to robot (\w+)", result()).group(1)
+        frame_now = lambda: browser.execute_script("return window.ctsfleet.view.frame")
+        wait_for(lambda: len(frame_now()["tasks"]) == 17 and frame_now()["tasks"][16] == "done", 120,
+                 "the clicked task done on the page")
+        events = [e["kind"] for e in frame_now()["events"]]
+        self.assertIn("task_added", events)
+        # A robot that dies turns "lost" on the page.
+        victim = "robot5" if robot != "robot5" else "robot6"
+        self.fleet.processes[victim].send_signal(signal.SIGKILL)
+        wait_for(lambda: drawn().get(victim, {}).get("status") == "lost", 30, f"{victim} shown lost")
+        screenshot = os.path.join(os.getcwd(), "dashboard-browser-test.png")
+        browser.save_screenshot(screenshot)
+        print(f"screenshot: {screenshot}; page latency p50/p99 "
+              f"{percentile(browser.execute_script('return window.ctsfleet.latencies()'), 0.5)}/"
+              f"{percentile(browser.execute_script('return window.ctsfleet.latencies()'), 0.99)} ms")
+        self.assertIsNone(dashboard.poll())
+        self.assert_safe()
+
+
+def percentile(values, p):
+    values = sorted(values)
+    return values[min(len(values) - 1, int(len(values) * p))] if values else None
+
+
+def chromium_driver():
+    """Debian's chromium, headless, through chromedriver; None (after a loud message) when it cannot
+    be had on this machine."""
+    missing = [path for path in ("/usr/bin/chromium", "/usr/bin/chromedriver") if not os.path.exists(path)]
+    try:
+        from selenium import webdriver
+        from selenium.webdriver.chrome.service import Service
+    except ImportError:
+        missing.append("python3-selenium")
+    if missing:
+        print("\n*** SKIPPED: the browser test needs " + ", ".join(missing) +
+              " (scripts/setup installs chromium, chromium-driver, python3-selenium) ***\n", file=sys.stderr)
+        return None
+    options = webdriver.ChromeOptions()
+    options.binary_location = "/usr/bin/chromium"
+    for argument in ("--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage",
+                     "--window-size=1400,1000"):
+        options.add_argument(argument)
+    return webdriver.Chrome(service=Service("/usr/bin/chromedriver"), options=options)
+
+
+if __name__ == "__main__":
+    unittest.main()
