@@ -86,6 +86,7 @@ int main(int argc, char** argv) {
     handlers.on_task_request = [&](const fleet_transport::TaskRequest& r) { coordinator.on_task_request(r); };
     if (standby) {  // only a standby mirrors another coordinator's progress
       handlers.on_fleet_status = [&](const fleet_transport::FleetStatus& s) { coordinator.on_fleet_status(s); };
+      handlers.on_mission_info = [&](const fleet_transport::MissionInfo& m) { coordinator.on_mission_info(m); };
     }
     auto transport = fleet_transport::make_transport(transport_config, handlers);
 

@@ -93,6 +93,7 @@ FleetCoordinator::FleetCoordinator(const FleetConfig& config, planner_core::Inst
   }
   summary_.tasks_done = summary_.tasks_done_before = progress_.tasks_done();
   summary_.tasks_total = progress_.tasks_to_do();
+  journaled_tasks_ = mission_.task_count();
   summary_.term = term_;
   spdlog::info("coordinator {} ({}), term {}, mission {}", hex(incarnation_), fleet_transport::to_string(role_), term_,
                mission_id_);
@@ -114,6 +115,15 @@ void FleetCoordinator::on_fleet_status(const fleet_transport::FleetStatus& progr
   Event event;
   event.kind = Event::Kind::kProgress;
   event.progress = progress;
+  events_.push_back(std::move(event));
+}
+
+void FleetCoordinator::on_mission_info(const fleet_transport::MissionInfo& info) {
+  if (info.coordinator == incarnation_ || role_ != fleet_transport::CoordinatorRole::kStandby) return;
+  const std::lock_guard<std::mutex> lock(events_mutex_);
+  Event event;
+  event.kind = Event::Kind::kMission;
+  event.mission = info;
   events_.push_back(std::move(event));
 }
 
@@ -213,6 +223,10 @@ void FleetCoordinator::handle(const Event& event) {
     others_[event.progress.coordinator].progress = event.progress;
     return;
   }
+  if (event.kind == Event::Kind::kMission) {
+    others_[event.mission.coordinator].mission = event.mission;
+    return;
+  }
   RobotRecord& robot = robots_[event.robot_id];
   switch (event.kind) {
     case Event::Kind::kAnnouncement: handle_announcement(robot, event.announcement); return;
@@ -222,7 +236,8 @@ void FleetCoordinator::handle(const Event& event) {
     case Event::Kind::kState: handle_state(robot, event.state, event.received); return;
     case Event::Kind::kStatus:
     case Event::Kind::kProgress:
-    case Event::Kind::kTaskRequest: return;
+    case Event::Kind::kTaskRequest:
+    case Event::Kind::kMission: return;
   }
 }
 
@@ -902,6 +917,7 @@ void FleetCoordinator::follow(fleet_transport::Transport& transport, Clock::time
     mirrored_ = active->status.coordinator;
     spdlog::info("standby: follows coordinator {} (term {})", hex(mirrored_), active->status.term);
   }
+  if (active->mission) adopt_tasks(*active->mission);
   for (const fleet_transport::TaskVisit& visit : active->progress.done_visits) progress_.mark(visit);
   mirrored_roles_.clear();
   for (const fleet_transport::Assignment& row : active->progress.assignments) {
@@ -943,6 +959,7 @@ void FleetCoordinator::take_over(fleet_transport::Transport& transport, const Ot
   }
   if (options_.journal) {
     options_.journal->claim(term_, incarnation_, claimed_ms_);
+    journal_added_tasks();
     for (const fleet_transport::TaskVisit& visit : progress_.done_visits()) {
       options_.journal->record_visit(visit, progress_.robot_of(visit.role), epoch_);
     }

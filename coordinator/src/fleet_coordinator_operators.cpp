@@ -174,6 +174,7 @@ TaskReply FleetCoordinator::add_task(const TaskRequest& request) {
   mission_.tasks.push_back({cell, {chosen.role}});
   mission_.index_tasks();
   progress_.add_task();
+  if (options_.journal) journaled_tasks_ = mission_.task_count();
   summary_.tasks_total = progress_.tasks_to_do();
   mission_changed_ = true;
   progress_changed_ = true;
@@ -219,6 +220,41 @@ TaskReply FleetCoordinator::cancel_task(const TaskRequest& request) {
   report("task_cancelled", "", reply.reason, task);
   request_replan(reply.reason);
   return reply;
+}
+
+void FleetCoordinator::adopt_tasks(const fleet_transport::MissionInfo& info) {
+  if (info.mission_id != mission_id_) return;
+  for (size_t t = mission_.tasks.size(); t < info.tasks.size(); ++t) {
+    const fleet_transport::MissionTask& task = info.tasks[t];
+    const Vertex cell = mission_vertex(task.x, task.y);
+    const bool roles_ok = !task.roles.empty() && std::all_of(task.roles.begin(), task.roles.end(), [&](int role) {
+      return role >= 0 && role < mission_.agent_count();
+    });
+    if (cell == planner_core::kNoVertex || !roles_ok) {
+      spdlog::error("standby: task {} of the active coordinator's mission is not on this map or names no role of "
+                    "it: not mirrored", t);
+      return;
+    }
+    mission_.tasks.push_back({cell, task.roles});
+    mission_.index_tasks();
+    progress_.add_task();
+    spdlog::info("standby: mirrors task {} at {} added at runtime", t, cell_text(task.x, task.y));
+  }
+  for (size_t t = 0; t < info.tasks.size() && t < mission_.tasks.size(); ++t) {
+    if (info.tasks[t].cancelled) progress_.cancel(static_cast<int>(t));
+  }
+  summary_.tasks_total = progress_.tasks_to_do();
+}
+
+void FleetCoordinator::journal_added_tasks() {
+  for (int t = journaled_tasks_; t < mission_.task_count(); ++t) {
+    const planner_core::Cell at = mission_.graph->cell_of(mission_.tasks[t].at);
+    options_.journal->record_task_added(t, at.x, at.y, mission_.tasks[t].agents.front(), "mirrored");
+  }
+  journaled_tasks_ = mission_.task_count();
+  for (int t = 0; t < progress_.task_count(); ++t) {
+    if (progress_.cancelled(t)) options_.journal->record_task_cancelled(t, "mirrored");
+  }
 }
 
 std::string FleetCoordinator::task_listing() const {

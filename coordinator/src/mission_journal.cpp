@@ -250,7 +250,7 @@ void MissionJournal::record_visit(const fleet_transport::TaskVisit& visit, const
 }
 
 void MissionJournal::record_task_added(int task, int x, int y, int role, const std::string& request_id) {
-  Statement(*this, "INSERT INTO tasks_added VALUES(?1, ?2, ?3, ?4, ?5, ?6, ?7)",
+  Statement(*this, "INSERT OR IGNORE INTO tasks_added VALUES(?1, ?2, ?3, ?4, ?5, ?6, ?7)",
             {run_, static_cast<int64_t>(task), static_cast<int64_t>(x), static_cast<int64_t>(y),
              static_cast<int64_t>(role), request_id, fleet_transport::wall_clock_ms()})
       .run();

@@ -8,8 +8,12 @@
 #include <map>
 #include <set>
 #include <thread>
+#include <filesystem>
+#include <fstream>
+#include <unistd.h>
 
 #include "coordinator/fleet_coordinator.hpp"
+#include "coordinator/mission_journal.hpp"
 #include "coordinator/plan_execution.hpp"
 #include "fake_transport.hpp"
 
@@ -467,6 +471,108 @@ TEST(FleetCoordinator, OnlyTheActiveCoordinatorAnswersTaskRequests) {
   ASSERT_EQ(waiting_wire.replies.size(), 1u);
   EXPECT_FALSE(waiting_wire.replies[0].accepted);
   EXPECT_NE(waiting_wire.replies[0].reason.find("has not started"), std::string::npos);
+}
+
+
+TEST(FleetCoordinator, AStandbyTakesOverTheTasksAddedAtRuntime) {
+  planner_core::Instance mission = planner_core::load_instance(CTSFLEET_CONFIG_DIR "/default/mission-8.yaml");
+  std::vector<FakeRobot> robots = robots_on_their_starts(mission);
+  const int mission_tasks = mission.task_count();
+  fleet_transport::CoordinatorStatus active;
+  active.coordinator = 0xAC;
+  active.term = 1;
+  active.claimed_ms = 1;
+  active.mission_id = mission_fingerprint(mission);
+  // The active coordinator's mission had two tasks added: (28,2) for role 5, then (4,2) for role 1,
+  // which was cancelled.
+  fleet_transport::MissionInfo info;
+  info.coordinator = 0xAC;
+  info.mission_id = active.mission_id;
+  for (const planner_core::Task& task : mission.tasks) {
+    const planner_core::Cell at = mission.graph->cell_of(task.at);
+    info.tasks.push_back({at.x, at.y, task.agents, false});
+  }
+  info.tasks.push_back({28, 2, {5}, false});
+  info.tasks.push_back({4, 2, {1}, true});
+  fleet_transport::FleetStatus progress;
+  progress.coordinator = 0xAC;
+  for (int r = 0; r < mission.agent_count(); ++r) progress.assignments.push_back({"robot" + std::to_string(r), r, 0, 0});
+  FleetCoordinator standby(config_for(mission.agent_count()), std::move(mission), {true, nullptr});
+  standby.on_coordinator_status(active);
+  standby.on_fleet_status(progress);
+  standby.on_mission_info(info);
+  const auto visited = run(standby, robots);
+  const MissionSummary& summary = standby.summary();
+  EXPECT_TRUE(summary.took_over);
+  EXPECT_TRUE(summary.completed);
+  EXPECT_EQ(summary.tasks_total, mission_tasks + 1);  // the cancelled one is not owed
+  const auto& robot5 = visited.at("robot5");
+  EXPECT_NE(std::find(robot5.begin(), robot5.end(), planner_core::Cell{28, 2}), robot5.end());
+}
+
+TEST(FleetCoordinator, ARestartFromTheJournalKeepsTheTasksAddedAtRuntime) {
+  planner_core::Instance mission = planner_core::load_instance(CTSFLEET_CONFIG_DIR "/default/mission-8.yaml");
+  std::vector<FakeRobot> robots = robots_on_their_starts(mission);
+  const int mission_tasks = mission.task_count();
+  const std::string path = (std::filesystem::temp_directory_path() /
+                            ("ctsfleet-restart-" + std::to_string(::getpid()) + ".journal")).string();
+  std::filesystem::remove(path);
+  {
+    MissionJournal journal(path, mission_fingerprint(mission), "test");
+    journal.claim(1, 0x11, 1);
+    journal.record_task_added(mission_tasks, 28, 2, 5, "a");
+    journal.record_task_added(mission_tasks + 1, 4, 2, 1, "b");
+    journal.record_task_cancelled(mission_tasks + 1, "c");
+  }
+  {
+    MissionJournal journal(path, mission_fingerprint(mission), "test");
+    FleetCoordinator restarted(config_for(mission.agent_count()), std::move(mission), {false, &journal});
+    EXPECT_EQ(restarted.summary().tasks_total, mission_tasks + 1);
+    const auto visited = run(restarted, robots);
+    EXPECT_TRUE(restarted.summary().completed);
+    const auto& robot5 = visited.at("robot5");
+    EXPECT_NE(std::find(robot5.begin(), robot5.end(), planner_core::Cell{28, 2}), robot5.end());
+    const auto& robot1 = visited.at("robot1");
+    EXPECT_EQ(std::find(robot1.begin(), robot1.end(), planner_core::Cell{4, 2}), robot1.end());
+  }
+  std::filesystem::remove(path);
+  std::filesystem::remove(path + "-wal");
+  std::filesystem::remove(path + "-shm");
+}
+
+TEST(FleetCoordinator, ATaskNoRobotCanReachIsRefused) {
+  using namespace runtime_tasks;
+  // Two robots above a wall; the free pocket below it is reachable from nowhere.
+  const std::string dir = (std::filesystem::temp_directory_path() /
+                           ("ctsfleet-pocket-" + std::to_string(::getpid()))).string();
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir + "/pocket.map") << "type octile\nheight 5\nwidth 7\nmap\n.......\n.......\n.......\n@@@@@@@\n..@....\n";
+  std::ofstream(dir + "/mission.yaml") << "map: pocket.map\nagents:\n  - {start: [0, 0], goal: [6, 0]}\n"
+                                          "  - {start: [0, 2], goal: [6, 2]}\ntasks:\n  - {at: [3, 1], agents: [0]}\n";
+  planner_core::Instance mission = planner_core::load_instance(dir + "/mission.yaml");
+  std::vector<FakeRobot> robots = robots_on_their_starts(mission);
+  FleetConfig config = config_for(mission.agent_count());
+  config.lifelong = true;
+  FleetCoordinator coordinator(config, std::move(mission));
+  std::optional<fleet_transport::TaskReply> pocket, reachable;
+  run(coordinator, robots, {}, [&](FleetCoordinator& c, FakeTransport& wire, int iteration) {
+    if (iteration == 0) return true;
+    if (wire.last_plan.plan_epoch >= 1 && !pocket) {
+      c.on_task_request(add("pocket", 1, 4, "robot0"));
+      c.on_task_request(add("pocket-any", 0, 4));
+      c.on_task_request(add("reachable", 5, 1, "robot1"));
+      pocket.emplace();
+    }
+    if (const auto* r = reply_to(wire, "pocket-any")) pocket = *r;
+    if (const auto* r = reply_to(wire, "reachable")) reachable = *r;
+    return !(reachable && coordinator.summary().tasks_done == 2);
+  });
+  ASSERT_TRUE(pocket && reachable);
+  EXPECT_FALSE(pocket->accepted);
+  EXPECT_EQ(pocket->reason, "(0,4) cannot be reached from any robot's cell");
+  EXPECT_TRUE(reachable->accepted) << reachable->reason;
+  EXPECT_EQ(coordinator.summary().tasks_done, 2);
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

@@ -23,6 +23,8 @@ TESTS = [
     "test_tasks_added_mid_mission_are_done_and_bad_ones_refused",
     "test_lifelong_mission_takes_tasks_in_three_waves",
     "test_dashboard_in_a_real_browser",
+    "test_a_task_added_survives_a_failover",
+    "test_fastdds_fleet_takes_tasks_and_its_dashboard_sees_them",
 ]
 
 
@@ -63,10 +65,10 @@ class OperationsTest(unittest.TestCase):
             yaml.safe_dump(config, f)
         return path
 
-    def task(self, *args, timeout=60):
+    def task(self, *args, timeout=60, dds="cyclone"):
         """Runs ctsfleet-task; returns (exit code, stdout + stderr)."""
         done = subprocess.run([f"{BIN}/ctsfleet-task", "--domain", str(self.fleet.domain), "--dds-config-dir", DDS_DIR,
-                               "--timeout", "30", *args], capture_output=True, text=True, timeout=timeout)
+                               "--dds", dds, "--timeout", "30", *args], capture_output=True, text=True, timeout=timeout)
         return done.returncode, done.stdout + done.stderr
 
     def listing(self):
@@ -74,10 +76,10 @@ class OperationsTest(unittest.TestCase):
         self.assertEqual(code, 0, text)
         return {int(m.group(1)): m.group(2) for m in re.finditer(r"^task (\d+) at \(\d+,\d+\): (\w+)", text, re.M)}
 
-    def start_fleet(self, lifelong):
-        self.fleet.monitor()
-        self.fleet.agents()
-        self.fleet.coordinator(config=self.config(lifelong), extra=["--json"])
+    def start_fleet(self, lifelong, dds="cyclone"):
+        self.fleet.monitor(dds)
+        self.fleet.agents(dds)
+        self.fleet.coordinator(dds=dds, config=self.config(lifelong), extra=["--json"])
         wait_for(lambda: "plan epoch" in read(self.fleet.log("coordinator")), 120, "the first plan")
 
     def assert_safe(self):
@@ -202,6 +204,69 @@ class OperationsTest(unittest.TestCase):
               f"{percentile(browser.execute_script('return window.ctsfleet.latencies()'), 0.5)}/"
               f"{percentile(browser.execute_script('return window.ctsfleet.latencies()'), 0.99)} ms")
         self.assertIsNone(dashboard.poll())
+        self.assert_safe()
+
+    def test_a_task_added_survives_a_failover(self):
+        self.fleet.monitor()
+        self.fleet.agents()
+        config = self.config(lifelong=False)
+        self.fleet.start("active", [f"{BIN}/ctsfleet-coordinator", "--config", config, "--domain",
+                                    str(self.fleet.domain)])
+        wait_for(lambda: "plan epoch" in read(self.fleet.log("active")), 120, "the first plan")
+        self.fleet.start("standby", [f"{BIN}/ctsfleet-coordinator", "--config", config, "--domain",
+                                     str(self.fleet.domain), "--standby", "--json"])
+        wait_for(lambda: "standby: follows coordinator" in read(self.fleet.log("standby")), 60, "the standby following")
+        x, y = free_cells_away_from_the_mission()[100]
+        code, text = self.task("add", "--at", f"{x},{y}", "--robot", "robot4")
+        self.assertEqual(code, 0, text)
+        self.assertIn("task 16", text)
+        wait_for(lambda: "standby: mirrors task 16" in read(self.fleet.log("standby")), 60, "the standby mirroring it")
+        self.fleet.processes["active"].send_signal(signal.SIGKILL)
+        code = self.fleet.wait_exit("standby", 240)
+        text = read(self.fleet.log("standby"))
+        self.assertEqual(code, 0, text[-3000:])
+        summary = summary_of(text)
+        self.assertTrue(summary["took_over"], summary)
+        self.assertTrue(summary["completed"], summary)
+        self.assertEqual(summary["tasks_total"], 17)
+        self.assertEqual(summary["tasks_done"], 17)
+        self.assert_safe()
+
+    def test_fastdds_fleet_takes_tasks_and_its_dashboard_sees_them(self):
+        self.start_fleet(lifelong=True, dds="fastdds")
+        self.fleet.start("dashboard", [f"{BIN}/ctsfleet-dashboard", "--dds", "fastdds", "--domain",
+                                       str(self.fleet.domain), "--dds-config-dir", DDS_DIR, "--port", "0",
+                                       "--record", os.path.join(self.fleet.dir, "history.jsonl")])
+        log = self.fleet.log("dashboard")
+        wait_for(lambda: "dashboard: http://" in read(log), 60, "the dashboard's address")
+        url = re.search(r"dashboard: (http://\S+)", read(log)).group(1)
+        x, y = free_cells_away_from_the_mission()[7]
+        code, text = self.task("add", "--at", f"{x},{y}", "--any", dds="fastdds")
+        self.assertEqual(code, 0, text)
+        frame = lambda: json.load(urllib.request.urlopen(url + "api/frame", timeout=10))
+        wait_for(lambda: len(frame()["tasks"]) == 17 and all(t == "done" for t in frame()["tasks"]), 240,
+                 "every task, the added one too, done as the dashboard sees it")
+        plan = json.load(urllib.request.urlopen(url + "api/plan", timeout=10))
+        mission_seen = json.load(urllib.request.urlopen(url + "api/mission", timeout=10))
+        self.assertEqual(len(plan["robots"]), 8)
+        self.assertEqual(mission_seen["tasks"][16]["x"], x)
+        kinds = {e["kind"] for e in frame()["events"]}
+        self.assertTrue({"task_added", "task_done", "replan"} <= kinds, kinds)
+        # What it recorded replays: the same robots, the same tasks done.
+        self.fleet.processes["dashboard"].send_signal(signal.SIGINT)
+        self.fleet.wait_exit("dashboard", 30)
+        replay = self.fleet.start("replay", [f"{BIN}/ctsfleet-dashboard", "--replay",
+                                             os.path.join(self.fleet.dir, "history.jsonl"), "--speed", "1000",
+                                             "--port", "0"])
+        wait_for(lambda: "dashboard: http://" in read(self.fleet.log("replay")), 60, "the replay's address")
+        replay_url = re.search(r"dashboard: (http://\S+)", read(self.fleet.log("replay"))).group(1)
+        replayed = lambda: json.load(urllib.request.urlopen(replay_url + "api/frame", timeout=10))
+        wait_for(lambda: len(replayed()["tasks"]) == 17 and all(t == "done" for t in replayed()["tasks"]), 60,
+                 "the replay reaching the end")
+        self.assertEqual(len(replayed()["robots"]), 8)
+        self.assertTrue(replayed()["replay"])
+        self.fleet.processes["coordinator"].send_signal(signal.SIGINT)
+        self.fleet.wait_exit("coordinator", 60)
         self.assert_safe()
 
 

@@ -82,6 +82,8 @@ class FleetCoordinator {
   // An operator's task request (ctsfleet-task, the dashboard): answered on the reply topic by the
   // active coordinator; a repeated request id gets the same answer again.
   void on_task_request(const fleet_transport::TaskRequest& request);
+  // A standby mirrors the tasks the active coordinator was given at runtime from its mission info.
+  void on_mission_info(const fleet_transport::MissionInfo& info);
 
   // One iteration; false once the mission has ended (completed, or timed out).
   bool step(fleet_transport::Transport& transport);
@@ -102,8 +104,9 @@ class FleetCoordinator {
  private:
   enum class Phase { kWaiting, kStandby, kExecuting, kSettling, kDone };
   struct Event {
-    enum class Kind { kAnnouncement, kState, kGone, kStatus, kProgress, kTaskRequest } kind = Kind::kAnnouncement;
+    enum class Kind { kAnnouncement, kState, kGone, kStatus, kProgress, kTaskRequest, kMission } kind = Kind::kAnnouncement;
     fleet_transport::TaskRequest request;
+    fleet_transport::MissionInfo mission;
     fleet_transport::CoordinatorStatus status;
     fleet_transport::FleetStatus progress;
     fleet_transport::Announcement announcement;
@@ -116,6 +119,7 @@ class FleetCoordinator {
   struct OtherCoordinator {
     fleet_transport::CoordinatorStatus status;
     fleet_transport::FleetStatus progress;  // its last progress report
+    std::optional<fleet_transport::MissionInfo> mission;  // its last mission info (tasks added at runtime)
     Clock::time_point heard;                // its last heartbeat
   };
 
@@ -162,6 +166,10 @@ class FleetCoordinator {
   // published at the end of the step, where the transport is at hand).
   void publish_mission(fleet_transport::Transport& transport);
   void publish_plan(fleet_transport::Transport& transport, int64_t flowtime, double planning_ms);
+  // Standby: appends the tasks the followed coordinator's mission has beyond this one's, and its cancellations.
+  void adopt_tasks(const fleet_transport::MissionInfo& info);
+  // Journals the tasks added at runtime that the journal does not have yet (after a takeover).
+  void journal_added_tasks();
   void report(const std::string& kind, const std::string& robot_id, const std::string& text, double value = 0);
   void for_operators(const char* what, const std::function<void()>& publish);
   RobotRecord* robot_of_agent(int a);
@@ -217,6 +225,7 @@ class FleetCoordinator {
   bool mission_changed_ = false;
   bool lifelong_idle_ = false;       // lifelong: every task done, waiting for tasks
   double last_planning_ms_ = 0;
+  int journaled_tasks_ = 0;          // tasks the journal knows: the mission's and those it recorded
   int64_t steps_of_earlier_plans_ = 0;  // moves confirmed under plans replaced since
   int64_t steps_planned_ = 0;           // moves of every plan made, each from its start
 };
