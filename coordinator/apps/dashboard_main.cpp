@@ -103,6 +103,9 @@ int main(int argc, char** argv) {
   app.add_option("--lost-after", lost_after_s, "show a robot lost after this many seconds without a word from it")
       ->check(ctsfleet::positive_seconds(3600))
       ->capture_default_str();
+  std::string web_dir;
+  app.add_option("--web-dir", web_dir, "serve the page's files from this folder (working on the page; default: built in)")
+      ->check(CLI::ExistingDirectory);
   app.add_option("--duration", duration_s, "stop after this many seconds (0: until Ctrl-C)")
       ->check(ctsfleet::number_in(0, 1e7))
       ->capture_default_str();
@@ -142,6 +145,7 @@ int main(int argc, char** argv) {
         })
              : nullptr,
         recorder.get());
+    server.set_web_dir(web_dir);
     server.bind(host, port);
     if (!is_loopback(host) && !config.security.enabled()) {
       spdlog::warn("serving on {} without DDS Security: anyone who can reach this port sees the fleet and can give "

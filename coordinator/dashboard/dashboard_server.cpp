@@ -4,6 +4,8 @@
 #include <spdlog/spdlog.h>
 
 #include <chrono>
+#include <fstream>
+#include <sstream>
 #include <random>
 
 #include "dashboard/message_json.hpp"
@@ -95,14 +97,30 @@ Json DashboardServer::frame() const {
 }
 
 void DashboardServer::add_routes() {
-  http_->Get("/", [](const httplib::Request&, httplib::Response& response) {
-    const WebAsset& page = web_assets().at("/index.html");
-    response.set_content(page.body, page.content_type);
+  // The page's files: built in, or read from --web-dir at every request (to work on the page
+  // without rebuilding). Only the built-in names are served either way.
+  const auto serve_file = [this](const std::string& path, const WebAsset& asset, httplib::Response& response) {
+    response.set_header("Cache-Control", "no-cache");
+    if (web_dir_.empty()) {
+      response.set_content(asset.body, asset.content_type);
+      return;
+    }
+    std::ifstream in(web_dir_ + path, std::ios::binary);
+    if (!in) {
+      response.status = 404;
+      response.set_content("not in --web-dir " + web_dir_ + ": " + path, "text/plain");
+      return;
+    }
+    std::ostringstream body;
+    body << in.rdbuf();
+    response.set_content(body.str(), asset.content_type);
+  };
+  http_->Get("/", [serve_file](const httplib::Request&, httplib::Response& response) {
+    serve_file("/index.html", web_assets().at("/index.html"), response);
   });
   for (const auto& [path, asset] : web_assets()) {
-    http_->Get(path, [&asset = asset](const httplib::Request&, httplib::Response& response) {
-      response.set_header("Cache-Control", "no-cache");
-      response.set_content(asset.body, asset.content_type);
+    http_->Get(path, [serve_file, path = path, &asset = asset](const httplib::Request&, httplib::Response& response) {
+      serve_file(path, asset, response);
     });
   }
   http_->Get("/api/frame", [this](const httplib::Request&, httplib::Response& response) {

@@ -39,6 +39,8 @@ class DashboardServer {
   void set_clock(std::function<int64_t()> now_ms) { now_ms_ = std::move(now_ms); }
   // A replay's speed control (unset: live).
   void set_replay_control(std::function<void(double speed)> set_speed) { set_speed_ = std::move(set_speed); }
+  // Serve the page's files from this folder instead of the built-in copies ("" = built in).
+  void set_web_dir(std::string dir) { web_dir_ = std::move(dir); }
   // Wakes the streams (e.g. the replay clock moved although no message came).
   void touch();
 
@@ -60,6 +62,7 @@ class DashboardServer {
   std::function<int64_t()> now_ms_;
   std::function<void(double)> set_speed_;
   int port_ = 0;
+  std::string web_dir_;
 
   std::mutex mutex_;
   std::condition_variable changed_;

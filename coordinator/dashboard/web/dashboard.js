@@ -10,10 +10,18 @@ const view = {
   lastSeq: {},        // robot id -> the last state sequence number seen
   latencies: [],      // ms from a state reaching the dashboard to this page, newest last
   frames: 0,
-  mapImage: null,     // the map's walls, drawn once per mission
+  laidOut: false,     // the layers are sized for the mission
+  plansKey: "",       // what the tasks-and-plans layer shows
   scale: 1,
+  dirty: true,        // something to draw again
+  panelsDue: 0,       // when the side panels may be rendered again (performance.now())
+  eventsShown: -1,
 };
 
+// Three stacked canvases: walls (drawn once per mission), tasks and plans (drawn again a few times a
+// second at most, when they change), robots (animated; on top, it takes the clicks).
+const walls = document.getElementById("map-walls");
+const plans = document.getElementById("map-plans");
 const canvas = document.getElementById("map");
 const context = canvas.getContext("2d");
 const statusColours = {
@@ -41,21 +49,22 @@ function layout() {
   if (!m) return;
   const room = Math.min(window.innerWidth * 0.6, window.innerHeight - 120, 900);
   view.scale = Math.max(2, Math.floor(room / Math.max(m.width, m.height)));
-  canvas.width = m.width * view.scale;
-  canvas.height = m.height * view.scale;
-  const image = document.createElement("canvas");
-  image.width = canvas.width;
-  image.height = canvas.height;
-  const g = image.getContext("2d");
+  for (const layer of [walls, plans, canvas]) {
+    layer.width = m.width * view.scale;
+    layer.height = m.height * view.scale;
+  }
+  const g = walls.getContext("2d");
   g.fillStyle = "#ffffff";
-  g.fillRect(0, 0, image.width, image.height);
+  g.fillRect(0, 0, walls.width, walls.height);
   g.fillStyle = "#37474f";
   m.rows.forEach((row, y) => {
     for (let x = 0; x < row.length; ++x) {
       if (row[x] !== ".") g.fillRect(x * view.scale, y * view.scale, view.scale, view.scale);
     }
   });
-  view.mapImage = image;
+  view.laidOut = true;
+  view.plansKey = "";  // the scale may have changed
+  view.dirty = true;
 }
 
 function cellCentre(x, y) {
@@ -67,87 +76,125 @@ function isFree(x, y) {
   return m && y >= 0 && y < m.height && x >= 0 && x < m.width && m.rows[y][x] === ".";
 }
 
-function draw() {
+// Tasks (a square each, coloured by its state) and the remaining paths, on the middle layer: drawn
+// again only when they change, and at most five times a second (paths are the page's most
+// expensive drawing with a hundred robots; a path a fifth of a second old is as good to an operator).
+// Returns true when a change waits for a later frame.
+let plansDrawn = 0;
+function drawTasksAndPlans(f, now) {
   const m = view.mission;
-  const f = view.frame;
-  if (!m || !view.mapImage) {
-    requestAnimationFrame(draw);
-    return;
-  }
+  const version = view.plan ? view.plan.version : -1;
+  const key = `${m.version}|${version}|${f ? f.tasks.join() : ""}|` +
+              (f ? f.robots.map((r) => `${r.id}:${r.path_from}:${r.status}`).join() : "");
+  if (key === view.plansKey) return false;
+  if (view.plansKey !== "" && now - plansDrawn < 200) return true;  // changed: drawn on a later frame
+  view.plansKey = key;
+  plansDrawn = now;
+  const g = plans.getContext("2d");
   const s = view.scale;
-  context.drawImage(view.mapImage, 0, 0);
-  // Tasks: a square per task, coloured by its state.
+  g.clearRect(0, 0, plans.width, plans.height);
   const states = f ? f.tasks : [];
   m.tasks.forEach((task, i) => {
     const state = task.cancelled ? "cancelled" : states[i] || "pending";
-    context.fillStyle = taskColours[state];
-    context.globalAlpha = state === "done" || state === "cancelled" ? 0.45 : 0.9;
-    context.fillRect(task.x * s + s * 0.15, task.y * s + s * 0.15, s * 0.7, s * 0.7);
+    g.fillStyle = taskColours[state];
+    g.globalAlpha = state === "done" || state === "cancelled" ? 0.45 : 0.9;
+    g.fillRect(task.x * s + s * 0.15, task.y * s + s * 0.15, s * 0.7, s * 0.7);
   });
-  context.globalAlpha = 1;
-  if (f) {
-    // Remaining plans, then robots on top.
-    for (const robot of f.robots) {
-      const plan = view.plan && view.plan.robots[robot.id];
-      const at = view.drawn[robot.id];
-      if (!plan || !at || robot.path_from < 0 || robot.status === "lost" || robot.status === "left") continue;
-      context.strokeStyle = robotColour(robot.id);
-      context.globalAlpha = 0.5;
-      context.lineWidth = Math.max(1, s * 0.15);
-      context.beginPath();
-      context.moveTo(...cellCentre(at.x, at.y));
-      for (const [x, y] of plan.path.slice(robot.path_from)) context.lineTo(...cellCentre(x, y));
-      context.stroke();
-      // Its goal: a ring at the path's end.
-      const end = plan.path[plan.path.length - 1];
-      context.beginPath();
-      context.arc(...cellCentre(end[0], end[1]), s * 0.3, 0, 2 * Math.PI);
-      context.stroke();
-      context.globalAlpha = 1;
-    }
-    for (const robot of f.robots) {
-      const at = view.drawn[robot.id];
-      if (!at) continue;
-      const [px, py] = cellCentre(at.x, at.y);
-      context.beginPath();
-      context.arc(px, py, s * 0.42, 0, 2 * Math.PI);
-      context.fillStyle = robot.status === "lost" || robot.status === "left" ? "#e0e0e0" : robotColour(robot.id);
-      context.fill();
-      context.lineWidth = Math.max(2, s * 0.12);
-      context.strokeStyle = statusColours[robot.status] || "#000";
-      context.setLineDash(robot.status === "lost" ? [3, 3] : []);
-      context.stroke();
-      context.setLineDash([]);
-      if (s >= 12) {
-        context.fillStyle = "#000";
-        context.font = `${Math.max(9, s * 0.45)}px system-ui`;
-        context.fillText(robot.id.replace(/^robot/, "r"), px + s * 0.45, py - s * 0.35);
-      }
-    }
+  g.globalAlpha = 0.5;
+  g.lineWidth = Math.max(1, s * 0.15);
+  for (const robot of f ? f.robots : []) {
+    const plan = view.plan && view.plan.robots[robot.id];
+    if (!plan || robot.path_from < 0 || robot.status === "lost" || robot.status === "left") continue;
+    const rest = plan.path.slice(Math.max(0, robot.path_from - 1));
+    if (rest.length === 0) continue;
+    g.strokeStyle = robotColour(robot.id);
+    g.beginPath();
+    g.moveTo(...cellCentre(rest[0][0], rest[0][1]));
+    for (const [x, y] of rest.slice(1)) g.lineTo(...cellCentre(x, y));
+    // Its goal: a ring at the path's end.
+    const end = plan.path[plan.path.length - 1];
+    g.moveTo(...cellCentre(end[0] + 0.3, end[1]));
+    g.arc(...cellCentre(end[0], end[1]), s * 0.3, 0, 2 * Math.PI);
+    g.stroke();
   }
+  g.globalAlpha = 1;
+  return false;
+}
+
+// Each robot is drawn from a sprite (its disc, outline and label, made once per look and scale):
+// copying a small image is much cheaper than filling a path and shaping text, thirty times a second.
+const sprites = new Map();  // "id|status|scale" -> canvas
+function robotSprite(robot, s) {
+  const key = `${robot.id}|${robot.status}|${s}`;
+  let sprite = sprites.get(key);
+  if (sprite) return sprite;
+  const labelled = s >= 12;
+  sprite = document.createElement("canvas");
+  sprite.width = Math.ceil(s * (labelled ? 2.6 : 1));
+  sprite.height = Math.ceil(s * (labelled ? 1.4 : 1));
+  const g = sprite.getContext("2d");
+  const cx = s * 0.5, cy = sprite.height - s * 0.5;
+  g.beginPath();
+  g.arc(cx, cy, s * 0.42, 0, 2 * Math.PI);
+  g.fillStyle = robot.status === "lost" || robot.status === "left" ? "#e0e0e0" : robotColour(robot.id);
+  g.fill();
+  g.lineWidth = Math.max(2, s * 0.12);
+  g.strokeStyle = statusColours[robot.status] || "#000";
+  g.setLineDash(robot.status === "lost" ? [3, 3] : []);
+  g.stroke();
+  if (labelled) {
+    g.fillStyle = "#000";
+    g.font = `${Math.max(9, s * 0.45)}px system-ui`;
+    g.fillText(robot.id.replace(/^robot/, "r"), cx + s * 0.45, cy - s * 0.35);
+  }
+  if (sprites.size > 5000) sprites.clear();
+  sprites.set(key, sprite);
+  return sprite;
+}
+
+let lastDraw = 0;
+function draw(now) {
   requestAnimationFrame(draw);
+  const f = view.frame;
+  if (!view.mission || !view.laidOut || !view.dirty || now - lastDraw < 33) return;  // at most 30 frames per second
+  lastDraw = now;
+  const gliding = glide(now);
+  view.dirty = drawTasksAndPlans(f, now) || gliding;  // something still to draw on a later frame
+  const s = view.scale;
+  context.clearRect(0, 0, canvas.width, canvas.height);
+  for (const robot of f ? f.robots : []) {
+    const at = view.drawn[robot.id];
+    if (!at) continue;
+    const sprite = robotSprite(robot, s);
+    context.drawImage(sprite, Math.round(at.x * s), Math.round((at.y + 1) * s - sprite.height));
+  }
 }
 
 // Robots glide towards their reported pose: an exponential approach with a 100 ms time constant.
-let lastTick = performance.now();
-function glide() {
-  const now = performance.now();
-  const blend = Math.min(1, (now - lastTick) / 100);
-  lastTick = now;
-  if (view.frame) {
-    for (const robot of view.frame.robots) {
-      if (robot.x === undefined) continue;
-      const target = { x: robot.pose_x ?? robot.x, y: robot.pose_y ?? robot.y };
-      const at = view.drawn[robot.id];
-      if (!at || Math.hypot(target.x - at.x, target.y - at.y) > 3) {
-        view.drawn[robot.id] = { ...target };  // first sight, or a jump: no gliding across the map
+// Returns true while some robot is still on its way (the next animation frame must draw).
+let lastGlide = performance.now();
+function glide(now) {
+  const blend = Math.min(1, (now - lastGlide) / 100);
+  lastGlide = now;
+  let moving = false;
+  for (const robot of view.frame ? view.frame.robots : []) {
+    if (robot.x === undefined) continue;
+    const target = { x: robot.pose_x ?? robot.x, y: robot.pose_y ?? robot.y };
+    const at = view.drawn[robot.id];
+    if (!at || Math.hypot(target.x - at.x, target.y - at.y) > 3) {
+      view.drawn[robot.id] = { ...target };  // first sight, or a jump: no gliding across the map
+    } else {
+      at.x += (target.x - at.x) * blend;
+      at.y += (target.y - at.y) * blend;
+      if (Math.hypot(target.x - at.x, target.y - at.y) > 0.01) {
+        moving = true;
       } else {
-        at.x += (target.x - at.x) * blend;
-        at.y += (target.y - at.y) * blend;
+        at.x = target.x;
+        at.y = target.y;
       }
     }
   }
-  setTimeout(glide, 16);
+  return moving;
 }
 
 // --- Panels --------------------------------------------------------------------------------
@@ -158,7 +205,8 @@ function text(value, digits = 0) {
 
 function renderPanels() {
   const f = view.frame;
-  if (!f) return;
+  if (!f || performance.now() < view.panelsDue) return;
+  view.panelsDue = performance.now() + 500;  // twice a second is plenty for tables
   const c = f.coordinator;
   document.getElementById("coordinator").textContent =
     c ? `coordinator ${c.id.slice(0, 8)} (${c.role}, term ${c.term}, epoch ${c.epoch})` : "no coordinator heard";
@@ -176,11 +224,7 @@ function renderPanels() {
   ];
   document.getElementById("figures").innerHTML =
     rows.map(([name, value]) => `<tr><td>${name}</td><td>${value}</td></tr>`).join("");
-  const body = document.querySelector("#robots tbody");
-  body.innerHTML = f.robots.map((r) => `<tr data-robot="${r.id}">
-      <td>${r.id}</td><td class="status-${r.status}">${r.status}</td><td>${r.role >= 0 ? r.role : "–"}</td>
-      <td>${r.x === undefined ? "–" : `(${r.x},${r.y})`}</td><td>${r.battery >= 0 ? r.battery + "%" : "–"}</td>
-      <td>${r.next_tasks.length}</td><td>${r.next_tasks.slice(0, 6).join(", ")}</td></tr>`).join("");
+  renderRobotTable(f.robots);
   const select = document.getElementById("task-robot");
   const ids = f.robots.filter((r) => r.role >= 0).map((r) => r.id);
   const have = [...select.options].slice(1).map((o) => o.value);
@@ -190,10 +234,43 @@ function renderPanels() {
     for (const id of ids) select.add(new Option(id, id));
     select.value = ids.includes(chosen) ? chosen : "";
   }
+  if (view.eventsShown === f.events_total) return;
+  view.eventsShown = f.events_total;
   document.getElementById("events").innerHTML = [...f.events].reverse().map((e) => {
     const time = new Date(e.stamp_ms).toLocaleTimeString();
     return `<li><span class="kind kind-${e.kind}">${e.kind}</span> ${time} ${e.robot ? e.robot + ": " : ""}${escapeHtml(e.text)}</li>`;
   }).join("");
+}
+
+// One row per robot, kept from frame to frame: only the cells whose text changed are touched (a
+// table rebuilt twice a second for a hundred robots cost the page a tenth of a core).
+const robotRows = new Map();  // robot id -> [td...]
+function renderRobotTable(robots) {
+  const body = document.querySelector("#robots tbody");
+  const seen = new Set();
+  for (const r of robots) {
+    seen.add(r.id);
+    let cells = robotRows.get(r.id);
+    if (!cells) {
+      const row = body.insertRow();
+      row.dataset.robot = r.id;
+      cells = [...Array(7)].map(() => row.insertCell());
+      robotRows.set(r.id, cells);
+    }
+    const values = [r.id, r.status, r.role >= 0 ? String(r.role) : "–", r.x === undefined ? "–" : `(${r.x},${r.y})`,
+                    r.battery >= 0 ? `${r.battery}%` : "–", String(r.next_tasks.length), r.next_tasks.slice(0, 6).join(", ")];
+    values.forEach((value, i) => {
+      if (cells[i].textContent !== value) cells[i].textContent = value;
+    });
+    const statusClass = `status-${r.status}`;
+    if (cells[1].className !== statusClass) cells[1].className = statusClass;
+  }
+  for (const [id, cells] of robotRows) {
+    if (!seen.has(id)) {
+      cells[0].parentElement.remove();
+      robotRows.delete(id);
+    }
+  }
 }
 
 function escapeHtml(s) {
@@ -211,6 +288,7 @@ function onFrame(frame) {
   }
   if (view.latencies.length > 5000) view.latencies.splice(0, view.latencies.length - 5000);
   view.frame = frame;
+  view.dirty = true;
   ++view.frames;
   document.getElementById("replay").hidden = !frame.replay;
   renderPanels();
@@ -221,8 +299,8 @@ function connect() {
   const connection = document.getElementById("connection");
   source.onopen = () => { connection.textContent = "live"; connection.className = "good"; };
   source.onerror = () => { connection.textContent = "reconnecting…"; connection.className = "bad"; };
-  source.addEventListener("mission", (e) => { view.mission = JSON.parse(e.data); layout(); });
-  source.addEventListener("plan", (e) => { view.plan = JSON.parse(e.data); });
+  source.addEventListener("mission", (e) => { view.mission = JSON.parse(e.data); layout(); view.dirty = true; });
+  source.addEventListener("plan", (e) => { view.plan = JSON.parse(e.data); view.dirty = true; });
   source.addEventListener("frame", (e) => onFrame(JSON.parse(e.data)));
 }
 
@@ -259,7 +337,7 @@ for (const button of document.querySelectorAll("#replay button")) {
     body: JSON.stringify({ speed: Number(button.dataset.speed) }),
   }));
 }
-window.addEventListener("resize", layout);
+window.addEventListener("resize", () => { layout(); view.plansKey = ""; view.dirty = true; });
 
 window.ctsfleet = {
   view,
@@ -272,5 +350,4 @@ window.ctsfleet = {
 };
 
 connect();
-glide();
 requestAnimationFrame(draw);
