@@ -18,6 +18,7 @@
 #include "dashboard/message_json.hpp"
 #include "observer_options.hpp"
 #include "planner_core/input_error.hpp"
+#include "planner_core/svg_writer.hpp"
 
 namespace {
 
@@ -103,6 +104,10 @@ int main(int argc, char** argv) {
   app.add_option("--lost-after", lost_after_s, "show a robot lost after this many seconds without a word from it")
       ->check(ctsfleet::positive_seconds(3600))
       ->capture_default_str();
+  std::string svg;
+  app.add_option("--svg", svg, "with --replay or --plan: draw the run (map, tasks, each robot's trail) as an SVG "
+                               "picture, and exit")
+      ->check(ctsfleet::writable_file());
   std::string web_dir;
   app.add_option("--web-dir", web_dir, "serve the page's files from this folder (working on the page; default: built in)")
       ->check(CLI::ExistingDirectory);
@@ -127,6 +132,14 @@ int main(int argc, char** argv) {
       entries = dashboard::plan_history(loaded, solution.solution, step_ms);
     }
     if (!live && !record.empty()) throw planner_core::InputError("--record: only a live dashboard records");
+    if (!svg.empty()) {
+      if (live) throw planner_core::InputError("--svg: draws a --replay or a --plan");
+      const dashboard::HistoryPicture picture = dashboard::history_picture(entries, replay.empty() ? plan : replay);
+      planner_core::write_svg(svg, picture.instance, picture.solution);
+      std::cout << "picture of " << picture.robots.size() << " robots over " << picture.solution.size() - 1
+                << " moves: " << svg << std::endl;
+      return 0;
+    }
     const fleet_transport::TransportConfig config = dds.transport_config();
     std::unique_ptr<dashboard::HistoryRecorder> recorder;
     if (!record.empty()) recorder = std::make_unique<dashboard::HistoryRecorder>(record);

@@ -1,6 +1,8 @@
 #include "dashboard/history.hpp"
 
 #include <algorithm>
+#include <map>
+#include <optional>
 #include <set>
 
 #include "dashboard/message_json.hpp"
@@ -179,6 +181,71 @@ std::vector<HistoryEntry> plan_history(const planner_core::Instance& instance, c
                                                               "plan", 1});
   }
   return out;
+}
+
+HistoryPicture history_picture(const std::vector<HistoryEntry>& entries, const std::string& source) {
+  std::optional<fleet_transport::MissionInfo> mission;
+  std::map<std::string, int> role_of;                      // robot -> role, from the last fleet status
+  std::map<std::string, std::vector<planner_core::Cell>> trail;  // robot -> cells, in time order
+  std::vector<std::pair<std::string, planner_core::Cell>> moves;  // every change of a robot's cell
+  for (const HistoryEntry& entry : entries) {
+    if (entry.type == "mission") mission = entry.message.get<fleet_transport::MissionInfo>();
+    if (entry.type == "status") {
+      role_of.clear();
+      for (const auto& row : entry.message.get<fleet_transport::FleetStatus>().assignments) role_of[row.robot_id] = row.role;
+    }
+    if (entry.type == "state") {
+      const auto state = entry.message.get<fleet_transport::RobotState>();
+      const planner_core::Cell cell{state.cell_x, state.cell_y};
+      auto& cells = trail[state.robot_id];
+      if (cells.empty() || !(cells.back() == cell)) {
+        cells.push_back(cell);
+        moves.emplace_back(state.robot_id, cell);
+      }
+    }
+  }
+  if (!mission) throw planner_core::InputError(source + ": no mission in it: nothing to draw");
+  if (trail.empty()) throw planner_core::InputError(source + ": no robot state in it: nothing to draw");
+  std::vector<std::string> rows;
+  for (size_t start = 0; start <= mission->map_rows.size();) {
+    const size_t end = std::min(mission->map_rows.find('\n', start), mission->map_rows.size());
+    rows.push_back(mission->map_rows.substr(start, end - start));
+    start = end + 1;
+  }
+  HistoryPicture picture;
+  planner_core::Instance& instance = picture.instance;
+  instance.graph = std::make_shared<const planner_core::Graph>(mission->width, mission->height, rows);
+  instance.source = source;
+  const planner_core::Graph& map = *instance.graph;
+  std::map<std::string, int> agent_of;
+  for (const auto& [robot, cells] : trail) {
+    const planner_core::Vertex start = map.vertex_at(cells.front()), goal = map.vertex_at(cells.back());
+    if (start == planner_core::kNoVertex || goal == planner_core::kNoVertex) continue;  // reported off the map
+    agent_of[robot] = instance.agent_count();
+    picture.robots.push_back(robot);
+    instance.starts.push_back(start);
+    instance.goals.push_back(goal);
+  }
+  for (const fleet_transport::MissionTask& task : mission->tasks) {
+    planner_core::Task drawn{map.vertex_at({task.x, task.y}), {}};
+    for (const auto& [robot, role] : role_of) {
+      if (std::find(task.roles.begin(), task.roles.end(), role) != task.roles.end() && agent_of.count(robot)) {
+        drawn.agents.push_back(agent_of[robot]);
+      }
+    }
+    if (drawn.at != planner_core::kNoVertex && !drawn.agents.empty() && !task.cancelled) instance.tasks.push_back(drawn);
+  }
+  instance.index_tasks();
+  planner_core::Config now = instance.starts;
+  picture.solution.push_back(now);
+  for (const auto& [robot, cell] : moves) {
+    const auto agent = agent_of.find(robot);
+    const planner_core::Vertex v = map.vertex_at(cell);
+    if (agent == agent_of.end() || v == planner_core::kNoVertex || now[agent->second] == v) continue;
+    now[agent->second] = v;
+    picture.solution.push_back(now);
+  }
+  return picture;
 }
 
 }  // namespace dashboard

@@ -49,4 +49,16 @@ std::vector<HistoryEntry> load_history(const std::string& path);
 std::vector<HistoryEntry> plan_history(const planner_core::Instance& instance, const planner_core::Solution& solution,
                                        int64_t step_ms);
 
+// What a history shows, as a plan for planner_core's SVG picture (write_svg): the last mission's
+// map and tasks, and each robot that reported a cell as an agent whose path is the cells it stood
+// on, one timestep per change of any robot's cell (agents in robot-id order; a task's agents are the
+// robots last bound to its roles). Throws planner_core::InputError when the history has no mission
+// or no robot state.
+struct HistoryPicture {
+  planner_core::Instance instance;
+  planner_core::Solution solution;
+  std::vector<std::string> robots;  // agent -> robot id
+};
+HistoryPicture history_picture(const std::vector<HistoryEntry>& entries, const std::string& source);
+
 }  // namespace dashboard

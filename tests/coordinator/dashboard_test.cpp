@@ -240,5 +240,32 @@ TEST(PlanHistory, APlanPlaysToTheEndWithEveryTaskDone) {
   EXPECT_EQ(crashed.frame_json(0)["events"][0]["kind"], "plan_failed");
 }
 
+TEST(HistoryPicture, ARunBecomesAPlanForTheSvgPicture) {
+  planner_core::Instance instance;
+  instance.graph = std::make_shared<const planner_core::Graph>(3, 2, std::vector<std::string>{"...", "..."});
+  const auto v = [&](int x, int y) { return instance.graph->vertex_at({x, y}); };
+  instance.starts = {v(0, 0), v(0, 1)};
+  instance.goals = {v(2, 0), v(2, 1)};
+  instance.tasks = {{v(1, 0), {0}}, {v(1, 1), {1}}};
+  instance.index_tasks();
+  const planner_core::Solution solution = {{v(0, 0), v(0, 1)}, {v(1, 0), v(1, 1)}, {v(2, 0), v(2, 1)}};
+  const HistoryPicture picture = history_picture(plan_history(instance, solution, 100), "run");
+  EXPECT_EQ(picture.robots, (std::vector<std::string>{"agent0", "agent1"}));
+  EXPECT_EQ(picture.instance.starts, instance.starts);
+  EXPECT_EQ(picture.instance.goals, instance.goals);
+  ASSERT_EQ(picture.instance.tasks.size(), 2u);
+  EXPECT_EQ(picture.instance.tasks[1].agents, std::vector<int>{1});
+  EXPECT_EQ(picture.solution.size(), 5u);  // the start, then one step per robot's move
+  EXPECT_EQ(picture.solution.back(), instance.goals);
+  // Nothing to draw: said, naming the file.
+  std::vector<HistoryEntry> no_mission = {{0, "state", fleet_transport::RobotState{}}};
+  try {
+    history_picture(no_mission, "empty.jsonl");
+    FAIL() << "drew a history without a mission";
+  } catch (const planner_core::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("empty.jsonl: no mission"), std::string::npos) << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace dashboard

@@ -265,6 +265,14 @@ class OperationsTest(unittest.TestCase):
                  "the replay reaching the end")
         self.assertEqual(len(replayed()["robots"]), 8)
         self.assertTrue(replayed()["replay"])
+        # ... and draws as a picture.
+        picture = os.path.join(self.fleet.dir, "run.svg")
+        drawn = subprocess.run([f"{BIN}/ctsfleet-dashboard", "--replay", os.path.join(self.fleet.dir, "history.jsonl"),
+                                "--svg", picture], capture_output=True, text=True, timeout=60)
+        self.assertEqual(drawn.returncode, 0, drawn.stderr)
+        self.assertIn("picture of 8 robots", drawn.stdout)
+        with open(picture) as f:
+            self.assertIn("<svg", f.read(200))
         self.fleet.processes["coordinator"].send_signal(signal.SIGINT)
         self.fleet.wait_exit("coordinator", 60)
         self.assert_safe()
