@@ -6,7 +6,7 @@ include(CMakePackageConfigHelpers)
 set(CTSFLEET_PROGRAMS
   ctsfleet-solve ctsfleet-gen ctsfleet-bench ctsfleet-seqbench
   ctsfleet-coordinator ctsfleet-sim ctsfleet-monitor ctsfleet-fleetbench ctsfleet-discovery
-  ctsfleet-agent ctsfleet-toio-emulator ctsfleet-toio-calibrate)
+  ctsfleet-agent ctsfleet-toio-emulator ctsfleet-toio-calibrate ctsfleet-dashboard ctsfleet-task)
 install(TARGETS ${CTSFLEET_PROGRAMS} RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 install(PROGRAMS scripts/ctsfleet-plot DESTINATION ${CMAKE_INSTALL_BINDIR})
 install(PROGRAMS scripts/fleet-ca DESTINATION ${CMAKE_INSTALL_BINDIR} RENAME ctsfleet-ca)
@@ -46,7 +46,9 @@ set(CTSFLEET_MAN_NAMES
   "ctsfleet-fleetbench|measure latency, CPU and replanning time of the fleet runtime"
   "ctsfleet-agent|one robot of the fleet: a simulated robot or a toio cube over BLE"
   "ctsfleet-toio-emulator|emulated toio cubes behind a fake BlueZ on a private D-Bus"
-  "ctsfleet-toio-calibrate|find toio cubes, fit and check where the grid lies on a mat")
+  "ctsfleet-toio-calibrate|find toio cubes, fit and check where the grid lies on a mat"
+  "ctsfleet-dashboard|the fleet live in a browser, and its runs recorded, replayed or drawn"
+  "ctsfleet-task|add, cancel or list the tasks of a running fleet")
 find_program(HELP2MAN help2man)
 if(HELP2MAN)
   set(man_pages)
