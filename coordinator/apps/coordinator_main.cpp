@@ -78,7 +78,10 @@ int main(int argc, char** argv) {
       coordinator.on_announcement(a);
     };
     handlers.on_state = [&](const fleet_transport::RobotState& s) { coordinator.on_state(s); };
-    handlers.on_refused = [](const std::string& what) { spdlog::warn("refused: {}", what); };
+    handlers.on_refused = [&](const std::string& what) {
+      spdlog::warn("refused: {}", what);
+      coordinator.on_refused(what);
+    };
     handlers.on_robot_gone = [&](const std::string& id, fleet_transport::GoneReason r) { coordinator.on_robot_gone(id, r); };
     handlers.on_coordinator_status = [&](const fleet_transport::CoordinatorStatus& s) {
       coordinator.on_coordinator_status(s);

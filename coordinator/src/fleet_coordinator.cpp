@@ -61,6 +61,7 @@ FleetCoordinator::FleetCoordinator(const FleetConfig& config, planner_core::Inst
       progress_(mission_),
       started_(Clock::now()) {
   summary_.tasks_total = mission_.task_count();
+  mission_task_count_ = mission_.task_count();
   if (options_.standby) {
     role_ = fleet_transport::CoordinatorRole::kStandby;
     phase_ = Phase::kStandby;
@@ -124,6 +125,14 @@ void FleetCoordinator::on_mission_info(const fleet_transport::MissionInfo& info)
   Event event;
   event.kind = Event::Kind::kMission;
   event.mission = info;
+  events_.push_back(std::move(event));
+}
+
+void FleetCoordinator::on_refused(const std::string& what) {
+  const std::lock_guard<std::mutex> lock(events_mutex_);
+  Event event;
+  event.kind = Event::Kind::kRefused;
+  event.refusal = what;
   events_.push_back(std::move(event));
 }
 
@@ -223,6 +232,10 @@ void FleetCoordinator::handle(const Event& event) {
     others_[event.progress.coordinator].progress = event.progress;
     return;
   }
+  if (event.kind == Event::Kind::kRefused) {
+    report("refused", "", event.refusal);
+    return;
+  }
   if (event.kind == Event::Kind::kMission) {
     others_[event.mission.coordinator].mission = event.mission;
     return;
@@ -237,7 +250,8 @@ void FleetCoordinator::handle(const Event& event) {
     case Event::Kind::kStatus:
     case Event::Kind::kProgress:
     case Event::Kind::kTaskRequest:
-    case Event::Kind::kMission: return;
+    case Event::Kind::kMission:
+    case Event::Kind::kRefused: return;
   }
 }
 

@@ -18,6 +18,7 @@ using planner_core::Vertex;
 namespace {
 
 constexpr size_t kRepliesKept = 256;  // answers remembered for requests sent again
+constexpr int kMaxPendingAddedTasks = 1000;  // tasks added at runtime and not done yet: more is refused
 
 std::string cell_text(int x, int y) { return fmt::format("({},{})", x, y); }
 
@@ -60,7 +61,10 @@ void FleetCoordinator::handle_task_request(const TaskRequest& request, fleet_tra
     return;
   }
   TaskReply reply;
-  switch (request.action) {
+  const int action = static_cast<int>(request.action);
+  if (action < static_cast<int>(TaskAction::kAdd) || action > static_cast<int>(TaskAction::kList)) {
+    reply = refusal(request, "unknown action " + std::to_string(action) + " (add, cancel or list)");
+  } else switch (request.action) {
     case TaskAction::kAdd: reply = add_task(request); break;
     case TaskAction::kCancel: reply = cancel_task(request); break;
     case TaskAction::kList:
@@ -130,6 +134,14 @@ TaskReply FleetCoordinator::add_task(const TaskRequest& request) {
   }
   if (const std::string wrong = task_cell_refusal(mission_, request.x, request.y); !wrong.empty()) {
     return refusal(request, wrong);
+  }
+  int pending_added = 0;
+  for (int t = mission_task_count_; t < progress_.task_count(); ++t) {
+    pending_added += !progress_.task_done(t) && !progress_.cancelled(t) ? 1 : 0;
+  }
+  if (pending_added >= kMaxPendingAddedTasks) {
+    return refusal(request, "already " + std::to_string(pending_added) + " tasks added at runtime wait to be done (at "
+                            "most " + std::to_string(kMaxPendingAddedTasks) + "): add more once some are done");
   }
   const Vertex cell = mission_vertex(request.x, request.y);
   std::vector<Tour> tours = current_tours();

@@ -357,6 +357,9 @@ TEST(FleetCoordinator, TasksAddedWhileItRunsAreCheckedGivenToARobotAndDone) {
       c.on_task_request(add("for-any", 28, 2));
       c.on_task_request(add("for-any", 28, 2));             // sent again: answered again, added once
       c.on_task_request(cancel("cancel-nothing", 99));
+      fleet_transport::TaskRequest odd = add("odd-action", 1, 1);
+      odd.action = static_cast<fleet_transport::TaskAction>(7);  // only a hand-made message says this
+      c.on_task_request(odd);
       c.on_task_request({});                                 // no request id: cannot be answered
     }
     for (const fleet_transport::TaskReply& reply : wire.replies) replies[reply.request_id] = reply;
@@ -369,7 +372,8 @@ TEST(FleetCoordinator, TasksAddedWhileItRunsAreCheckedGivenToARobotAndDone) {
   EXPECT_NE(reason("unknown-robot").find("unknown robot 'nobody'"), std::string::npos) << reason("unknown-robot");
   EXPECT_NE(reason("duplicate").find("duplicate: task 0"), std::string::npos) << reason("duplicate");
   EXPECT_NE(reason("cancel-nothing").find("no task 99"), std::string::npos) << reason("cancel-nothing");
-  for (const char* refused : {"wall", "off-map", "unknown-robot", "duplicate", "cancel-nothing"}) {
+  EXPECT_NE(reason("odd-action").find("unknown action 7"), std::string::npos) << reason("odd-action");
+  for (const char* refused : {"wall", "off-map", "unknown-robot", "duplicate", "cancel-nothing", "odd-action"}) {
     EXPECT_FALSE(replies[refused].accepted) << refused;
   }
   ASSERT_TRUE(replies["for-robot3"].accepted) << reason("for-robot3");
@@ -573,6 +577,22 @@ TEST(FleetCoordinator, ATaskNoRobotCanReachIsRefused) {
   EXPECT_TRUE(reachable->accepted) << reachable->reason;
   EXPECT_EQ(coordinator.summary().tasks_done, 2);
   std::filesystem::remove_all(dir);
+}
+
+
+TEST(FleetCoordinator, WhatTheTransportRefusedIsAnEventForOperators) {
+  planner_core::Instance mission = planner_core::load_instance(CTSFLEET_CONFIG_DIR "/default/mission-8.yaml");
+  FleetCoordinator coordinator(config_for(mission.agent_count()), std::move(mission));
+  FakeTransport wire;
+  coordinator.on_refused("a message about robot 'robot2' written in partition 'robot/robot3': dropped");
+  coordinator.step(wire);
+  ASSERT_EQ(wire.events.size(), 1u);
+  EXPECT_EQ(wire.events[0].kind, "refused");
+  EXPECT_NE(wire.events[0].text.find("robot/robot3"), std::string::npos);
+  EXPECT_EQ(wire.events[0].coordinator, coordinator.incarnation());
+  EXPECT_EQ(wire.last_mission.mission_id, coordinator.mission_id());  // the mission is out from the first step
+  EXPECT_EQ(wire.last_mission.tasks.size(), 16u);
+  EXPECT_EQ(wire.last_mission.width, 32);
 }
 
 }  // namespace

@@ -82,6 +82,9 @@ class FleetCoordinator {
   // An operator's task request (ctsfleet-task, the dashboard): answered on the reply topic by the
   // active coordinator; a repeated request id gets the same answer again.
   void on_task_request(const fleet_transport::TaskRequest& request);
+  // The transport refused a participant's message (e.g. a robot writing as another): an event for
+  // operators, as well as the log line.
+  void on_refused(const std::string& what);
   // A standby mirrors the tasks the active coordinator was given at runtime from its mission info.
   void on_mission_info(const fleet_transport::MissionInfo& info);
 
@@ -104,9 +107,11 @@ class FleetCoordinator {
  private:
   enum class Phase { kWaiting, kStandby, kExecuting, kSettling, kDone };
   struct Event {
-    enum class Kind { kAnnouncement, kState, kGone, kStatus, kProgress, kTaskRequest, kMission } kind = Kind::kAnnouncement;
+    enum class Kind { kAnnouncement, kState, kGone, kStatus, kProgress, kTaskRequest, kMission, kRefused } kind =
+        Kind::kAnnouncement;
     fleet_transport::TaskRequest request;
     fleet_transport::MissionInfo mission;
+    std::string refusal;  // kRefused: what the transport refused
     fleet_transport::CoordinatorStatus status;
     fleet_transport::FleetStatus progress;
     fleet_transport::Announcement announcement;
@@ -225,6 +230,7 @@ class FleetCoordinator {
   bool mission_changed_ = false;
   bool lifelong_idle_ = false;       // lifelong: every task done, waiting for tasks
   double last_planning_ms_ = 0;
+  int mission_task_count_ = 0;       // the mission's own tasks (those added at runtime come after)
   int journaled_tasks_ = 0;          // tasks the journal knows: the mission's and those it recorded
   int64_t steps_of_earlier_plans_ = 0;  // moves confirmed under plans replaced since
   int64_t steps_planned_ = 0;           // moves of every plan made, each from its start
