@@ -63,6 +63,14 @@ class ComposeTest(unittest.TestCase):
         self.assertEqual(len(set(ids)), len(ids), "two robots with one id")
         self.assertEqual(set(self.services["coordinator"]["depends_on"]), set(robots) | {"monitor"})
 
+    def test_the_dashboard_is_published_on_the_hosts_loopback_only(self):
+        dashboard = self.services["dashboard"]
+        command = dashboard["command"]
+        self.assertEqual(command[0], "ctsfleet-dashboard")
+        port = option_value(command, "--port")
+        self.assertEqual(option_value(command, "--listen"), "0.0.0.0")  # inside its container
+        self.assertEqual(dashboard["ports"], [f"127.0.0.1:{port}:{port}"])
+
     def test_one_domain_one_network_one_interface(self):
         for name, service in self.services.items():
             command = service["command"]
