@@ -19,6 +19,7 @@ TESTS = [
     "test_cyclone_unicast_peers_mission_over_three_hosts",
     "test_fastdds_discovery_server_mission_over_three_hosts",
     "test_host_cut_off_for_three_leases_heals",
+    "test_host_that_never_comes_back",
 ]
 HOSTS = ("c", "a", "b")  # coordinator host, then the two robot hosts
 
@@ -153,6 +154,34 @@ class HostsTest(unittest.TestCase):
         self.lan.port("b", up=True)
         wait_for(lambda: "joined" in read(log).split("taken out")[-1], 60, "host b's robots back")
         self.finish()
+
+    def test_host_that_never_comes_back(self):
+        """Host b's bridge port goes down for good mid-mission: its four robots are taken out, the
+        robots of host a finish what they can around the cells b's robots were last on, and the
+        coordinator ends the mission (replacement timeout) naming what is left, every line of it
+        b's roles or blocked by b's robots; no collision among the robots the monitor hears."""
+        log = self.start_fleet("cyclone", config=self.fleet.config_with(replacement_timeout_s=3))
+        wait_for(lambda: any(int(done) >= 2 for done in re.findall(r"tasks (\d+)/16", read(log))), 120,
+                 "the mission under way (two tasks done)")
+        self.lan.port("b", up=False)
+        wait_for(lambda: len(set(re.findall(r"robot (robot[4-7]) taken out", read(log)))) == 4, 30,
+                 "all four robots of host b taken out")
+        code = self.fleet.wait_exit("coordinator", 240)
+        text = read(log)
+        self.assertEqual(code, 3, text[-3000:])  # ended with tasks pending
+        self.assertIn("no robot joined within timing.replacement_timeout_s", text)
+        self.assertIsNone(re.search(r"replanning: robot robot[4-7] joined", text), text[-3000:])  # never back
+        pending = [line for line in text.splitlines() if line.startswith("pending:")]
+        self.assertTrue(pending, text[-3000:])
+        for line in pending:
+            task = re.search(r"task (\d+)", line)
+            explained = (re.search(r"role [4-7] \(no robot\)", line) or "could not reach its goal (blocked)" in line
+                         or (task and f"task {task.group(1)} unreachable" in text))
+            self.assertTrue(explained, "unexplained: " + line)
+        self.fleet.processes["monitor"].send_signal(2)
+        self.fleet.wait_exit("monitor", 60)
+        verdict = read(self.fleet.log("monitor"))
+        self.assertIn("overlaps 0", verdict, verdict)
 
 
 if __name__ == "__main__":
