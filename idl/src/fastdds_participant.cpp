@@ -43,11 +43,17 @@ DomainParticipantQos profile_qos() {
   return qos;
 }
 
+constexpr uint32_t kSocketBufferBytes = 4 << 20;
+
 // UDPv4 on `address` only (no shared memory: the fleet's processes may be on other hosts).
 void use_interface(const std::string& address, DomainParticipantQos& qos) {
   auto udp = std::make_shared<eprosima::fastdds::rtps::UDPv4TransportDescriptor>();
   udp->interfaceWhiteList.push_back(address);
   udp->maxInitialPeersRange = 115;  // a peer host may run up to 115 participants of the domain
+  // Room for a burst of discovery from a hundred participants, as in the loopback files (the
+  // kernel caps it at net.core.rmem_max / wmem_max).
+  udp->receiveBufferSize = kSocketBufferBytes;
+  udp->sendBufferSize = kSocketBufferBytes;
   qos.transport().user_transports.push_back(udp);
   qos.transport().use_builtin_transports = false;
 }
