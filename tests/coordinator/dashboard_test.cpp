@@ -215,16 +215,23 @@ TEST_F(HistoryTest, BadFilesAreRefusedNamingTheLine) {
   EXPECT_NE(error_of((dir / "missing").string()).find("cannot open"), std::string::npos);
 }
 
-TEST(PlanHistory, APlanPlaysToTheEndWithEveryTaskDone) {
+// Two agents on a 3x2 map, each with one task on its way, and the plan that does it in 2 steps.
+struct TinyPlan : ::testing::Test {
   planner_core::Instance instance;
-  instance.graph = std::make_shared<const planner_core::Graph>(3, 2, std::vector<std::string>{"...", "..."});
-  const auto v = [&](int x, int y) { return instance.graph->vertex_at({x, y}); };
-  instance.starts = {v(0, 0), v(0, 1)};
-  instance.goals = {v(2, 0), v(2, 1)};
-  instance.tasks = {{v(1, 0), {0}}, {v(1, 1), {1}}};
-  instance.index_tasks();
-  instance.source = "tiny";
-  const planner_core::Solution solution = {{v(0, 0), v(0, 1)}, {v(1, 0), v(1, 1)}, {v(2, 0), v(2, 1)}};
+  planner_core::Solution solution;
+  planner_core::Vertex v(int x, int y) const { return instance.graph->vertex_at({x, y}); }
+  void SetUp() override {
+    instance.graph = std::make_shared<const planner_core::Graph>(3, 2, std::vector<std::string>{"...", "..."});
+    instance.starts = {v(0, 0), v(0, 1)};
+    instance.goals = {v(2, 0), v(2, 1)};
+    instance.tasks = {{v(1, 0), {0}}, {v(1, 1), {1}}};
+    instance.index_tasks();
+    instance.source = "tiny";
+    solution = {{v(0, 0), v(0, 1)}, {v(1, 0), v(1, 1)}, {v(2, 0), v(2, 1)}};
+  }
+};
+
+TEST_F(TinyPlan, APlanPlaysToTheEndWithEveryTaskDone) {
   const std::vector<HistoryEntry> entries = plan_history(instance, solution, 100);
   FleetView view;
   for (const HistoryEntry& entry : entries) apply(view, entry);
@@ -240,15 +247,7 @@ TEST(PlanHistory, APlanPlaysToTheEndWithEveryTaskDone) {
   EXPECT_EQ(crashed.frame_json(0)["events"][0]["kind"], "plan_failed");
 }
 
-TEST(HistoryPicture, ARunBecomesAPlanForTheSvgPicture) {
-  planner_core::Instance instance;
-  instance.graph = std::make_shared<const planner_core::Graph>(3, 2, std::vector<std::string>{"...", "..."});
-  const auto v = [&](int x, int y) { return instance.graph->vertex_at({x, y}); };
-  instance.starts = {v(0, 0), v(0, 1)};
-  instance.goals = {v(2, 0), v(2, 1)};
-  instance.tasks = {{v(1, 0), {0}}, {v(1, 1), {1}}};
-  instance.index_tasks();
-  const planner_core::Solution solution = {{v(0, 0), v(0, 1)}, {v(1, 0), v(1, 1)}, {v(2, 0), v(2, 1)}};
+TEST_F(TinyPlan, ARunBecomesAPlanForTheSvgPicture) {
   const HistoryPicture picture = history_picture(plan_history(instance, solution, 100), "run");
   EXPECT_EQ(picture.robots, (std::vector<std::string>{"agent0", "agent1"}));
   EXPECT_EQ(picture.instance.starts, instance.starts);
