@@ -30,6 +30,16 @@ TaskReply refusal(const TaskRequest& request, const std::string& reason) {
   return reply;
 }
 
+TaskReply acceptance(const TaskRequest& request, int task, const std::string& reason, const std::string& robot_id = "") {
+  TaskReply reply;
+  reply.request_id = request.request_id;
+  reply.accepted = true;
+  reply.task = task;
+  reply.robot_id = robot_id;
+  reply.reason = reason;
+  return reply;
+}
+
 }  // namespace
 
 // What operators see never stops the fleet: a refused writer (access control of a fleet enrolled
@@ -68,10 +78,8 @@ void FleetCoordinator::handle_task_request(const TaskRequest& request, fleet_tra
     case TaskAction::kAdd: reply = add_task(request); break;
     case TaskAction::kCancel: reply = cancel_task(request); break;
     case TaskAction::kList:
-      reply.request_id = request.request_id;
-      reply.accepted = true;
+      reply = acceptance(request, -1, std::to_string(progress_.task_count()) + " tasks");
       reply.listing = task_listing();
-      reply.reason = std::to_string(progress_.task_count()) + " tasks";
       break;
   }
   reply.coordinator = incarnation_;
@@ -192,14 +200,12 @@ TaskReply FleetCoordinator::add_task(const TaskRequest& request) {
   progress_changed_ = true;
   lifelong_idle_ = false;
   replanned_after_finish_ = false;
-  TaskReply reply;
-  reply.request_id = request.request_id;
-  reply.accepted = true;
-  reply.task = task;
-  reply.robot_id = chosen.robot_id;
-  reply.reason = "task " + std::to_string(task) + " at " + cell_text(request.x, request.y) + " given to robot " +
-                 chosen.robot_id + " (role " + std::to_string(chosen.role) + "); its tour grows by " +
-                 std::to_string(placement.added_steps) + " steps";
+  const TaskReply reply = acceptance(
+      request, task,
+      "task " + std::to_string(task) + " at " + cell_text(request.x, request.y) + " given to robot " + chosen.robot_id +
+          " (role " + std::to_string(chosen.role) + "); its tour grows by " + std::to_string(placement.added_steps) +
+          " steps",
+      chosen.robot_id);
   report("task_added", chosen.robot_id, reply.reason, task);
   request_replan("task " + std::to_string(task) + " added for robot " + chosen.robot_id);
   return reply;
@@ -224,11 +230,7 @@ TaskReply FleetCoordinator::cancel_task(const TaskRequest& request) {
   summary_.tasks_total = progress_.tasks_to_do();
   mission_changed_ = true;
   progress_changed_ = true;
-  TaskReply reply;
-  reply.request_id = request.request_id;
-  reply.accepted = true;
-  reply.task = task;
-  reply.reason = "task " + std::to_string(task) + " cancelled";
+  const TaskReply reply = acceptance(request, task, "task " + std::to_string(task) + " cancelled");
   report("task_cancelled", "", reply.reason, task);
   request_replan(reply.reason);
   return reply;
