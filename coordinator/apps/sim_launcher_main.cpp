@@ -56,10 +56,12 @@ std::string start_private_bus(const fs::path& log_dir, std::vector<pid_t>& helpe
   const fs::path socket = fs::absolute(log_dir / "bluez-bus.socket");
   fs::remove(socket);
   const std::string address = "unix:path=" + socket.string();
+  const std::string log = (log_dir / "dbus-daemon.log").string();
   helpers.push_back(coordinator::start_child(
-      {"/usr/bin/dbus-daemon", "--session", "--nofork", "--nopidfile", "--address=" + address},
-      (log_dir / "dbus-daemon.log").string()));
-  if (!wait_until([&] { return fs::exists(socket); }, std::chrono::seconds(20))) {
+      {"/usr/bin/dbus-daemon", "--session", "--nofork", "--nopidfile", "--print-address", "--address=" + address}, log));
+  // It prints its address once it accepts connections; the socket file alone appears at bind(),
+  // before listen(), and an emulator connecting then was refused (seen once in CI).
+  if (!wait_until([&] { return file_contains(log, address); }, std::chrono::seconds(20))) {
     throw std::runtime_error("the private dbus-daemon did not start (see " + (log_dir / "dbus-daemon.log").string() + ")");
   }
   return address;
