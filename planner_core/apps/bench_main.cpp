@@ -97,7 +97,10 @@ int main(int argc, char** argv) {
   app.add_option("--seed", config.seed, "random seed")->capture_default_str();
   app.add_flag("--no-fallback{false}", config.complete_fallback,
                "CTS solvers: no complete search when their own method runs out (the --experiment runs never use it)");
-  app.add_flag("--swap", config.pibt.swap, "Extended-PIBT with LaCAM3's swap operation (head-on meetings in corridors)");
+  app.add_flag("--swap,!--no-swap", config.pibt.swap,
+               "Extended-PIBT with LaCAM3's swap operation for head-on meetings in corridors (default; --no-swap: without)");
+  app.add_flag("--no-rotations", config.forbid_rotations,
+               "plans for robots: no agents moving in a cycle within one step (as the coordinator plans; validated so)");
   return program.main(argc, argv, [&] {
     if (!experiment.empty()) {
       if (std::string unwritable = ctsfleet::writable_folder()(experiment_settings.out_dir); !unwritable.empty()) {

@@ -77,7 +77,10 @@ int main(int argc, char** argv) {
       ->check(ctsfleet::count_in(0, 1'000'000'000));
   app.add_flag("--no-fallback{false}", config.complete_fallback,
                "CTS solvers: no complete search when their own method runs out (to study a method alone)");
-  app.add_flag("--swap", config.pibt.swap, "Extended-PIBT with LaCAM3's swap operation (head-on meetings in corridors)");
+  app.add_flag("--swap,!--no-swap", config.pibt.swap,
+               "Extended-PIBT with LaCAM3's swap operation for head-on meetings in corridors (default; --no-swap: without)");
+  app.add_flag("--no-rotations", config.forbid_rotations,
+               "plans for robots: no agents moving in a cycle within one step (as the coordinator plans; validated so)");
   app.add_option("--lns-neighbourhood", config.lns.neighbourhood_size, "LNS (cts-pll-v3, lacam-star): agents replanned at once")
       ->check(CLI::Range(1, 1000))
       ->capture_default_str();
@@ -109,7 +112,7 @@ int main(int argc, char** argv) {
     put("seed", config.seed);
     put("solved", result.solved ? 1 : 0);
     if (result.solved) {
-      const ValidationReport report = validate(instance, result.solution);
+      const ValidationReport report = validate(instance, result.solution, ValidationOptions{config.forbid_rotations});
       if (!report.ok()) {
         std::cerr << "error: the solver's plan failed validation; nothing written\n" << report.summary();
         return 3;

@@ -49,7 +49,7 @@ BenchmarkRow run_one(const std::string& file, const SolverConfig& config, double
     row.lower_bound = result.lower_bound;
     row.sequences = result.sequences_tried;
     if (result.solved) {
-      const ValidationReport report = validate(instance, result.solution);
+      const ValidationReport report = validate(instance, result.solution, ValidationOptions{config.forbid_rotations});
       if (!report.ok()) {
         row.error = "invalid plan: " + report.violations.front().message;
       } else {

@@ -24,7 +24,7 @@ SolveResult CtsPll::solve(const Instance& instance, const SolveOptions& options)
   ExtendedPibt pibt(instance, dist, pibt_config, rng);
   Lacam lacam(*instance.graph, dist, LacamConfig{false, config_.forbid_rotations}, rng);
   LnsConfig lns_config = config_.lns;
-  lns_config.search.forbid_following = lns_config.search.forbid_following || config_.forbid_rotations;
+  lns_config.search.forbid_rotations = lns_config.search.forbid_rotations || config_.forbid_rotations;
   LnsRefiner lns(instance, dist, lns_config, rng);
   const Deadline& deadline = options.deadline;
 

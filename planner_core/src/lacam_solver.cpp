@@ -1,6 +1,7 @@
 #include "planner_core/lacam_solver.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <random>
 #include <stdexcept>
 
@@ -68,7 +69,7 @@ void refine_until_deadline(const Instance& instance, DistTable& dist, LacamSearc
                            const std::string& name) {
   const Deadline& deadline = options.deadline;
   LnsConfig lns_config = config.lns;
-  lns_config.search.forbid_following = lns_config.search.forbid_following || config.forbid_rotations;
+  lns_config.search.forbid_rotations = lns_config.search.forbid_rotations || config.forbid_rotations;
   lns_config.stall_iterations = 0;  // the slice ends it
   LnsRefiner refiner(instance, dist, lns_config, rng);
   double search_slice_s = kFirstSearchSliceS;
@@ -79,21 +80,40 @@ void refine_until_deadline(const Instance& instance, DistTable& dist, LacamSearc
   // optimal among plans that follow it, which the refiner may still beat).
   const bool optimal_when_exhausted = instance.task_count() == 0;
   if (search_done && optimal_when_exhausted) return;
-  while (!deadline.expired() && result.flowtime > result.lower_bound) {
+  // Some steps cannot look at the clock: checking a plan found, loading it into the refiner,
+  // writing the refiner's plan back (each O(agents x makespan), up to a second at 10,000 agents on
+  // a loaded machine). The longest such stretch measured so far is held back from every slice, so
+  // that the solver returns close to its deadline rather than one stretch after it.
+  double unclocked_s = 0;
+  const auto slice = [&](double seconds) { return deadline.within(std::min(seconds, deadline.seconds_left() - unclocked_s)); };
+  const auto measure_overrun = [&](const Deadline& slice_deadline) {
+    unclocked_s = std::max(unclocked_s, std::chrono::duration<double>(Clock::now() - slice_deadline.at).count());
+  };
+  const auto keep_timed = [&](const Solution& plan, const std::string& by) {
+    const Clock::time_point begin = Clock::now();
+    keep_if_better(result, instance, plan, orders, sequence_index, options.started, options, by);
+    unclocked_s = std::max(unclocked_s, std::chrono::duration<double>(Clock::now() - begin).count());
+  };
+  while (deadline.seconds_left() > unclocked_s && result.flowtime > result.lower_bound) {
     if (!search_done) {
-      const LacamResult found = search.run(deadline.within(search_slice_s));
+      const Deadline search_deadline = slice(search_slice_s);
+      const LacamResult found = search.run(search_deadline);
       search_done = found.exhausted;
       const bool cheaper = found.solved && flowtime(found.solution, instance.goals) < result.flowtime;
       if (cheaper) {
-        keep_if_better(result, instance, found.solution, orders, sequence_index, options.started, options, name);
+        keep_timed(found.solution, name);
         refined = result.solution;
       }
+      measure_overrun(search_deadline);
       search_slice_s = std::clamp(search_slice_s * (cheaper ? 2.0 : 0.5), kMinSearchSliceS, kMaxSearchSliceS);
       if (search_done && optimal_when_exhausted) break;
+      if (deadline.seconds_left() <= unclocked_s) break;
     }
-    const LnsStats stats = refiner.refine(refined, orders, deadline.within(kRefinerSliceS));
+    const Deadline refiner_deadline = slice(kRefinerSliceS);
+    const LnsStats stats = refiner.refine(refined, orders, refiner_deadline);
     result.lns_iterations += stats.iterations;
-    keep_if_better(result, instance, refined, orders, sequence_index, options.started, options, name + " refiner");
+    keep_timed(refined, name + " refiner");
+    measure_overrun(refiner_deadline);
   }
 }
 

@@ -140,8 +140,8 @@ void LnsRefiner::load(const Solution& plan, const std::vector<std::vector<int>>&
       at = target;
     }
     max_tour_ = std::max(max_tour_, tour_length_[a]);
-    table_.add(a, paths_[a]);
   }
+  table_.add_all(paths_);
   loaded_plan_ = plan;
   loaded_orders_ = orders;
 }
@@ -149,6 +149,9 @@ void LnsRefiner::load(const Solution& plan, const std::vector<std::vector<int>>&
 LnsStats LnsRefiner::refine(Solution& plan, const std::vector<std::vector<int>>& orders, const Deadline& deadline,
                             const std::function<void(int64_t)>& on_improvement) {
   const int n = instance_.agent_count();
+  LnsStats stats;
+  stats.weights = weights_;
+  if (deadline.expired()) return stats;  // not even the (long) loading of a new plan
   // Going on from where the last call left this very plan keeps its paths and table (rebuilding
   // them costs O(agents x makespan), a good part of a short slice at 10,000 agents).
   if (plan != loaded_plan_ || orders != loaded_orders_) load(plan, orders);
@@ -160,7 +163,6 @@ LnsStats LnsRefiner::refine(Solution& plan, const std::vector<std::vector<int>>&
     makespan = std::max(makespan, static_cast<int>(path.size()) - 1);
   }
 
-  LnsStats stats;
   std::vector<Path> old_paths, new_paths;
   int last_improvement = 0;
   while (!deadline.expired()) {

@@ -170,7 +170,7 @@ std::optional<Solution> release_lock(const ExtendedPibt& pibt, const LockSet& lo
 
 std::optional<Solution> complete_by_prioritized_planning(const ExtendedPibt& pibt, const JointSequence& sequence,
                                                          const LockSet& lock, DistTable& dist, std::mt19937& rng,
-                                                         int attempts, bool forbid_following,
+                                                         int attempts, bool forbid_rotations,
                                                          const Deadline& deadline) {
   const Instance& instance = pibt.instance();
   const Solution& plan = pibt.plan();
@@ -200,7 +200,7 @@ std::optional<Solution> complete_by_prioritized_planning(const ExtendedPibt& pib
   }
   SpaceTimeLimits limits;
   limits.horizon = static_cast<int>(plan.size()) + 4 * instance.graph->vertex_count();
-  limits.forbid_following = forbid_following;
+  limits.forbid_rotations = forbid_rotations;
   limits.deadline = deadline;
 
   std::vector<int> order = lock.agents;

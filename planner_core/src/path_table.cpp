@@ -29,6 +29,22 @@ void PathTable::add(int agent, const Path& path, bool rests) {
   resting_from_[path.back()] = static_cast<int>(path.size()) - 1;
 }
 
+void PathTable::add_all(const std::vector<Path>& paths) {
+  for (int agent = 0; agent < static_cast<int>(paths.size()); ++agent) {
+    const Path& path = paths[agent];
+    for (int t = 0; t < static_cast<int>(path.size()); ++t) visits_[path[t]].push_back(Visit{t, agent});
+    resting_agent_[path.back()] = agent;
+    resting_from_[path.back()] = static_cast<int>(path.size()) - 1;
+  }
+  for (std::vector<Visit>& visits : visits_) {
+    // By time; of several visits at one time the last added wins, as in add().
+    std::stable_sort(visits.begin(), visits.end(), [](const Visit& a, const Visit& b) { return a.t < b.t; });
+    const auto last_of_each_time = std::unique(visits.rbegin(), visits.rend(),
+                                               [](const Visit& a, const Visit& b) { return a.t == b.t; });
+    visits.erase(visits.begin(), last_of_each_time.base());
+  }
+}
+
 void PathTable::remove(int agent, const Path& path) {
   for (int t = 0; t < static_cast<int>(path.size()); ++t) {
     std::vector<Visit>& visits = visits_[path[t]];

@@ -12,6 +12,31 @@ SafeIntervalPlanner::SafeIntervalPlanner(const Graph& graph)
       best_stamp_(graph.vertex_count(), 0),
       best_arrival_(graph.vertex_count()) {}
 
+namespace {
+
+// Moving from -> to at time t, where `to` was occupied at t-1 by an agent leaving it at t: follows
+// the chain of agents ahead (each leaving a cell for the next one's) and reports whether it ends
+// back in `from`, which would make the move part of a rotation. A chain longer than kLongestChain
+// is taken as closing (refusing a move is always safe).
+bool closes_rotation(const Graph& graph, const PathTable& table, Vertex from, Vertex to, int t) {
+  constexpr int kLongestChain = 64;
+  Vertex cell = to;
+  for (int hop = 0; hop < kLongestChain; ++hop) {
+    const int leaver = table.occupant(cell, t - 1);
+    if (leaver == PathTable::kFree) return false;  // the chain ends in a cell that was free
+    Vertex next = kNoVertex;
+    for (Vertex w : graph.neighbours(cell)) {
+      if (table.occupant(w, t) == leaver) next = w;
+    }
+    if (next == kNoVertex) return false;  // the leaver's path ends here (a path prefix): no cycle
+    if (next == from) return true;
+    cell = next;
+  }
+  return true;
+}
+
+}  // namespace
+
 Path SafeIntervalPlanner::plan(DistTable& dist, const PathTable& table, Vertex start, const std::vector<Vertex>& targets,
                                const SpaceTimeLimits& limits, int start_time) {
   const Graph& graph = graph_;
@@ -116,14 +141,18 @@ Path SafeIntervalPlanner::plan(DistTable& dist, const PathTable& table, Vertex s
       const auto& slots = intervals(u);
       for (int k = 0; k < static_cast<int>(slots.size()); ++k) {
         const int latest = std::min(slots[k].last, here.last == PathTable::kForever ? PathTable::kForever : here.last + 1);
-        int t = std::max(state.t + 1, slots[k].first + (limits.forbid_following ? 1 : 0));
+        int t = std::max(state.t + 1, slots[k].first);
         if (t > latest) continue;
         if (slots[k].first > (here.last == PathTable::kForever ? PathTable::kForever : here.last + 1)) break;
         // Swap conflict: someone at u at t-1 moving onto our cell at t. Intervals are maximal, so
         // u can be occupied at t-1 only when its interval opens at t; one step later it is free.
         if (t == slots[k].first) {
           const int other = table.occupant(u, t - 1);
-          if (other != PathTable::kFree && table.occupant(state.v, t) == other) ++t;
+          if (other != PathTable::kFree && table.occupant(state.v, t) == other) {
+            ++t;
+          } else if (limits.forbid_rotations && closes_rotation(graph, table, state.v, u, t)) {
+            ++t;  // one step later u has been free for a step: following nobody, closing nothing
+          }
         }
         if (t > latest || t > limits.horizon) continue;
         const int done = advance(u, state.done);

@@ -12,19 +12,21 @@ namespace planner_core {
 namespace {
 
 SolveResult solve_with(const Instance& instance, const std::string& solver, double seconds, int max_sequences = 0,
-                       bool complete_fallback = true) {
+                       bool complete_fallback = true, bool swap = true) {
   SolverConfig config;
   config.solver = solver;
+  config.pibt.swap = swap;
   config.max_sequences = max_sequences;
   config.complete_fallback = complete_fallback;
   return make_solver(config)->solve(instance, {Deadline::in_seconds(seconds), {}});
 }
 
-// Plain Extended-PIBT must fail and CTS-PLL-v1 must produce a valid plan.
+// Plain Extended-PIBT (the paper's, without the swap operation, which untangles some of these
+// cases by itself) must fail and CTS-PLL-v1 must produce a valid plan.
 void expect_lock_released(const Instance& instance) {
-  const SolveResult baseline = solve_with(instance, "cts-pibt", 10, 0, /*complete_fallback=*/false);
+  const SolveResult baseline = solve_with(instance, "cts-pibt", 10, 0, /*complete_fallback=*/false, /*swap=*/false);
   EXPECT_FALSE(baseline.solved) << "this case no longer locks Extended-PIBT";
-  const SolveResult pll = solve_with(instance, "cts-pll-v1", 10, 0, /*complete_fallback=*/false);
+  const SolveResult pll = solve_with(instance, "cts-pll-v1", 10, 0, /*complete_fallback=*/false, /*swap=*/false);
   ASSERT_TRUE(pll.solved) << pll.failure_reason;
   const ValidationReport report = validate(instance, pll.solution);
   EXPECT_TRUE(report.ok()) << report.summary();
@@ -52,8 +54,8 @@ TEST(LockRelease, GoalsInADeadEndFilledInTheWrongOrder) {
 TEST(CtsPll, SolvesWhatThePibtBaselineCannotOnDenseInstances) {
   // maze N=50 M=180 #05: Extended-PIBT locks in the dead-end corridor at x=31 on the best sequence.
   const Instance instance = load_instance(testing::data_path("instances/maze-32-32-2-N50-M180-05.yaml"));
-  EXPECT_FALSE(solve_with(instance, "cts-pibt", 10, 0, /*complete_fallback=*/false).solved);
-  const SolveResult pll = solve_with(instance, "cts-pll-v1", 60, 0, /*complete_fallback=*/false);
+  EXPECT_FALSE(solve_with(instance, "cts-pibt", 10, 0, /*complete_fallback=*/false, /*swap=*/false).solved);
+  const SolveResult pll = solve_with(instance, "cts-pll-v1", 60, 0, /*complete_fallback=*/false, /*swap=*/false);
   ASSERT_TRUE(pll.solved) << pll.failure_reason;
   EXPECT_TRUE(validate(instance, pll.solution).ok());
 }
@@ -123,6 +125,40 @@ TEST(Lns, RefinedPlanStaysValid) {
   EXPECT_GT(stats.iterations, 0);
 }
 
+TEST(PathTable, AddingEveryPathAtOnceEqualsAddingThemOneByOne) {
+  // A real plan: agents pass and wait on shared cells, so cells see several visits.
+  const Instance instance = load_instance(testing::data_path("instances/random-32-32-20-N10-M30-00.yaml"));
+  const SolveResult solved = solve_with(instance, "cts-pibt", 10);
+  ASSERT_TRUE(solved.solved);
+  const std::vector<int> arrival = arrival_times(solved.solution, instance.goals);
+  std::vector<Path> paths(instance.agent_count());
+  for (int a = 0; a < instance.agent_count(); ++a) {
+    for (int t = 0; t <= arrival[a]; ++t) paths[a].push_back(solved.solution[t][a]);
+  }
+  PathTable one_by_one(instance.graph->vertex_count()), at_once(instance.graph->vertex_count());
+  for (int a = 0; a < instance.agent_count(); ++a) one_by_one.add(a, paths[a]);
+  at_once.add_all(paths);
+  std::vector<PathTable::Interval> expected, got;
+  const int horizon = static_cast<int>(solved.solution.size()) + 3;
+  for (Vertex v = 0; v < instance.graph->vertex_count(); ++v) {
+    EXPECT_EQ(at_once.last_visit(v), one_by_one.last_visit(v)) << "vertex " << v;
+    for (int t = 0; t < horizon; ++t) ASSERT_EQ(at_once.occupant(v, t), one_by_one.occupant(v, t)) << v << " t=" << t;
+    one_by_one.safe_intervals(v, expected);
+    at_once.safe_intervals(v, got);
+    ASSERT_EQ(got.size(), expected.size()) << "vertex " << v;
+    for (size_t k = 0; k < got.size(); ++k) {
+      EXPECT_EQ(got[k].first, expected[k].first);
+      EXPECT_EQ(got[k].last, expected[k].last);
+    }
+  }
+  // And a path removed again leaves both the same.
+  one_by_one.remove(3, paths[3]);
+  at_once.remove(3, paths[3]);
+  for (Vertex v = 0; v < instance.graph->vertex_count(); ++v) {
+    for (int t = 0; t < horizon; ++t) ASSERT_EQ(at_once.occupant(v, t), one_by_one.occupant(v, t)) << v << " t=" << t;
+  }
+}
+
 TEST(SafeIntervalPlanning, WaitsForAPasserBeforeRestingOnItsGoal) {
   // Agent 1 passes through (2,0), agent 0's goal, at t=4; agent 0 may only settle after that.
   const Instance instance = testing::make_instance({".....", "....."}, {{{0, 0}, {2, 0}}});
@@ -141,6 +177,42 @@ TEST(SafeIntervalPlanning, WaitsForAPasserBeforeRestingOnItsGoal) {
       EXPECT_FALSE(other != PathTable::kFree && table.occupant(path[t - 1], t) == other) << "swap at t=" << t;
     }
   }
+}
+
+TEST(SafeIntervalPlanning, RotationFreePlansStillFollowAgentsAhead) {
+  // Agent 1 walks right along a corridor just ahead of us; rotation-free plans may follow it step
+  // by step (robots executing the plan in dependency order do), so we arrive as early as without.
+  const Instance instance = testing::make_instance({"....."}, {{{0, 0}, {2, 0}}});
+  DistTable dist(*instance.graph);
+  PathTable table(instance.graph->vertex_count());
+  const auto v = [&](int x) { return instance.graph->vertex_at({x, 0}); };
+  table.add(1, {v(1), v(2), v(3), v(4)});
+  SpaceTimeLimits limits;
+  limits.forbid_rotations = true;
+  const Path path = plan_through_targets(*instance.graph, dist, table, v(0), {v(2)}, limits);
+  ASSERT_EQ(path.size(), 3u);  // (0,0) -> (1,0) at t=1 -> (2,0) at t=2, each cell left that very step
+  EXPECT_EQ(path[1], v(1));
+}
+
+TEST(SafeIntervalPlanning, RotationFreePlansNeverCloseACycle) {
+  // A 2x2 ring with three agents moving clockwise in one step (a -> b -> c -> d) and resting; we
+  // start on d, which the third agent enters at t=1, and must get to a. Moving d -> a at t=1
+  // closes the cycle a -> b -> c -> d -> a: allowed only when rotations are.
+  const Instance instance = testing::make_instance({"..", ".."}, {{{0, 1}, {0, 0}}});
+  DistTable dist(*instance.graph);
+  const auto at = [&](int x, int y) { return instance.graph->vertex_at({x, y}); };
+  const Vertex a = at(0, 0), b = at(1, 0), c = at(1, 1), d = at(0, 1);
+  PathTable table(instance.graph->vertex_count());
+  table.add(1, {a, b});
+  table.add(2, {b, c});
+  table.add(3, {c, d});
+  const Path free_to_rotate = plan_through_targets(*instance.graph, dist, table, d, {a}, SpaceTimeLimits{});
+  ASSERT_EQ(free_to_rotate.size(), 2u);
+  EXPECT_EQ(free_to_rotate[1], a);
+  SpaceTimeLimits limits;
+  limits.forbid_rotations = true;
+  EXPECT_TRUE(plan_through_targets(*instance.graph, dist, table, d, {a}, limits).empty())
+      << "the only way out of d is the move that closes the rotation";
 }
 
 TEST(SafeIntervalPlanning, VisitsTargetsInOrder) {

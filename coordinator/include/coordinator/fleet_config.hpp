@@ -26,7 +26,7 @@ struct FleetConfig {
   // Replanning after a robot leaves or joins favours speed: the first feasible plan.
   std::string replan_solver = "cts-pll-v2";
   double replan_time_s = 1.0;
-  bool pibt_swap = false;        // Extended-PIBT's swap operation (helps in one-cell aisles)
+  bool pibt_swap = true;         // Extended-PIBT's swap operation (helps in one-cell aisles)
   std::string dds_vendor = "cyclone";
   int domain_id = 0;
   double lease_s = 1.0;

@@ -1,6 +1,7 @@
 // Deadline: a wall-clock limit plus an atomic interrupt flag that another thread may raise.
 #pragma once
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 
@@ -24,6 +25,12 @@ struct Deadline {
     Deadline slice = in_seconds(seconds, interrupt);
     if (at < slice.at) slice.at = at;
     return slice;
+  }
+  // Seconds until the deadline (0 once it has passed or the interrupt is raised).
+  double seconds_left() const {
+    if (interrupt && interrupt->load(std::memory_order_relaxed)) return 0;
+    if (at == Clock::time_point::max()) return 1e18;
+    return std::max(0.0, std::chrono::duration<double>(at - Clock::now()).count());
   }
   bool expired() const {
     return (interrupt && interrupt->load(std::memory_order_relaxed)) || Clock::now() >= at;

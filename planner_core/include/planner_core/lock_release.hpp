@@ -55,7 +55,7 @@ std::optional<Solution> release_lock(const ExtendedPibt& pibt, const LockSet& lo
 // complete feasible plan, or nullopt.
 std::optional<Solution> complete_by_prioritized_planning(const ExtendedPibt& pibt, const JointSequence& sequence,
                                                          const LockSet& lock, DistTable& dist, std::mt19937& rng,
-                                                         int attempts, bool forbid_following,
+                                                         int attempts, bool forbid_rotations,
                                                          const Deadline& deadline);
 
 }  // namespace planner_core

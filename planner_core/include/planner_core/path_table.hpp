@@ -17,6 +17,10 @@ class PathTable {
   explicit PathTable(int vertex_count);
   // `rests`: the agent stays on path.back() forever after (false for a path prefix).
   void add(int agent, const Path& path, bool rests = true);
+  // Every agent's path at once (agent = index; each rests on its last cell) into an empty table:
+  // O(entries log entries) where adding them one by one costs O(entries x visits per cell), which
+  // at 10,000 agents waiting in crowds took seconds.
+  void add_all(const std::vector<Path>& paths);
   void remove(int agent, const Path& path);
   // The agent at v at time t, counting agents resting on their final cell, or kFree.
   int occupant(Vertex v, int t) const;

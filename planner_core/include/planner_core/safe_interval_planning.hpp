@@ -16,8 +16,10 @@ namespace planner_core {
 struct SpaceTimeLimits {
   int horizon = 4000;           // no arrival later than this
   int max_expansions = 200000;  // give up beyond this many expanded states
-  // Enter a cell only if it was free the step before (no following, hence no rotations).
-  bool forbid_following = false;
+  // Plans for robots: no move that closes a cycle of agents each entering the cell the next one
+  // leaves in the same step (a rotation). Following an agent is allowed; entering a cell just
+  // left is refused only when the chain of agents ahead leads back into the cell left behind.
+  bool forbid_rotations = false;
   // No path longer than this (steps from start_time to the goal): a repair that cannot beat the
   // paths it replaces is given up early.
   int max_length = 1 << 30;
