@@ -37,7 +37,7 @@ struct HighLevelNode {
   Config config;  // the agents' vertices; with waypoints followed by the agents' progress
   HighLevelNode* parent = nullptr;
   int64_t g = 0;  // sum of loss from the start
-  int64_t h = 0;  // sum of distances to the goals (through the waypoints still to visit)
+  int64_t h = -1;  // sum of distances to the goals (through the waypoints still to visit); -1 until asked
   std::vector<float> priority;
   std::vector<int> order;  // agents by decreasing priority
   std::deque<Constraint> constraints;
@@ -113,7 +113,7 @@ class LacamSearch::State {
         settle_costs();  // the links recorded before the first solution can make it cheaper
         continue;
       }
-      if (goal_node_ && node->g + node->h >= goal_node_->g) {  // LaCAM*: cannot beat the best found
+      if (goal_node_ && node->g + heuristic(*node) >= goal_node_->g) {  // LaCAM*: cannot beat the best found
         open_.pop_back();
         continue;
       }
@@ -212,6 +212,16 @@ class LacamSearch::State {
     return cost;
   }
 
+  // LaCAM*'s pruning needs it only once a solution is known: computed then, for the nodes it
+  // meets (a look-up per agent, mostly cache misses at 10,000 agents).
+  int64_t heuristic(HighLevelNode& node) {
+    if (node.h < 0) {
+      node.h = 0;
+      for (int i = 0; i < n_; ++i) node.h += distance_to_goal(i, current(node.config, i), node.config[i]);
+    }
+    return node.h;
+  }
+
   HighLevelNode* make_node(const Config& config, HighLevelNode* parent) {
     auto node = std::make_unique<HighLevelNode>();
     node->config = config;
@@ -219,10 +229,8 @@ class LacamSearch::State {
     node->priority.resize(n_);
     for (int i = 0; i < n_; ++i) {
       const int k = current(config, i);
-      const int to_goal = distance_to_goal(i, k, config[i]);
-      node->h += to_goal;
       if (!parent) {
-        node->priority[i] = static_cast<float>(to_goal) / static_cast<float>(n_ * 4 + 1);
+        node->priority[i] = static_cast<float>(distance_to_goal(i, k, config[i])) / static_cast<float>(n_ * 4 + 1);
       } else if (!home(config, i) && k == current(parent->config, i)) {
         // dynamic priorities: grow until the next waypoint or the goal is reached
         node->priority[i] = parent->priority[i] + 1;
@@ -314,11 +322,16 @@ class LacamSearch::State {
     candidates[count++] = here;
     std::shuffle(candidates.begin(), candidates.begin() + count, rng_);
     MoveKeys to_goal{};
+    // An agent on its current target (its goal, mostly) needs no look-up: it is 0 away and each
+    // open neighbour 1 (the look-ups are cache misses, and at 10,000 agents many stand on goals).
+    const bool on_target = here == targets_[slot(agent, progress)];
     // Nearest to the goal first; among equals (with prefer_free_cells) a cell nobody stands on.
     for (int k = 0; k < count; ++k) {
       const Vertex v = candidates[k];
       const bool pushes_someone = config_.prefer_free_cells && occupied_now_[v] != kNobody && v != here;
-      to_goal[k] = 2 * distance_to_goal(agent, progress, v) + (pushes_someone ? 1 : 0);
+      const int distance = on_target ? remaining_[slot(agent, progress)] + (v == here ? 0 : 1)
+                                     : distance_to_goal(agent, progress, v);
+      to_goal[k] = 2 * distance + (pushes_someone ? 1 : 0);
     }
     sort_by_key(candidates, to_goal, count);
     // A head-on meeting in a corridor: back off (worst candidate first) and pull the other along.
