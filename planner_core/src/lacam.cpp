@@ -324,12 +324,13 @@ class LacamSearch::State {
     MoveKeys to_goal{};
     // An agent on its current target (its goal, mostly) needs no look-up: it is 0 away and each
     // open neighbour 1 (the look-ups are cache misses, and at 10,000 agents many stand on goals).
-    const bool on_target = here == targets_[slot(agent, progress)];
+    const int target_slot = slot(agent, progress);
+    const bool on_target = here == targets_[target_slot];
     // Nearest to the goal first; among equals (with prefer_free_cells) a cell nobody stands on.
     for (int k = 0; k < count; ++k) {
       const Vertex v = candidates[k];
       const bool pushes_someone = config_.prefer_free_cells && occupied_now_[v] != kNobody && v != here;
-      const int distance = on_target ? remaining_[slot(agent, progress)] + (v == here ? 0 : 1)
+      const int distance = on_target ? remaining_[target_slot] + (v == here ? 0 : 1)
                                      : distance_to_goal(agent, progress, v);
       to_goal[k] = 2 * distance + (pushes_someone ? 1 : 0);
     }

@@ -85,7 +85,9 @@ void refine_until_deadline(const Instance& instance, DistTable& dist, LacamSearc
   // a loaded machine). The longest such stretch measured so far is held back from every slice, so
   // that the solver returns close to its deadline rather than one stretch after it.
   double unclocked_s = 0;
-  const auto slice = [&](double seconds) { return deadline.within(std::min(seconds, deadline.seconds_left() - unclocked_s)); };
+  const auto slice = [&](double seconds) {
+    return deadline.within(std::min(seconds, deadline.seconds_left() - unclocked_s));
+  };
   const auto measure_overrun = [&](const Deadline& slice_deadline) {
     unclocked_s = std::max(unclocked_s, std::chrono::duration<double>(Clock::now() - slice_deadline.at).count());
   };

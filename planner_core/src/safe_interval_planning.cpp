@@ -26,7 +26,10 @@ bool closes_rotation(const Graph& graph, const PathTable& table, Vertex from, Ve
     if (leaver == PathTable::kFree) return false;  // the chain ends in a cell that was free
     Vertex next = kNoVertex;
     for (Vertex w : graph.neighbours(cell)) {
-      if (table.occupant(w, t) == leaver) next = w;
+      if (table.occupant(w, t) == leaver) {
+        next = w;
+        break;
+      }
     }
     if (next == kNoVertex) return false;  // the leaver's path ends here (a path prefix): no cycle
     if (next == from) return true;
