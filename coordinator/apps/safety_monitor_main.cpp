@@ -14,6 +14,7 @@
 #include <thread>
 
 #include "coordinator/active_coordinator_watch.hpp"
+#include "observer_options.hpp"
 #include "ctsfleet/data_dir.hpp"
 #include "ctsfleet/program.hpp"
 #include "fleet_transport/transport.hpp"
@@ -32,14 +33,10 @@ struct Visit {
 int main(int argc, char** argv) {
   ctsfleet::Program program("ctsfleet-monitor", "check that robots never share a cell, from their reported states");
   CLI::App& app = program.app();
-  std::string vendor = "cyclone", dds_dir;
-  int domain = 0;
+  ctsfleet::ObserverOptions dds("monitor");
+  dds.add_to(app);
   double duration = 0;
   double coordinator_overlap_s = 5;
-  app.add_option("--dds", vendor, "DDS implementation")->check(CLI::IsMember({"cyclone", "fastdds"}))->capture_default_str();
-  app.add_option("--domain", domain, "DDS domain id")->check(ctsfleet::dds_domain())->capture_default_str();
-  app.add_option("--dds-config-dir", dds_dir, "folder with the loopback DDS XML files (default: the shipped config/dds)")
-      ->check(CLI::ExistingDirectory);
   app.add_option("--duration", duration, "stop after this many seconds (0 = until a signal)")
       ->check(ctsfleet::number_in(0, 1e6))
       ->capture_default_str();
@@ -47,20 +44,9 @@ int main(int argc, char** argv) {
                  "seconds two coordinators may both be active (one listening, then standing down) before it is an alarm")
       ->check(ctsfleet::number_in(0, 3600))
       ->capture_default_str();
-  std::string network_interface, peers;
-  app.add_option("--iface", network_interface, fleet_transport::kInterfaceHelp);
-  app.add_option("--peers", peers, fleet_transport::kPeersHelp);
-  std::string discovery_server;
-  app.add_option("--discovery-server", discovery_server, fleet_transport::kDiscoveryServerHelp);
-  std::string security_dir, identity = "monitor";
-  app.add_option("--security", security_dir, "fleet directory made by ctsfleet-ca (DDS Security)");
-  app.add_option("--identity", identity, "the observer name this monitor is enrolled as")->capture_default_str();
   return program.main(argc, argv, [&] {
     const std::atomic<bool>& g_stop = ctsfleet::stop_requested();
-    if (dds_dir.empty()) dds_dir = ctsfleet::data_path("config/dds").string();
-    const fleet_transport::SecurityFiles security = fleet_transport::load_fleet_security(security_dir, identity);
-    fleet_transport::check_discovery_servers(fleet_transport::parse_vendor(vendor), discovery_server, security.enabled());
-    fleet_transport::check_network(network_interface, peers);
+    const fleet_transport::TransportConfig config = dds.transport_config();
 
     std::mutex mutex;
     // Paths per robot process: "id#incarnation", so a restart starts a new path and a second process
@@ -72,14 +58,6 @@ int main(int argc, char** argv) {
     std::map<std::string, std::map<uint64_t, Incarnation>> incarnations;  // robot id -> its processes
     std::set<std::pair<std::string, std::pair<uint64_t, uint64_t>>> duplicates;
     int64_t gaps = 0, states = 0;
-    fleet_transport::TransportConfig config;
-    config.vendor = fleet_transport::parse_vendor(vendor);
-    config.domain_id = domain;
-    config.loopback_config_dir = dds_dir;
-    config.discovery_servers = discovery_server;
-    config.network_interface = network_interface;
-    config.peers = peers;
-    config.security = security;
     coordinator::ActiveCoordinatorWatch coordinators(
         std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(coordinator_overlap_s)));
     fleet_transport::Handlers handlers;
@@ -213,7 +191,7 @@ int main(int argc, char** argv) {
     int verdict = overlaps == 0 && duplicates.empty() && coordinators.alarms() == 0 ? 0 : 1;
     if (incarnations.empty()) {
       std::fprintf(stderr, "ctsfleet-monitor: heard no robot on %s domain %d with DDS config %s: nothing was checked\n",
-                   vendor.c_str(), domain, dds_dir.c_str());
+                   dds.vendor.c_str(), config.domain_id, config.loopback_config_dir.c_str());
       verdict = kExitHeardNothing;
     }
     fleet_transport::exit_if_shutdown_hangs(1.5, verdict);

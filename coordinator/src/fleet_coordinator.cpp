@@ -100,76 +100,65 @@ FleetCoordinator::FleetCoordinator(const FleetConfig& config, planner_core::Inst
                mission_id_);
 }
 
+void FleetCoordinator::queue(Event event) {
+  const std::lock_guard<std::mutex> lock(events_mutex_);
+  events_.push_back(std::move(event));
+}
+
 void FleetCoordinator::on_coordinator_status(const fleet_transport::CoordinatorStatus& status) {
   if (status.coordinator == incarnation_) return;  // our own, heard back
-  const std::lock_guard<std::mutex> lock(events_mutex_);
-  Event event;
-  event.kind = Event::Kind::kStatus;
+  Event event{Event::Kind::kStatus};
   event.status = status;
   event.received = Clock::now();
-  events_.push_back(std::move(event));
+  queue(std::move(event));
 }
 
 void FleetCoordinator::on_fleet_status(const fleet_transport::FleetStatus& progress) {
   if (progress.coordinator == incarnation_ || role_ != fleet_transport::CoordinatorRole::kStandby) return;
-  const std::lock_guard<std::mutex> lock(events_mutex_);
-  Event event;
-  event.kind = Event::Kind::kProgress;
+  Event event{Event::Kind::kProgress};
   event.progress = progress;
-  events_.push_back(std::move(event));
+  queue(std::move(event));
 }
 
 void FleetCoordinator::on_mission_info(const fleet_transport::MissionInfo& info) {
   if (info.coordinator == incarnation_ || role_ != fleet_transport::CoordinatorRole::kStandby) return;
-  const std::lock_guard<std::mutex> lock(events_mutex_);
-  Event event;
-  event.kind = Event::Kind::kMission;
+  Event event{Event::Kind::kMission};
   event.mission = info;
-  events_.push_back(std::move(event));
+  queue(std::move(event));
 }
 
 void FleetCoordinator::on_refused(const std::string& what) {
-  const std::lock_guard<std::mutex> lock(events_mutex_);
-  Event event;
-  event.kind = Event::Kind::kRefused;
+  Event event{Event::Kind::kRefused};
   event.refusal = what;
-  events_.push_back(std::move(event));
+  queue(std::move(event));
 }
 
 void FleetCoordinator::on_task_request(const fleet_transport::TaskRequest& request) {
-  const std::lock_guard<std::mutex> lock(events_mutex_);
-  Event event;
-  event.kind = Event::Kind::kTaskRequest;
+  Event event{Event::Kind::kTaskRequest};
   event.request = request;
-  events_.push_back(std::move(event));
+  queue(std::move(event));
 }
 
 void FleetCoordinator::on_announcement(const fleet_transport::Announcement& announcement) {
-  const std::lock_guard<std::mutex> lock(events_mutex_);
-  Event event;
-  event.kind = Event::Kind::kAnnouncement;
+  Event event{Event::Kind::kAnnouncement};
   event.announcement = announcement;
   event.robot_id = announcement.robot_id;
-  events_.push_back(std::move(event));
+  queue(std::move(event));
 }
 
 void FleetCoordinator::on_state(const fleet_transport::RobotState& state) {
-  const std::lock_guard<std::mutex> lock(events_mutex_);
-  Event event;
-  event.kind = Event::Kind::kState;
+  Event event{Event::Kind::kState};
   event.state = state;
   event.robot_id = state.robot_id;
   event.received = Clock::now();
-  events_.push_back(std::move(event));
+  queue(std::move(event));
 }
 
 void FleetCoordinator::on_robot_gone(const std::string& robot_id, fleet_transport::GoneReason reason) {
-  const std::lock_guard<std::mutex> lock(events_mutex_);
-  Event event;
-  event.kind = Event::Kind::kGone;
+  Event event{Event::Kind::kGone};
   event.robot_id = robot_id;
   event.reason = reason;
-  events_.push_back(std::move(event));
+  queue(std::move(event));
 }
 
 // The robot that drives agent `a` of the current plan, or nullptr: a robot that left and came

@@ -58,20 +58,6 @@ void use_interface(const std::string& address, DomainParticipantQos& qos) {
   qos.transport().use_builtin_transports = false;
 }
 
-// The 4 MiB socket buffers bind an open fleet of 100 five times faster, but a secure fleet of 50
-// more slowly (38-47 s against 20-22 s with the kernel's default, measured with
-// ctsfleet-fleetbench -n 50 --dds fastdds --secure): secure participants keep the default.
-void use_default_socket_buffers(DomainParticipantQos& qos) {
-  for (auto& transport : qos.transport().user_transports) {
-    if (const auto udp = std::dynamic_pointer_cast<eprosima::fastdds::rtps::UDPv4TransportDescriptor>(transport)) {
-      auto copy = std::make_shared<eprosima::fastdds::rtps::UDPv4TransportDescriptor>(*udp);
-      copy->receiveBufferSize = 0;  // 0: the kernel's default
-      copy->sendBufferSize = 0;
-      transport = copy;
-    }
-  }
-}
-
 }  // namespace
 
 DomainParticipantQos fastdds_participant_qos(const TransportConfig& config) {
@@ -88,7 +74,6 @@ DomainParticipantQos fastdds_participant_qos(const TransportConfig& config) {
       qos.wire_protocol().builtin.initialPeersList.push_back(locator);
     }
   }
-  if (security.enabled()) use_default_socket_buffers(qos);
   add_security(security, qos);
   if (discovery_servers.empty()) return qos;  // the list was checked by make_transport
   auto& discovery = qos.wire_protocol().builtin.discovery_config;

@@ -6,6 +6,9 @@
 #include <stdexcept>
 #include <thread>
 
+#include <spdlog/spdlog.h>
+
+#include "fleet_transport/domain_ports.hpp"
 #include "network_settings.hpp"
 #include "transport_factories.hpp"
 
@@ -23,6 +26,9 @@ void exit_if_shutdown_hangs(double seconds, int exit_code) {
 std::unique_ptr<Transport> make_transport(const TransportConfig& config, Handlers handlers) {
   check_network(config.network_interface, config.peers);
   check_discovery_servers(config.vendor, config.discovery_servers, config.security.enabled());
+  if (const auto ephemeral = kernel_ephemeral_ports()) {
+    if (const auto warning = ephemeral_port_warning(config.domain_id, *ephemeral)) spdlog::warn("{}", *warning);
+  }
   // The middleware reads its configuration file from the environment at participant creation.
   if (!config.network_interface.empty()) {
     // A network: no loopback files. Cyclone takes its configuration as XML text; Fast DDS's QoS

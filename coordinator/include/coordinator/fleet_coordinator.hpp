@@ -128,6 +128,7 @@ class FleetCoordinator {
     Clock::time_point heard;                // its last heartbeat
   };
 
+  void queue(Event event);  // from the transport's threads; handled by the loop
   void handle(const Event& event);
   void handle_status(const fleet_transport::CoordinatorStatus& status, Clock::time_point received);
   fleet_transport::CoordinatorStatus own_status() const;
