@@ -54,4 +54,10 @@ std::vector<RobotRecord*> RobotRegistry::silent_robots(Clock::time_point now, do
   return silent;
 }
 
+void RobotRegistry::restart_silence_clocks(Clock::time_point now) {
+  for (auto& [id, robot] : robots_) {
+    if (robot.active) robot.last_heard = std::max(robot.last_heard, now);
+  }
+}
+
 }  // namespace coordinator

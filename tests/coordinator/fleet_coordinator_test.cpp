@@ -161,6 +161,37 @@ TEST(FleetCoordinator, ASilentRobotIsTakenOutAndTheOthersStillFinish) {
   EXPECT_TRUE(role_without_robot);
 }
 
+TEST(FleetCoordinator, ACoordinatorThatStoodStillBlamesNoRobotButStillFindsTheOneThatDied) {
+  planner_core::Instance mission = planner_core::load_instance(CTSFLEET_CONFIG_DIR "/default/mission-8.yaml");
+  std::vector<FakeRobot> robots;
+  for (int r = 0; r < mission.agent_count(); ++r) {
+    robots.push_back({"robot" + std::to_string(r), mission.graph->cell_of(mission.starts[r])});
+  }
+  FleetCoordinator coordinator(config_for(mission.agent_count()), std::move(mission));
+  // Mid-mission the coordinator's thread stands still for 5 silence timeouts, as when its
+  // middleware holds it: the commands of that step reach the robots only after it, so nobody is
+  // heard before the next step. robot3 dies meanwhile.
+  bool stalled = false;
+  std::vector<fleet_transport::StepCommand> held;
+  const auto stall = [&](FleetCoordinator&, FakeTransport& transport, int iteration) {
+    if (!held.empty()) {  // the step after the stall: the held commands arrive now
+      transport.commands.insert(transport.commands.begin(), held.begin(), held.end());
+      held.clear();
+    } else if (!stalled && !transport.commands.empty() && iteration % 20 != 0) {
+      stalled = true;
+      held.swap(transport.commands);
+      robots[3].silent = true;
+      std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+    }
+    return true;
+  };
+  run(coordinator, robots, {}, stall);
+  ASSERT_TRUE(stalled);
+  const MissionSummary& summary = coordinator.summary();
+  EXPECT_EQ(summary.robots_lost, 1);  // robot3 only
+  EXPECT_FALSE(summary.completed);    // its role has no robot left
+}
+
 TEST(FleetCoordinator, WithoutAReplacementTimeoutTheRobotsHoldUntilARobotJoinsLate) {
   planner_core::Instance mission = planner_core::load_instance(CTSFLEET_CONFIG_DIR "/default/mission-8.yaml");
   std::vector<FakeRobot> robots;

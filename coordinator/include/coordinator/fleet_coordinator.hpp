@@ -209,6 +209,7 @@ class FleetCoordinator {
   Phase phase_ = Phase::kWaiting;
   Clock::time_point started_, first_command_, settle_deadline_, next_status_, next_progress_, last_progress_,
       replan_requested_at_;
+  Clock::time_point last_silence_check_;  // see step(): a coordinator that stood still blames no robot
   bool replan_requested_ = false;
   bool first_command_sent_ = false;
   bool awaiting_replan_latency_ = false;

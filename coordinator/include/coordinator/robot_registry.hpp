@@ -55,6 +55,9 @@ class RobotRegistry {
   std::vector<RobotRecord*> ready_robots();
   // Active robots not heard for more than `timeout_s` at `now`.
   std::vector<RobotRecord*> silent_robots(Clock::time_point now, double timeout_s);
+  // The coordinator itself stood still until `now` (its loop or its middleware blocked), so it
+  // could hear nobody: every active robot's silence is counted from `now`.
+  void restart_silence_clocks(Clock::time_point now);
 
   std::map<std::string, RobotRecord>::iterator begin() { return robots_.begin(); }
   std::map<std::string, RobotRecord>::iterator end() { return robots_.end(); }
