@@ -14,7 +14,7 @@ class FakeTransport : public fleet_transport::Transport {
   void say_goodbye(const std::string&) override {}
   void publish_state(const fleet_transport::RobotState& state) override { last_state = state; }
   void send_command(const fleet_transport::StepCommand& command) override { commands.push_back(command); }
-  void prepare_commands_for(const std::string&) override {}
+  void open_commands_for(const std::string&) override {}
   void publish_coordinator_status(const fleet_transport::CoordinatorStatus& status) override {
     last_coordinator_status = status;
   }

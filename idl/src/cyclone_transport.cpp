@@ -307,7 +307,7 @@ class CycloneTransport : public Transport {
     check(dds_write(command_writer(c.robot_id), &wire), "write command");
   }
 
-  void prepare_commands_for(const std::string& robot_id) override { command_writer(robot_id); }
+  void open_commands_for(const std::string& robot_id) override { command_writer(robot_id); }
 
   void set_command_strength(int strength) override {
     const std::lock_guard<std::mutex> lock(writers_mutex_);

@@ -18,6 +18,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "fleet_transport/background_opener.hpp"
 #include "fastdds_participant.hpp"
 #include "fleet.h"
 #include "middleware_log.hpp"
@@ -165,6 +166,7 @@ class FastDdsTransport : public Transport {
 
  private:
   void tear_down() {
+    command_channel_opener_.stop();
     if (!participant_) return;
     // Readers first, so no listener runs while the rest goes away.
     for (DataReader* reader : readers_) const_cast<Subscriber*>(reader->get_subscriber())->delete_datareader(reader);
@@ -481,7 +483,9 @@ class FastDdsTransport : public Transport {
     command_writer(c.robot_id)->write(&wire);
   }
 
-  void prepare_commands_for(const std::string& robot_id) override { command_writer(robot_id); }
+  void open_commands_for(const std::string& robot_id) override { command_writer(robot_id); }
+  // In the background: see BackgroundOpener. A command sent before then opens the channel itself.
+  void prepare_commands_for(const std::string& robot_id) override { command_channel_opener_.queue(robot_id); }
 
   void set_command_strength(int strength) override {
     const std::lock_guard<std::mutex> lock(writers_mutex_);
@@ -667,13 +671,26 @@ class FastDdsTransport : public Transport {
 
   // The command writer of one robot, in that robot's partition (see command_partition).
   DataWriter* command_writer(const std::string& robot_id) {
-    const std::lock_guard<std::mutex> lock(writers_mutex_);
-    DataWriter*& slot = command_writers_[robot_id];
-    if (!slot) {
-      slot = publisher_in(command_partition(robot_id))->create_datawriter(command_topic_, command_w_);
-      if (!slot) throw std::runtime_error("Fast DDS: cannot create the command writer of " + robot_id + " (refused by access control?)");
+    {
+      const std::lock_guard<std::mutex> lock(writers_mutex_);
+      if (const auto found = command_writers_.find(robot_id); found != command_writers_.end()) return found->second;
     }
-    return slot;
+    // Made outside writers_mutex_ (it can take a second: BackgroundOpener), so that commands to
+    // robots whose writers exist go out meanwhile; one at a time, so no robot gets two.
+    const std::lock_guard<std::mutex> creating(command_writer_creation_mutex_);
+    DataWriterQos qos;
+    {
+      const std::lock_guard<std::mutex> lock(writers_mutex_);
+      if (const auto found = command_writers_.find(robot_id); found != command_writers_.end()) return found->second;
+      qos = command_w_;
+    }
+    DataWriter* writer = publisher_in(command_partition(robot_id))->create_datawriter(command_topic_, qos);
+    if (!writer) throw std::runtime_error("Fast DDS: cannot create the command writer of " + robot_id + " (refused by access control?)");
+    const std::lock_guard<std::mutex> lock(writers_mutex_);
+    // The command strength may have changed while the writer was made (set_command_strength).
+    if (command_w_.ownership_strength().value != qos.ownership_strength().value) writer->set_qos(command_w_);
+    command_writers_[robot_id] = writer;
+    return writer;
   }
 
   // The announcement and state writers of one robot, in that robot's partition: under DDS
@@ -762,10 +779,19 @@ class FastDdsTransport : public Transport {
                 command_w_ = DATAWRITER_QOS_DEFAULT, events_w_ = DATAWRITER_QOS_DEFAULT,
                 requests_w_ = DATAWRITER_QOS_DEFAULT;
   std::mutex writers_mutex_;
+  std::mutex command_writer_creation_mutex_;
   std::vector<std::unique_ptr<DataReaderListener>> listeners_;
   std::vector<DataReader*> readers_;
   std::mutex instances_mutex_;
   std::map<InstanceHandle_t, std::string> robot_of_instance_;
+  // Last, so it is stopped (by tear_down, and destroyed) before anything it uses goes away.
+  BackgroundOpener command_channel_opener_{[this](const std::string& robot_id) {
+    try {
+      command_writer(robot_id);
+    } catch (const std::exception& error) {
+      if (handlers_.on_refused) handlers_.on_refused(error.what());
+    }
+  }};
 };
 
 }  // namespace

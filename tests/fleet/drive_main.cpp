@@ -81,7 +81,7 @@ int main(int argc, char** argv) {
   std::unique_ptr<fleet_transport::Transport> transport;
   try {
     transport = fleet_transport::make_transport(config, handlers);
-    transport->prepare_commands_for(robot);
+    transport->open_commands_for(robot);
   } catch (const std::exception& e) {  // e.g. access control refuses a command writer to this robot
     std::fprintf(stderr, "ctsfleet-test-drive: refused: %s\n", e.what());
     return 4;

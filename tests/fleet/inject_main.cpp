@@ -83,8 +83,8 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "refused: %s\n", e.what());
     return 4;
   }
-  transport->prepare_commands_for("ghost");
-  transport->prepare_commands_for(victim);
+  transport->open_commands_for("ghost");
+  transport->open_commands_for(victim);
   for (int i = 0; i < 100 && coordinator.load() == 0; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(100));
   if (coordinator.load() == 0) {
     std::fprintf(stderr, "no active coordinator heard in 10 s\n");

@@ -119,9 +119,14 @@ class Transport {
   virtual void say_goodbye(const std::string& robot_id) = 0;  // disposes the robot's announcement
   virtual void publish_state(const RobotState& state) = 0;
   virtual void send_command(const StepCommand& command) = 0;
-  // Readies the command channel to a robot ahead of its first command, so that the first command
-  // does not go out before the robot's agent is matched (volatile data would be lost).
-  virtual void prepare_commands_for(const std::string& robot_id) = 0;
+  // Opens the command channel to a robot ahead of its first command, so that the first command
+  // does not go out before the robot's agent is matched (volatile data would be lost). Returns
+  // once it is open; throws std::runtime_error when the middleware refuses it (access control).
+  virtual void open_commands_for(const std::string& robot_id) = 0;
+  // The same without waiting: the channel opens soon (Fast DDS: on a background thread, as one
+  // writer can take it a second once 200 participants are matched). A refusal goes to
+  // Handlers::on_refused, and the first command to that robot meets it again.
+  virtual void prepare_commands_for(const std::string& robot_id) { open_commands_for(robot_id); }
   virtual void publish_coordinator_status(const CoordinatorStatus& status) = 0;
   virtual void publish_fleet_status(const FleetStatus& status) = 0;
   // For operators (dashboard, ctsfleet-task): mission, plan and events reliable; mission and plan
