@@ -6,6 +6,7 @@
 #include <atomic>
 #include <chrono>
 #include <thread>
+#include <unistd.h>
 #include <condition_variable>
 #include <cstdio>
 #include <mutex>
@@ -97,7 +98,13 @@ int main(int argc, char** argv) {
   std::atomic<bool> done{false};
   std::thread heartbeat([&] {
     while (!done.load()) {
-      transport->publish_coordinator_status(status);
+      try {
+        transport->publish_coordinator_status(status);
+      } catch (const std::exception& e) {  // an identity whose status writer access control refuses
+        std::fprintf(stderr, "ctsfleet-test-drive: refused: %s\n", e.what());
+        std::fflush(stderr);
+        _exit(4);
+      }
       std::this_thread::sleep_for(std::chrono::milliseconds(250));
     }
   });
