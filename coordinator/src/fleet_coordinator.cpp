@@ -47,8 +47,7 @@ std::string hex(uint64_t value) { return fmt::format("{:016x}", value); }
 constexpr double kStatusPeriodS = 0.25;
 constexpr double kProgressPeriodS = 0.5;
 constexpr double kProgressGapS = 0.05;
-constexpr double kStoodStillS = 1.0;          // a step this long after the last one heard nobody
-constexpr double kSlowMiddlewareCallS = 0.5;  // logged
+constexpr double kStoodStillS = 1.0;  // a step this long after the last one heard nobody
 
 }  // namespace
 
@@ -678,11 +677,7 @@ bool FleetCoordinator::step(fleet_transport::Transport& transport) {
     handle(event);
     // Match the robot's command channel now, long before its first command.
     if (event.kind == Event::Kind::kAnnouncement && !event.announcement.leaving) {
-      const Clock::time_point before = Clock::now();
       transport.prepare_commands_for(event.robot_id);
-      if (const double took_s = seconds_between(before, Clock::now()); took_s > kSlowMiddlewareCallS) {
-        spdlog::warn("the middleware took {:.1f} s to open {}'s command channel", took_s, event.robot_id);
-      }
     }
   }
   const Clock::time_point now = Clock::now();

@@ -1,7 +1,5 @@
 #include "coordinator/robot_registry.hpp"
 
-#include <algorithm>
-
 namespace coordinator {
 
 RobotRecord& RobotRegistry::operator[](const std::string& id) {
@@ -56,7 +54,7 @@ std::vector<RobotRecord*> RobotRegistry::silent_robots(Clock::time_point now, do
 
 void RobotRegistry::restart_silence_clocks(Clock::time_point now) {
   for (auto& [id, robot] : robots_) {
-    if (robot.active) robot.last_heard = std::max(robot.last_heard, now);
+    if (robot.active) robot.last_heard = now;
   }
 }
 

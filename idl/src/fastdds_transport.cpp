@@ -12,6 +12,9 @@
 #include <fastdds/dds/subscriber/Subscriber.hpp>
 #include <fastdds/dds/topic/TypeSupport.hpp>
 
+#include <spdlog/spdlog.h>
+
+#include <chrono>
 #include <map>
 #include <mutex>
 #include <set>
@@ -787,7 +790,10 @@ class FastDdsTransport : public Transport {
   // Last, so it is stopped (by tear_down, and destroyed) before anything it uses goes away.
   BackgroundOpener command_channel_opener_{[this](const std::string& robot_id) {
     try {
+      const auto started = std::chrono::steady_clock::now();
       command_writer(robot_id);
+      const double took_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+      if (took_s > 0.5) spdlog::info("Fast DDS took {:.1f} s to open {}'s command channel", took_s, robot_id);
     } catch (const std::exception& error) {
       if (handlers_.on_refused) handlers_.on_refused(error.what());
     }
