@@ -97,6 +97,8 @@ int main(int argc, char** argv) {
   app.add_option("--seed", config.seed, "random seed")->capture_default_str();
   app.add_flag("--no-fallback{false}", config.complete_fallback,
                "CTS solvers: no complete search when their own method runs out (the --experiment runs never use it)");
+  app.add_flag("--no-scatter{false}", config.scatter,
+               "lacam-star: no second search guided by paths spread over the map (to study LaCAM* alone)");
   app.add_flag("--swap,!--no-swap", config.pibt.swap,
                "Extended-PIBT with LaCAM3's swap operation for head-on meetings in corridors (default; --no-swap: without)");
   app.add_flag("--no-rotations", config.forbid_rotations,

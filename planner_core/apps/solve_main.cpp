@@ -77,6 +77,8 @@ int main(int argc, char** argv) {
       ->check(ctsfleet::count_in(0, 1'000'000'000));
   app.add_flag("--no-fallback{false}", config.complete_fallback,
                "CTS solvers: no complete search when their own method runs out (to study a method alone)");
+  app.add_flag("--no-scatter{false}", config.scatter,
+               "lacam-star: no second search guided by paths spread over the map (to study LaCAM* alone)");
   app.add_flag("--swap,!--no-swap", config.pibt.swap,
                "Extended-PIBT with LaCAM3's swap operation for head-on meetings in corridors (default; --no-swap: without)");
   app.add_flag("--no-rotations", config.forbid_rotations,

@@ -12,6 +12,7 @@
 #include <utility>
 
 #include "planner_core/corridor_swap.hpp"
+#include "planner_core/scatter.hpp"
 
 namespace planner_core {
 
@@ -335,6 +336,11 @@ class LacamSearch::State {
       to_goal[k] = 2 * distance + (pushes_someone ? 1 : 0);
     }
     sort_by_key(candidates, to_goal, count);
+    if (config_.guide && !augmented_) {
+      const Vertex preferred = config_.guide->next(agent, here);
+      const auto at = std::find(candidates.begin(), candidates.begin() + count, preferred);
+      if (preferred != kNoVertex && at != candidates.begin() + count) std::rotate(candidates.begin(), at, at + 1);
+    }
     // A head-on meeting in a corridor: back off (worst candidate first) and pull the other along.
     const int partner = config_.swap ? swap_.partner(agent, here, candidates[0], to) : kNobody;
     if (partner != kNobody) std::reverse(candidates.begin(), candidates.begin() + count);

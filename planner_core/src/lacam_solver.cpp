@@ -5,6 +5,7 @@
 #include <random>
 #include <stdexcept>
 
+#include "planner_core/scatter.hpp"
 #include "planner_core/validator.hpp"
 
 namespace planner_core {
@@ -17,6 +18,21 @@ constexpr double kRefinerSliceS = 1.0;
 constexpr double kFirstSearchSliceS = 0.25;
 constexpr double kMinSearchSliceS = 0.02;
 constexpr double kMaxSearchSliceS = 4.0;
+
+// Scatter's paths: at most this many steps longer than an agent's shortest path (as lacam3).
+constexpr int kScatterMargin = 10;
+// Of the time left after the first plan: at most this share for the scatter paths, and as much
+// again for the guided search's first plan.
+constexpr double kScatterShare = 0.25;
+
+// Agents' paths spread over the map, at most a quarter of the time left: LaCAM's first plan sends
+// crowds down the same shortest corridors (warehouse aisles), and a search whose generator
+// follows these paths finds a far cheaper plan (docs/RESULTS.md, section 6).
+std::unique_ptr<Scatter> spread_out(const Instance& instance, DistTable& dist, uint32_t seed, const Deadline& deadline) {
+  auto scatter = std::make_unique<Scatter>(*instance.graph, dist, instance.starts, instance.goals, kScatterMargin, seed);
+  scatter->build(deadline.within(deadline.seconds_left() * kScatterShare));
+  return scatter;
+}
 
 }  // namespace
 
@@ -43,8 +59,9 @@ SolveResult LacamSolver::solve(const Instance& instance, const SolveOptions& opt
   }
   result.preprocessing_ms = elapsed_ms(started);
   const LacamConfig lacam_config{refine_, config_.forbid_rotations, /*swap=*/true, /*prefer_free_cells=*/true};
-  LacamSearch search(*instance.graph, dist, lacam_config, rng, instance.starts, instance.goals);
-  LacamResult found = search.run(deadline);
+  std::unique_ptr<Scatter> scatter;  // guides `search` once set (declared first: outlives it)
+  auto search = std::make_unique<LacamSearch>(*instance.graph, dist, lacam_config, rng, instance.starts, instance.goals);
+  LacamResult found = search->run(deadline);
   result.sequences_tried = 1;
   if (!found.solved) {
     result.failure_reason = found.exhausted ? "no solution exists (LaCAM searched every reachable configuration)"
@@ -57,7 +74,21 @@ SolveResult LacamSolver::solve(const Instance& instance, const SolveOptions& opt
   for (int a = 0; a < instance.agent_count(); ++a) result.lower_bound += dist.get(instance.goals[a], instance.starts[a]);
 
   if (refine_) {
-    refine_until_deadline(instance, dist, search, found.exhausted, config_, rng, no_tasks, 0, options, result, "LaCAM*");
+    bool search_done = found.exhausted;
+    if (config_.scatter && !found.exhausted && result.flowtime > result.lower_bound) {
+      // The guided search is a LaCAM* search too (as complete: only its generator's first
+      // choices differ), so it takes over; the first one goes, with its nodes (memory at 10,000
+      // agents).
+      search.reset();
+      scatter = spread_out(instance, dist, config_.seed, deadline);
+      LacamConfig guided = lacam_config;
+      guided.guide = scatter.get();
+      search = std::make_unique<LacamSearch>(*instance.graph, dist, guided, rng, instance.starts, instance.goals);
+      found = search->run(deadline.within(deadline.seconds_left() * kScatterShare));
+      if (found.solved) keep_if_better(result, instance, found.solution, no_tasks, 0, started, options, "LaCAM along scatter");
+      search_done = found.exhausted;
+    }
+    refine_until_deadline(instance, dist, *search, search_done, config_, rng, no_tasks, 0, options, result, "LaCAM*");
   }
   result.comp_time_ms = elapsed_ms(started);
   return result;

@@ -23,6 +23,8 @@
 
 namespace planner_core {
 
+class Scatter;
+
 struct LacamConfig {
   bool refine = false;  // LaCAM*: after the first solution keep searching for a cheaper one until the deadline
   bool forbid_rotations = false;  // reject successors in which agents move in a cycle
@@ -33,6 +35,9 @@ struct LacamConfig {
   // agents pushed). The plain MAPF solvers turn both this and the swap on (measured together:
   // docs/RESULTS.md, section 2); CTS-PLL's lock release keeps both off, as measured.
   bool prefer_free_cells = false;
+  // Plain MAPF only: each agent's next cell on its Scatter path is its generator's first choice
+  // (ahead of the nearest cell to its goal). Must outlive the search; null for none.
+  const Scatter* guide = nullptr;
 };
 
 // Per agent, the cells it must visit in this order before its goal; empty rows (or an empty

@@ -32,6 +32,9 @@ struct SolverConfig {
   // plan and time remains, so that "not solved" comes only at the deadline or with a proof. Off
   // only to study a driver alone (e.g. the paper's CTS-PIBT baseline locking).
   bool complete_fallback = true;
+  // LaCAM* (plain MAPF): after the first plan, a second search guided by agents' paths spread
+  // over the map (scatter.hpp); its plan is kept when cheaper. Off to study LaCAM* alone.
+  bool scatter = true;
 };
 
 struct Improvement {

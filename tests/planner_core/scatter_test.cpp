@@ -1,0 +1,97 @@
+#include <gtest/gtest.h>
+
+#include "planner_core/instance_generator.hpp"
+#include "planner_core/lacam.hpp"
+#include "planner_core/scatter.hpp"
+#include "planner_core/validator.hpp"
+#include "test_helpers.hpp"
+
+namespace planner_core {
+namespace {
+
+// Follows the agent's scatter path from its start with next(): the cells it visits.
+Path follow(const Scatter& scatter, const Instance& instance, int agent) {
+  Path path{instance.starts[agent]};
+  for (Vertex v = scatter.next(agent, path.back()); v != kNoVertex; v = scatter.next(agent, path.back())) {
+    path.push_back(v);
+    if (path.size() > static_cast<size_t>(instance.graph->vertex_count())) break;  // a loop would be a bug
+  }
+  return path;
+}
+
+// Two agents crossing a 3-row room head-on along its middle row: the only shortest paths meet.
+const std::vector<std::string> kRoom = {"..........", "..........", ".........."};
+const std::vector<testing::AgentSpec> kHeadOn = {{{0, 1}, {9, 1}}, {{9, 1}, {0, 1}}};
+
+TEST(Scatter, HeadOnAgentsTakeParallelRowsWhenTheMarginAllows) {
+  const Instance instance = testing::make_instance(kRoom, kHeadOn);
+  DistTable dist(*instance.graph);
+  Scatter scatter(*instance.graph, dist, instance.starts, instance.goals, /*cost_margin=*/2, 1);
+  const ScatterStats stats = scatter.build(Deadline::in_seconds(10));
+  EXPECT_TRUE(stats.complete);
+  EXPECT_EQ(stats.collisions, 0);
+  for (int agent = 0; agent < 2; ++agent) {
+    const Path path = follow(scatter, instance, agent);
+    EXPECT_EQ(path.back(), instance.goals[agent]);
+    EXPECT_LE(static_cast<int>(path.size()) - 1, 9 + 2);  // the shortest (9) plus the margin
+    for (size_t t = 1; t < path.size(); ++t) EXPECT_TRUE(instance.graph->adjacent(path[t - 1], path[t]));
+  }
+}
+
+TEST(Scatter, WithoutAMarginTheOnlyShortestPathsStillCollide) {
+  const Instance instance = testing::make_instance(kRoom, kHeadOn);
+  DistTable dist(*instance.graph);
+  Scatter scatter(*instance.graph, dist, instance.starts, instance.goals, /*cost_margin=*/0, 1);
+  const ScatterStats stats = scatter.build(Deadline::in_seconds(10));
+  EXPECT_TRUE(stats.complete);
+  EXPECT_GT(stats.collisions, 0);  // the count is honest: they must meet in the middle row
+  EXPECT_EQ(stats.sum_of_lengths, 18);
+}
+
+TEST(Scatter, AnExpiredDeadlineLeavesNoGuidanceAndNoCrash) {
+  const Instance instance = testing::make_instance(kRoom, kHeadOn);
+  DistTable dist(*instance.graph);
+  Scatter scatter(*instance.graph, dist, instance.starts, instance.goals, 2, 1);
+  const ScatterStats stats = scatter.build(Deadline::in_seconds(-1));
+  EXPECT_FALSE(stats.complete);
+  EXPECT_EQ(scatter.next(0, instance.starts[0]), kNoVertex);
+}
+
+TEST(Scatter, AnUnreachableGoalGetsNoPath) {
+  const Instance instance = testing::make_instance({"..@..", "..@.."}, {{{0, 0}, {0, 1}}, {{3, 0}, {4, 1}}});
+  DistTable dist(*instance.graph);
+  Scatter scatter(*instance.graph, dist, instance.starts, instance.goals, 2, 1);
+  const ScatterStats stats = scatter.build(Deadline::in_seconds(10));
+  EXPECT_TRUE(stats.complete);
+  EXPECT_EQ(follow(scatter, instance, 1).back(), instance.goals[1]);
+  // A wall between start and goal: no path, so no guidance (LaCAM decides alone).
+  const Instance walled = testing::make_instance({"..@..", "..@.."}, {{{0, 0}, {4, 0}}});
+  DistTable walled_dist(*walled.graph);
+  Scatter none(*walled.graph, walled_dist, walled.starts, walled.goals, 2, 1);
+  EXPECT_FALSE(none.build(Deadline::in_seconds(10)).complete);
+  EXPECT_EQ(none.next(0, walled.starts[0]), kNoVertex);
+}
+
+TEST(Scatter, GuidedLacamPlansAreValidAndSpreadFewerCollisionsThanShortestPaths) {
+  auto graph = std::make_shared<const Graph>(load_movingai_map(testing::data_path("maps/random-32-32-20.map")));
+  const Instance instance = generate_instance(graph, {200, 0, 1, 7});
+  DistTable dist(*instance.graph);
+  Scatter shortest(*instance.graph, dist, instance.starts, instance.goals, 0, 3);
+  Scatter spread(*instance.graph, dist, instance.starts, instance.goals, 10, 3);
+  const ScatterStats tight = shortest.build(Deadline::in_seconds(30));
+  const ScatterStats loose = spread.build(Deadline::in_seconds(30));
+  ASSERT_TRUE(loose.complete);
+  EXPECT_LT(loose.collisions, tight.collisions);
+
+  std::mt19937 rng(1);
+  LacamConfig config{/*refine=*/false, false, /*swap=*/true, /*prefer_free_cells=*/true};
+  config.guide = &spread;
+  LacamSearch search(*instance.graph, dist, config, rng, instance.starts, instance.goals);
+  const LacamResult result = search.run(Deadline::in_seconds(30));
+  ASSERT_TRUE(result.solved);
+  const ValidationReport report = validate(instance, result.solution);
+  EXPECT_TRUE(report.ok()) << report.summary();
+}
+
+}  // namespace
+}  // namespace planner_core
