@@ -78,6 +78,19 @@ SolveResult CtsPll::solve(const Instance& instance, const SolveOptions& options)
         const bool next_targets_first = releases % 2 == 1;
         prefix = release_lock(pibt, attempt, lacam, config_.lock_release, next_targets_first, rng, deadline);
         if (!prefix) prefix = release_lock(pibt, attempt, lacam, config_.lock_release, !next_targets_first, rng, deadline);
+        if (!prefix && escalation == 0 && config_.complete_fallback) {
+          // The local release failed: the complete search from the lock, for as long as this
+          // sequence has taken so far, before wider (slower) local releases.
+          const double spent_s = std::chrono::duration<double>(Clock::now() - sequence_started).count();
+          completed_plan = complete_by_search(pibt, *sequence, lock, dist, rng, config_.forbid_rotations,
+                                              deadline.within(std::max(kMinCompleteSliceS, spent_s)));
+          if (completed_plan) break;
+        }
+      }
+      if (completed_plan) {
+        ++result.searched_completions;
+        feasible = true;
+        break;
       }
       if (!prefix || releases + 1 >= config_.lock_release.completion_after_releases) {
         // Releases failed or the lock keeps coming back: complete by prioritized planning.

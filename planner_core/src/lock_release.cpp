@@ -234,4 +234,29 @@ std::optional<Solution> complete_by_prioritized_planning(const ExtendedPibt& pib
   return std::nullopt;
 }
 
+std::optional<Solution> complete_by_search(const ExtendedPibt& pibt, const JointSequence& sequence,
+                                           const LockSet& lock, DistTable& dist, std::mt19937& rng,
+                                           bool forbid_rotations, const Deadline& deadline) {
+  const Instance& instance = pibt.instance();
+  const Solution& plan = pibt.plan();
+  const int n = instance.agent_count();
+  const int t_hat = lock.lock_time;
+  Waypoints waypoints(n);
+  for (int a = 0; a < n; ++a) {
+    for (int task : sequence.orders[a]) {
+      const Vertex cell = instance.tasks[task].at;
+      bool visited = false;
+      for (int t = 0; t <= t_hat && !visited; ++t) visited = plan[t][a] == cell;
+      if (!visited) waypoints[a].push_back(cell);
+    }
+  }
+  // The generator as CTS-LaCAM's (cts_lacam.cpp).
+  Lacam lacam(*instance.graph, dist, LacamConfig{false, forbid_rotations, /*swap=*/true, /*prefer_free_cells=*/true}, rng);
+  const LacamResult found = lacam.solve(plan[t_hat], instance.goals, {}, deadline, waypoints);
+  if (!found.solved) return std::nullopt;
+  Solution completed(plan.begin(), plan.begin() + t_hat);
+  completed.insert(completed.end(), found.solution.begin(), found.solution.end());
+  return completed;
+}
+
 }  // namespace planner_core

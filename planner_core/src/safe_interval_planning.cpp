@@ -88,19 +88,16 @@ Path SafeIntervalPlanner::plan(DistTable& dist, const PathTable& table, Vertex s
     open.push_back(index);
     std::push_heap(open.begin(), open.end(), worse);
   };
-  // The earliest arrival expanded per (vertex, interval, targets done): a short list per vertex,
-  // made stale at once by the call's stamp.
+  // The earliest arrival expanded per (vertex, interval, targets done): per vertex an array over
+  // its intervals and the targets, made stale at once by the call's stamp (crowded cells have
+  // dozens of intervals, and a list searched per look-up was most of LNS's time on dense mazes).
   const auto best_arrival = [&](Vertex v, int interval, int done) -> int& {
-    std::vector<BestArrival>& at = best_arrival_[v];
+    std::vector<int>& at = best_arrival_[v];
     if (best_stamp_[v] != stamp_) {
       best_stamp_[v] = stamp_;
-      at.clear();
+      at.assign(intervals(v).size() * static_cast<size_t>(target_count), PathTable::kForever);
     }
-    for (BestArrival& entry : at) {
-      if (entry.interval == interval && entry.done == done) return entry.t;
-    }
-    at.push_back({interval, done, PathTable::kForever});
-    return at.back().t;
+    return at[static_cast<size_t>(interval) * target_count + done];
   };
 
   const auto& start_intervals = intervals(start);

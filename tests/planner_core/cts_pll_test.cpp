@@ -2,7 +2,9 @@
 
 #include <atomic>
 
+#include "planner_core/joint_sequencer.hpp"
 #include "planner_core/lns.hpp"
+#include "planner_core/lock_release.hpp"
 #include "planner_core/solver.hpp"
 #include "planner_core/safe_interval_planning.hpp"
 #include "planner_core/validator.hpp"
@@ -49,6 +51,38 @@ TEST(LockRelease, GoalsInADeadEndFilledInTheWrongOrder) {
   // Agent 1 settles in the middle of the dead end before agent 0, whose goal is at the bottom.
   expect_lock_released(testing::make_instance({".....", ".....", ".....", "@@.@@", "@@.@@", "@@.@@"},
                                               {{{0, 0}, {2, 5}}, {{4, 2}, {2, 4}}}, {{{4, 0}, {0}}}));
+}
+
+// The complete search as a lock release: from where the stalled run stood at the lock time, every
+// agent searched over augmented configurations; the plan keeps the run's prefix and is valid.
+void expect_completed_from_the_lock(const Instance& instance) {
+  DistTable dist(*instance.graph);
+  JointSequencer sequencer(instance, dist, TaskOrderConfig{});
+  const std::optional<JointSequence> sequence = sequencer.next();
+  ASSERT_TRUE(sequence);
+  std::mt19937 rng(1);
+  PibtConfig config;
+  config.swap = false;
+  config.stall_window = 20;
+  ExtendedPibt pibt(instance, dist, config, rng);
+  pibt.reset(*sequence);
+  ASSERT_NE(pibt.run(Deadline::in_seconds(10)), ExtendedPibt::Outcome::kSolved) << "this case no longer locks";
+  const LockSet lock = detect_lock(pibt, dist);
+  const std::optional<Solution> plan =
+      complete_by_search(pibt, *sequence, lock, dist, rng, /*forbid_rotations=*/false, Deadline::in_seconds(10));
+  ASSERT_TRUE(plan);
+  const ValidationReport report = validate(instance, *plan);
+  EXPECT_TRUE(report.ok()) << report.summary();
+  for (int t = 0; t <= lock.lock_time; ++t) EXPECT_EQ((*plan)[t], pibt.plan()[t]) << "t=" << t;
+}
+
+TEST(LockRelease, TheCompleteSearchFromTheLockFinishesWhatThePaperFiguresLock) {
+  expect_completed_from_the_lock(
+      testing::make_instance({"@.@@@", "....."}, {{{4, 1}, {3, 1}}, {{0, 1}, {0, 1}}}, {{{0, 1}, {0}}}));
+  expect_completed_from_the_lock(
+      testing::make_instance({"@@@@.@@@@", "........."}, {{{3, 1}, {5, 1}}, {{5, 1}, {3, 1}}}, {{{7, 1}, {0}}}));
+  expect_completed_from_the_lock(testing::make_instance({".....", ".....", ".....", "@@.@@", "@@.@@", "@@.@@"},
+                                                        {{{0, 0}, {2, 5}}, {{4, 2}, {2, 4}}}, {{{4, 0}, {0}}}));
 }
 
 TEST(CtsPll, SolvesWhatThePibtBaselineCannotOnDenseInstances) {

@@ -58,4 +58,14 @@ std::optional<Solution> complete_by_prioritized_planning(const ExtendedPibt& pib
                                                          int attempts, bool forbid_rotations,
                                                          const Deadline& deadline);
 
+// The complete search as a lock release (CTS-LaCAM from the lock): every agent, not only the lock
+// agents, searched by LaCAM over augmented configurations from where the failed run stood at t^,
+// each with its tasks not yet visited by then (in order), then its goal. Complete for the
+// sequence: plans are reversible, so whenever the sequence can be followed from the starts it can
+// be from t^ (visits made are kept). Returns the run's plan up to t^ followed by the search's
+// plan, or nullopt when the deadline passes (or, having searched everything, none exists).
+std::optional<Solution> complete_by_search(const ExtendedPibt& pibt, const JointSequence& sequence,
+                                           const LockSet& lock, DistTable& dist, std::mt19937& rng,
+                                           bool forbid_rotations, const Deadline& deadline);
+
 }  // namespace planner_core

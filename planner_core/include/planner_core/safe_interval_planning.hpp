@@ -49,15 +49,10 @@ class SafeIntervalPlanner {
   uint32_t stamp_ = 0;
   std::vector<uint32_t> interval_stamp_;  // per vertex: the call whose intervals are in intervals_
   std::vector<std::vector<PathTable::Interval>> intervals_;
-  struct BestArrival {
-    int interval;
-    int done;
-    int t;
-  };
   std::vector<State> store_;
   std::vector<int> open_;
   std::vector<uint32_t> best_stamp_;  // per vertex: the call whose entries are in best_arrival_
-  std::vector<std::vector<BestArrival>> best_arrival_;
+  std::vector<std::vector<int>> best_arrival_;  // per vertex: [interval * targets + done]
 };
 
 // The earliest-arrival such path, or an empty path when there is none within the limits.

@@ -59,6 +59,7 @@ struct SolveResult {
   int pibt_failures = 0;          // runs that hit the step limit (or stalled, for CTS-PLL)
   int lock_releases = 0;          // CTS-PLL: successful lock releases
   int prioritized_completions = 0;  // CTS-PLL: plans completed by prioritized planning after releases
+  int searched_completions = 0;     // CTS-PLL: plans completed by the complete search from a lock
   int lns_iterations = 0;
   std::vector<Improvement> improvements;
   std::string failure_reason;
