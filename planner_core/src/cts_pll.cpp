@@ -54,6 +54,13 @@ SolveResult CtsPll::solve(const Instance& instance, const SolveOptions& options)
     if (!sequence) break;
     ++result.sequences_tried;
     const Clock::time_point sequence_started = Clock::now();
+    // The complete search from a lock (CTS-LaCAM over every agent), for as long as this sequence
+    // has taken so far.
+    const auto search_from_lock = [&](const LockSet& lock) {
+      const double spent_s = std::chrono::duration<double>(Clock::now() - sequence_started).count();
+      return complete_by_search(pibt, *sequence, lock, dist, rng, config_.forbid_rotations,
+                                deadline.within(std::max(kMinCompleteSliceS, spent_s)));
+    };
 
     // Extended-PIBT, releasing locks until the plan is feasible (Algorithm 2, lines 4-7).
     pibt.reset(*sequence);
@@ -70,29 +77,31 @@ SolveResult CtsPll::solve(const Instance& instance, const SolveOptions& options)
       // LockDetect&Release; when LaCAM finds no release, widen the lock set and try again.
       LockSet lock = detect_lock(pibt, dist);
       std::optional<Solution> prefix;
+      size_t tried_size = 0;
       for (int escalation = 0; !prefix && escalation <= config_.lock_release.max_escalations && !deadline.expired();
            ++escalation) {
         const LockSet attempt = escalation == 0 ? lock : widen_lock(pibt, lock, 1 << escalation);
+        // A wider set is a superset: the same size is the same set, already tried. Once every
+        // agent is in it, nothing wider remains.
+        if (attempt.agents.size() == tried_size) {
+          if (tried_size == static_cast<size_t>(instance.agent_count())) break;
+          continue;
+        }
+        tried_size = attempt.agents.size();
         // Random-permutation targets first (the paper's choice); when a lock comes back after a
         // release, alternate with next-target goals, which resolve corridor swaps outright.
         const bool next_targets_first = releases % 2 == 1;
         prefix = release_lock(pibt, attempt, lacam, config_.lock_release, next_targets_first, rng, deadline);
         if (!prefix) prefix = release_lock(pibt, attempt, lacam, config_.lock_release, !next_targets_first, rng, deadline);
-        if (!prefix && escalation == 0 && config_.complete_fallback) {
-          // The local release failed: the complete search from the lock, for as long as this
-          // sequence has taken so far, before wider (slower) local releases.
-          const double spent_s = std::chrono::duration<double>(Clock::now() - sequence_started).count();
-          completed_plan = complete_by_search(pibt, *sequence, lock, dist, rng, config_.forbid_rotations,
-                                              deadline.within(std::max(kMinCompleteSliceS, spent_s)));
+        if (!prefix && escalation == 0 && 2 * lock.agents.size() >= static_cast<size_t>(instance.agent_count()) &&
+            config_.complete_fallback) {
+          // A lock of half the fleet or more is no local matter (warehouse aisles): rather than
+          // ever wider local releases, the complete search from the lock at once.
+          completed_plan = search_from_lock(lock);
           if (completed_plan) break;
         }
       }
-      if (completed_plan) {
-        ++result.searched_completions;
-        feasible = true;
-        break;
-      }
-      if (!prefix || releases + 1 >= config_.lock_release.completion_after_releases) {
+      if (!completed_plan && (!prefix || releases + 1 >= config_.lock_release.completion_after_releases)) {
         // Releases failed or the lock keeps coming back: complete by prioritized planning.
         if (auto completed = complete_by_prioritized_planning(pibt, *sequence, lock, dist, rng, 8,
                                                                  config_.forbid_rotations, deadline)) {
@@ -101,6 +110,13 @@ SolveResult CtsPll::solve(const Instance& instance, const SolveOptions& options)
           feasible = true;
           break;
         }
+      }
+      // No local release works: the complete search takes over from the lock.
+      if (!completed_plan && !prefix && config_.complete_fallback) completed_plan = search_from_lock(lock);
+      if (completed_plan) {
+        ++result.searched_completions;
+        feasible = true;
+        break;
       }
       if (!prefix) break;  // give this sequence up
       ++releases;
