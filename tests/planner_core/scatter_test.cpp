@@ -23,15 +23,24 @@ Path follow(const Scatter& scatter, const Instance& instance, int agent) {
 const std::vector<std::string> kRoom = {"..........", "..........", ".........."};
 const std::vector<testing::AgentSpec> kHeadOn = {{{0, 1}, {9, 1}}, {{9, 1}, {0, 1}}};
 
+// The scatter paths of an instance, built with a generous deadline.
+struct Built {
+  Built(const Instance& instance, int cost_margin)
+      : dist(*instance.graph),
+        scatter(*instance.graph, dist, instance.starts, instance.goals, cost_margin, 1),
+        stats(scatter.build(Deadline::in_seconds(10))) {}
+  DistTable dist;
+  Scatter scatter;
+  ScatterStats stats;
+};
+
 TEST(Scatter, HeadOnAgentsTakeParallelRowsWhenTheMarginAllows) {
   const Instance instance = testing::make_instance(kRoom, kHeadOn);
-  DistTable dist(*instance.graph);
-  Scatter scatter(*instance.graph, dist, instance.starts, instance.goals, /*cost_margin=*/2, 1);
-  const ScatterStats stats = scatter.build(Deadline::in_seconds(10));
-  EXPECT_TRUE(stats.complete);
-  EXPECT_EQ(stats.collisions, 0);
+  const Built built(instance, /*cost_margin=*/2);
+  EXPECT_TRUE(built.stats.complete);
+  EXPECT_EQ(built.stats.collisions, 0);
   for (int agent = 0; agent < 2; ++agent) {
-    const Path path = follow(scatter, instance, agent);
+    const Path path = follow(built.scatter, instance, agent);
     EXPECT_EQ(path.back(), instance.goals[agent]);
     EXPECT_LE(static_cast<int>(path.size()) - 1, 9 + 2);  // the shortest (9) plus the margin
     for (size_t t = 1; t < path.size(); ++t) EXPECT_TRUE(instance.graph->adjacent(path[t - 1], path[t]));
@@ -39,13 +48,10 @@ TEST(Scatter, HeadOnAgentsTakeParallelRowsWhenTheMarginAllows) {
 }
 
 TEST(Scatter, WithoutAMarginTheOnlyShortestPathsStillCollide) {
-  const Instance instance = testing::make_instance(kRoom, kHeadOn);
-  DistTable dist(*instance.graph);
-  Scatter scatter(*instance.graph, dist, instance.starts, instance.goals, /*cost_margin=*/0, 1);
-  const ScatterStats stats = scatter.build(Deadline::in_seconds(10));
-  EXPECT_TRUE(stats.complete);
-  EXPECT_GT(stats.collisions, 0);  // the count is honest: they must meet in the middle row
-  EXPECT_EQ(stats.sum_of_lengths, 18);
+  const Built built(testing::make_instance(kRoom, kHeadOn), /*cost_margin=*/0);
+  EXPECT_TRUE(built.stats.complete);
+  EXPECT_GT(built.stats.collisions, 0);  // the count is honest: they must meet in the middle row
+  EXPECT_EQ(built.stats.sum_of_lengths, 18);
 }
 
 TEST(Scatter, AnExpiredDeadlineLeavesNoGuidanceAndNoCrash) {
@@ -59,17 +65,14 @@ TEST(Scatter, AnExpiredDeadlineLeavesNoGuidanceAndNoCrash) {
 
 TEST(Scatter, AnUnreachableGoalGetsNoPath) {
   const Instance instance = testing::make_instance({"..@..", "..@.."}, {{{0, 0}, {0, 1}}, {{3, 0}, {4, 1}}});
-  DistTable dist(*instance.graph);
-  Scatter scatter(*instance.graph, dist, instance.starts, instance.goals, 2, 1);
-  const ScatterStats stats = scatter.build(Deadline::in_seconds(10));
-  EXPECT_TRUE(stats.complete);
-  EXPECT_EQ(follow(scatter, instance, 1).back(), instance.goals[1]);
+  const Built reachable(instance, 2);
+  EXPECT_TRUE(reachable.stats.complete);
+  EXPECT_EQ(follow(reachable.scatter, instance, 1).back(), instance.goals[1]);
   // A wall between start and goal: no path, so no guidance (LaCAM decides alone).
   const Instance walled = testing::make_instance({"..@..", "..@.."}, {{{0, 0}, {4, 0}}});
-  DistTable walled_dist(*walled.graph);
-  Scatter none(*walled.graph, walled_dist, walled.starts, walled.goals, 2, 1);
-  EXPECT_FALSE(none.build(Deadline::in_seconds(10)).complete);
-  EXPECT_EQ(none.next(0, walled.starts[0]), kNoVertex);
+  const Built none(walled, 2);
+  EXPECT_FALSE(none.stats.complete);
+  EXPECT_EQ(none.scatter.next(0, walled.starts[0]), kNoVertex);
 }
 
 TEST(Scatter, GuidedLacamPlansAreValidAndSpreadFewerCollisionsThanShortestPaths) {
