@@ -127,6 +127,19 @@ Config next_target_goals(const ExtendedPibt& pibt, const std::vector<int>& agent
   return goals;
 }
 
+// The agent's tasks (cells) not visited in the plan up to t^, in its order: what is left for it.
+std::vector<Vertex> tasks_left(const Instance& instance, const Solution& plan, const JointSequence& sequence,
+                               int agent, int t_hat) {
+  std::vector<Vertex> left;
+  for (int task : sequence.orders[agent]) {
+    const Vertex cell = instance.tasks[task].at;
+    bool visited = false;
+    for (int t = 0; t <= t_hat && !visited; ++t) visited = plan[t][agent] == cell;
+    if (!visited) left.push_back(cell);
+  }
+  return left;
+}
+
 }  // namespace
 
 std::optional<Solution> release_lock(const ExtendedPibt& pibt, const LockSet& lock, Lacam& lacam,
@@ -190,12 +203,7 @@ std::optional<Solution> complete_by_prioritized_planning(const ExtendedPibt& pib
   // Targets still ahead of each lock agent at t^: its unvisited tasks in order, then its goal.
   std::vector<std::vector<Vertex>> targets(n);
   for (int a : lock.agents) {
-    for (int task : sequence.orders[a]) {
-      const Vertex cell = instance.tasks[task].at;
-      bool visited = false;
-      for (int t = 0; t <= t_hat && !visited; ++t) visited = plan[t][a] == cell;
-      if (!visited) targets[a].push_back(cell);
-    }
+    targets[a] = tasks_left(instance, plan, sequence, a, t_hat);
     targets[a].push_back(instance.goals[a]);
   }
   SpaceTimeLimits limits;
@@ -242,14 +250,7 @@ std::optional<Solution> complete_by_search(const ExtendedPibt& pibt, const Joint
   const int n = instance.agent_count();
   const int t_hat = lock.lock_time;
   Waypoints waypoints(n);
-  for (int a = 0; a < n; ++a) {
-    for (int task : sequence.orders[a]) {
-      const Vertex cell = instance.tasks[task].at;
-      bool visited = false;
-      for (int t = 0; t <= t_hat && !visited; ++t) visited = plan[t][a] == cell;
-      if (!visited) waypoints[a].push_back(cell);
-    }
-  }
+  for (int a = 0; a < n; ++a) waypoints[a] = tasks_left(instance, plan, sequence, a, t_hat);
   // The generator as CTS-LaCAM's (cts_lacam.cpp).
   Lacam lacam(*instance.graph, dist, LacamConfig{false, forbid_rotations, /*swap=*/true, /*prefer_free_cells=*/true}, rng);
   const LacamResult found = lacam.solve(plan[t_hat], instance.goals, {}, deadline, waypoints);
