@@ -5,10 +5,12 @@
 #include <cstdint>
 #include <deque>
 #include <functional>
+#include <iterator>
 #include <map>
+#include <numeric>
 #include <memory>
 #include <queue>
-#include <unordered_map>
+#include <unordered_set>
 #include <utility>
 
 #include "planner_core/corridor_swap.hpp"
@@ -43,6 +45,21 @@ struct HighLevelNode {
   std::vector<int> order;  // agents by decreasing priority
   std::deque<Constraint> constraints;
   std::vector<HighLevelNode*> neighbours;  // LaCAM*: known successors, for rewiring
+};
+
+// The explored nodes are kept by their configuration without a second copy of it (40 KB a node
+// at 10,000 agents): the set holds the nodes and is searched with a bare configuration.
+struct NodeByConfig {
+  using is_transparent = void;
+  size_t operator()(const HighLevelNode* node) const { return ConfigHash{}(node->config); }
+  size_t operator()(const Config& config) const { return ConfigHash{}(config); }
+};
+
+struct SameConfig {
+  using is_transparent = void;
+  bool operator()(const HighLevelNode* a, const HighLevelNode* b) const { return a->config == b->config; }
+  bool operator()(const Config& a, const HighLevelNode* b) const { return a == b->config; }
+  bool operator()(const HighLevelNode* a, const Config& b) const { return a->config == b; }
 };
 
 }  // namespace
@@ -131,7 +148,7 @@ class LacamSearch::State {
       }
       const auto found = explored_.find(next);
       if (found != explored_.end()) {
-        HighLevelNode* known = found->second;
+        HighLevelNode* known = *found;
         if (config_.refine) {
           // Before the first solution costs matter to nobody: only record the link, and
           // settle_costs propagates them all once when a goal is found, instead of a propagation
@@ -228,6 +245,7 @@ class LacamSearch::State {
     node->config = config;
     node->parent = parent;
     node->priority.resize(n_);
+    grew_.assign(n_, 0);
     for (int i = 0; i < n_; ++i) {
       const int k = current(config, i);
       if (!parent) {
@@ -235,6 +253,7 @@ class LacamSearch::State {
       } else if (!home(config, i) && k == current(parent->config, i)) {
         // dynamic priorities: grow until the next waypoint or the goal is reached
         node->priority[i] = parent->priority[i] + 1;
+        grew_[i] = 1;
       } else {
         node->priority[i] = parent->priority[i] - static_cast<float>(static_cast<int64_t>(parent->priority[i]));
       }
@@ -243,19 +262,47 @@ class LacamSearch::State {
       node->g = parent->g + transition_cost(parent->config, config);
       if (config_.refine) parent->neighbours.push_back(node.get());
     }
-    // Agents by decreasing priority, ties by index (a stable order): sorted as (key, index) pairs,
-    // which keeps the comparisons in one array (the sort was 6% of the samples of a 10,000-agent
-    // search).
-    by_priority_.resize(n_);
-    for (int i = 0; i < n_; ++i) by_priority_[i] = {-node->priority[i], i};
-    std::sort(by_priority_.begin(), by_priority_.end());
-    node->order.resize(n_);
-    for (int i = 0; i < n_; ++i) node->order[i] = by_priority_[i].second;
+    order_by_priority(*node, parent);
     node->constraints.push_back({});
     HighLevelNode* raw = node.get();
-    explored_.emplace(config, raw);
+    explored_.insert(raw);
     nodes_.push_back(std::move(node));
     return raw;
+  }
+
+  // Agents by decreasing priority, ties by index. From the parent's order in O(agents) rather than
+  // by a sort (7% of the samples of a 10,000-agent search): the agents whose priority grew by one
+  // keep their order (up to ties that rounding creates, mended by an insertion sort that costs
+  // nothing when there are none), those whose priority did not change keep theirs exactly, and
+  // only the few that reached a target are sorted; the three runs are then merged.
+  void order_by_priority(HighLevelNode& node, const HighLevelNode* parent) {
+    const std::vector<float>& priority = node.priority;
+    const auto before = [&](int a, int b) { return priority[a] > priority[b] || (priority[a] == priority[b] && a < b); };
+    node.order.resize(n_);
+    if (!parent) {
+      std::iota(node.order.begin(), node.order.end(), 0);
+      std::sort(node.order.begin(), node.order.end(), before);
+      return;
+    }
+    grown_.clear();
+    kept_.clear();
+    reset_.clear();
+    for (int i : parent->order) {
+      if (grew_[i]) {
+        grown_.push_back(i);
+      } else if (priority[i] == parent->priority[i]) {
+        kept_.push_back(i);
+      } else {
+        reset_.push_back(i);
+      }
+    }
+    for (size_t k = 1; k < grown_.size(); ++k) {
+      for (size_t j = k; j > 0 && before(grown_[j], grown_[j - 1]); --j) std::swap(grown_[j], grown_[j - 1]);
+    }
+    std::sort(reset_.begin(), reset_.end(), before);
+    merged_.clear();
+    std::merge(grown_.begin(), grown_.end(), kept_.begin(), kept_.end(), std::back_inserter(merged_), before);
+    std::merge(merged_.begin(), merged_.end(), reset_.begin(), reset_.end(), node.order.begin(), before);
   }
 
   // Lazily adds the children of `constraint`: the next agent in order fixed to each of its moves.
@@ -451,12 +498,13 @@ class LacamSearch::State {
   std::vector<int> own_index_;                   // per slot: its target's row in own_distances_
   std::vector<DistTable::Row> target_rows_;      // per slot, when nothing is blocked
   std::vector<std::unique_ptr<HighLevelNode>> nodes_;
-  std::unordered_map<Config, HighLevelNode*, ConfigHash> explored_;
+  std::unordered_set<HighLevelNode*, NodeByConfig, SameConfig> explored_;  // looked up by configuration
   std::vector<HighLevelNode*> open_;
   std::vector<int> occupied_now_, occupied_next_;
   std::vector<Vertex> claimed_;  // every vertex written in occupied_next_ this generation
   std::vector<char> constrained_;  // agents fixed by the current constraint
-  std::vector<std::pair<float, int>> by_priority_;  // make_node's scratch for sorting agents
+  std::vector<char> grew_;  // make_node's: agents whose priority grew by one from the parent's
+  std::vector<int> grown_, kept_, reset_, merged_;  // order_by_priority's scratch
   const Config* from_ = nullptr;
   Config* to_ = nullptr;
   CorridorSwap swap_;  // reads occupied_now_
