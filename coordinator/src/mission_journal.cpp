@@ -33,12 +33,19 @@ std::string mission_fingerprint(const planner_core::Instance& mission) {
   for (int y = 0; y < graph.height(); ++y) {
     for (int x = 0; x < graph.width(); ++x) fingerprint.add(graph.is_free({x, y}) ? 1 : 0);
   }
-  for (planner_core::Vertex v : mission.starts) fingerprint.add(v);
+  // Cells by their coordinates, not by vertex number: the numbering is the planner's own and may
+  // change between versions, while a journal and a standby coordinator outlive a version.
+  const auto add_cell = [&](planner_core::Vertex v) {
+    const planner_core::Cell cell = graph.cell_of(v);
+    fingerprint.add(cell.x);
+    fingerprint.add(cell.y);
+  };
+  for (planner_core::Vertex v : mission.starts) add_cell(v);
   fingerprint.add(-1);
-  for (planner_core::Vertex v : mission.goals) fingerprint.add(v);
+  for (planner_core::Vertex v : mission.goals) add_cell(v);
   fingerprint.add(-2);
   for (const planner_core::Task& task : mission.tasks) {
-    fingerprint.add(task.at);
+    add_cell(task.at);
     for (int agent : task.agents) fingerprint.add(agent);
     fingerprint.add(-3);
   }

@@ -12,7 +12,7 @@
 
 namespace planner_core {
 
-using Vertex = int;  // dense id of a free cell, 0 .. vertex_count()-1
+using Vertex = int;  // dense id of a free cell, 0 .. vertex_count()-1 (numbered in 8 x 4 tiles: graph.cpp)
 constexpr Vertex kNoVertex = -1;
 constexpr int kMaxDegree = 4;  // 4-connected grid: up, down, left, right
 
