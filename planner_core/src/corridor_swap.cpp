@@ -23,6 +23,13 @@ bool CorridorSwap::required(int pusher, int puller, Vertex pusher_at, Vertex pul
   // Walk the corridor ahead of the pusher while it leads the pusher closer to its target; a cell
   // with two ways on is room to pass, so no swap is needed.
   Vertex behind = pusher_at, ahead = puller_at;
+  // Room to pass at once, the common case away from corridors: then the walk below would stop at
+  // its first step, and what is left of the answer needs none of the pusher's distances (cache
+  // misses at 10,000 agents), only whether the pusher stands on its target.
+  Vertex beyond = kNoVertex;
+  if (passable_neighbours(ahead, behind, beyond) >= 2) {
+    return target_(pusher) == behind && distance_(puller, behind) < distance_(puller, ahead);
+  }
   while (distance_(pusher, ahead) < distance_(pusher, behind)) {
     Vertex next = kNoVertex;
     const int ways = passable_neighbours(ahead, behind, next);
