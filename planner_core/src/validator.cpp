@@ -42,7 +42,10 @@ ValidationReport validate(const Instance& instance, const Solution& solution, co
   const Graph& graph = *instance.graph;
   const int n = instance.agent_count();
   const int vertex_count = graph.vertex_count();
-  const auto on_map = [&](Vertex v) { return graph.is_open(v); };  // in range and not walled
+  // In range and not walled; looked up once per vertex (a plan has agents x steps positions).
+  std::vector<char> open(vertex_count);
+  for (Vertex v = 0; v < vertex_count; ++v) open[v] = graph.is_open(v) ? 1 : 0;
+  const auto on_map = [&](Vertex v) { return v >= 0 && v < vertex_count && open[v]; };
   const auto cell = [&](Vertex v) {
     return v >= 0 && v < vertex_count ? to_string(graph.cell_of(v)) : std::string("(off map)");
   };
