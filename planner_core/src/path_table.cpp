@@ -66,12 +66,18 @@ void PathTable::safe_intervals(Vertex v, std::vector<Interval>& out) const {
   out.clear();
   const int end = resting_agent_[v] != kFree ? resting_from_[v] : kForever;  // free before a resting agent arrives
   int first = 0;
+  int before = kFree;  // the agent at v at first - 1
+  int after_end = resting_agent_[v];  // the agent at v at `end`: a visit then wins over the resting one
   for (const Visit& visit : visits_[v]) {
-    if (visit.t >= end) break;
-    if (visit.t > first) out.push_back({first, visit.t - 1});
+    if (visit.t >= end) {
+      if (visit.t == end) after_end = visit.agent;
+      break;
+    }
+    if (visit.t > first) out.push_back({first, visit.t - 1, before, visit.agent});
     first = visit.t + 1;
+    before = visit.agent;
   }
-  if (first < end) out.push_back({first, end == kForever ? kForever : end - 1});
+  if (first < end) out.push_back({first, end == kForever ? kForever : end - 1, before, end == kForever ? kFree : after_end});
 }
 
 void PathTable::agents_at(Vertex v, std::vector<int>& out) const {

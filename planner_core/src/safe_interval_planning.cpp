@@ -77,15 +77,19 @@ Path SafeIntervalPlanner::plan(DistTable& dist, const PathTable& table, Vertex s
 
   std::vector<State>& store = store_;
   store.clear();
-  const auto worse = [&](int a, int b) {
-    if (store[a].f != store[b].f) return store[a].f > store[b].f;
-    if (store[a].h != store[b].h) return store[a].h > store[b].h;
-    return store[a].t < store[b].t;
+  // A binary heap, best on top: lowest f, then lowest h, then latest t. Each entry carries its
+  // keys, so the heap's comparisons read the heap alone (they were a third of the search's time
+  // when they went through the store).
+  const auto worse = [](const OpenEntry& a, const OpenEntry& b) {
+    if (a.f != b.f) return a.f > b.f;
+    if (a.h != b.h) return a.h > b.h;
+    return a.t < b.t;
   };
-  std::vector<int>& open = open_;  // a binary heap of store indices, best on top
+  std::vector<OpenEntry>& open = open_;
   open.clear();
   const auto push = [&](int index) {
-    open.push_back(index);
+    const State& pushed = store[index];
+    open.push_back({pushed.f, pushed.h, pushed.t, index});
     std::push_heap(open.begin(), open.end(), worse);
   };
   // The earliest arrival expanded per (vertex, interval, targets done): per vertex an array over
@@ -114,7 +118,7 @@ Path SafeIntervalPlanner::plan(DistTable& dist, const PathTable& table, Vertex s
   int expansions = 0;
   while (!open.empty()) {
     std::pop_heap(open.begin(), open.end(), worse);
-    const int index = open.back();
+    const int index = open.back().index;
     open.pop_back();
     const State state = store[index];
     int& best = best_arrival(state.v, state.interval, state.done);
@@ -140,16 +144,21 @@ Path SafeIntervalPlanner::plan(DistTable& dist, const PathTable& table, Vertex s
     if ((expansions & 1023) == 0 && limits.deadline.expired()) break;
     for (Vertex u : graph.neighbours(state.v)) {
       const auto& slots = intervals(u);
-      for (int k = 0; k < static_cast<int>(slots.size()); ++k) {
+      // Intervals that close before the earliest move (t + 1) can take no move: start past them.
+      const auto first_open = std::partition_point(
+          slots.begin(), slots.end(), [&](const PathTable::Interval& slot) { return slot.last < state.t + 1; });
+      for (int k = static_cast<int>(first_open - slots.begin()); k < static_cast<int>(slots.size()); ++k) {
         const int latest = std::min(slots[k].last, here.last == PathTable::kForever ? PathTable::kForever : here.last + 1);
         int t = std::max(state.t + 1, slots[k].first);
         if (t > latest) continue;
         if (slots[k].first > (here.last == PathTable::kForever ? PathTable::kForever : here.last + 1)) break;
         // Swap conflict: someone at u at t-1 moving onto our cell at t. Intervals are maximal, so
         // u can be occupied at t-1 only when its interval opens at t; one step later it is free.
+        // Likewise our cell is taken at t only when our interval closes at t - 1: both agents are
+        // those the intervals record next to them.
         if (t == slots[k].first) {
-          const int other = table.occupant(u, t - 1);
-          if (other != PathTable::kFree && table.occupant(state.v, t) == other) {
+          const int other = slots[k].occupant_before;
+          if (other != PathTable::kFree && t == here.last + 1 && here.occupant_after == other) {
             ++t;
           } else if (limits.forbid_rotations && closes_rotation(graph, table, state.v, u, t)) {
             ++t;  // one step later u has been free for a step: following nobody, closing nothing

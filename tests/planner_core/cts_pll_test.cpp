@@ -183,6 +183,14 @@ TEST(PathTable, AddingEveryPathAtOnceEqualsAddingThemOneByOne) {
     for (size_t k = 0; k < got.size(); ++k) {
       EXPECT_EQ(got[k].first, expected[k].first);
       EXPECT_EQ(got[k].last, expected[k].last);
+      // The agents recorded next to an interval are those the table has there.
+      EXPECT_EQ(got[k].occupant_before, got[k].first == 0 ? PathTable::kFree : at_once.occupant(v, got[k].first - 1))
+          << "vertex " << v;
+      EXPECT_EQ(got[k].occupant_after,
+                got[k].last == PathTable::kForever ? PathTable::kFree : at_once.occupant(v, got[k].last + 1))
+          << "vertex " << v;
+      EXPECT_EQ(got[k].occupant_before, expected[k].occupant_before);
+      EXPECT_EQ(got[k].occupant_after, expected[k].occupant_after);
     }
   }
   // And a path removed again leaves both the same.

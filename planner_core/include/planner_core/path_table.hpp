@@ -26,10 +26,14 @@ class PathTable {
   int occupant(Vertex v, int t) const;
   // The last time any stored path passes v (-1 if none); a resting agent's arrival counts.
   int last_visit(Vertex v) const { return visits_[v].empty() ? -1 : visits_[v].back().t; }
-  // The maximal time intervals [first, last] in which v is free (last = kForever for the final one).
+  // The maximal time intervals [first, last] in which v is free (last = kForever for the final one),
+  // with the agents at v just before and just after (what occupant(v, first - 1) and
+  // occupant(v, last + 1) return; kFree when there is none), for the swap test of a search.
   struct Interval {
     int first;
     int last;
+    int occupant_before = kFree;
+    int occupant_after = kFree;
   };
   static constexpr int kForever = 1 << 30;
   void safe_intervals(Vertex v, std::vector<Interval>& out) const;

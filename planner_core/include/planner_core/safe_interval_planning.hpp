@@ -50,7 +50,11 @@ class SafeIntervalPlanner {
   std::vector<uint32_t> interval_stamp_;  // per vertex: the call whose intervals are in intervals_
   std::vector<std::vector<PathTable::Interval>> intervals_;
   std::vector<State> store_;
-  std::vector<int> open_;
+  struct OpenEntry {
+    int f, h, t;
+    int index;  // in store_
+  };
+  std::vector<OpenEntry> open_;
   std::vector<uint32_t> best_stamp_;  // per vertex: the call whose entries are in best_arrival_
   std::vector<std::vector<int>> best_arrival_;  // per vertex: [interval * targets + done]
 };
