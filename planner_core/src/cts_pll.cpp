@@ -29,15 +29,22 @@ SolveResult CtsPll::solve(const Instance& instance, const SolveOptions& options)
   const Deadline& deadline = options.deadline;
 
   const double total_s = std::chrono::duration<double>(deadline.at - started).count();
-  const double lns_per_sequence_s =
-      config_.lns.time_per_sequence_s > 0 ? config_.lns.time_per_sequence_s : std::max(0.5, total_s / 2);
+  // v3's LNS: by default each feasible sequence gets up to a quarter of the limit (less when its
+  // LNS stalls), and after the first two the better refined plan gets the rest (docs/RESULTS.md
+  // section 7: half each did worse on dense mazes, the whole limit on the first sequence worse on
+  // warehouses).
+  const bool race_two_sequences = config_.lns.time_per_sequence_s <= 0;
+  const double lns_per_sequence_s = race_two_sequences ? std::max(0.5, total_s / 4) : config_.lns.time_per_sequence_s;
+  int refined_sequences = 0;
 
   SolveResult result;
   result.lower_bound = sequencer.lower_bound();
   result.preprocessing_ms = elapsed_ms(started);
   // v3: LNS on each feasible plan, for its share of the time.
-  auto refine_by_lns = [&](Solution plan, const std::vector<std::vector<int>>& orders, int sequence_index) {
-    const LnsStats stats = lns.refine(plan, orders, deadline.within(lns_per_sequence_s), [&](int64_t flow) {
+  auto refine_by_lns = [&](Solution plan, const std::vector<std::vector<int>>& orders, int sequence_index,
+                           const Deadline& until) {
+    ++refined_sequences;
+    const LnsStats stats = lns.refine(plan, orders, until, [&](int64_t flow) {
       if (result.solved && flow < result.flowtime &&
           (result.improvements.empty() || flow < result.improvements.back().flowtime)) {
         result.improvements.push_back({elapsed_ms(started), flow, sequence_index});
@@ -126,7 +133,7 @@ SolveResult CtsPll::solve(const Instance& instance, const SolveOptions& options)
     if (feasible) {
       Solution plan = completed_plan ? std::move(*completed_plan) : pibt.plan();
       keep_if_better(result, instance, plan, sequence->orders, sequence->index, started, options, "CTS-PLL");
-      if (variant_ == Variant::kV3) refine_by_lns(plan, sequence->orders, sequence->index);
+      if (variant_ == Variant::kV3) refine_by_lns(plan, sequence->orders, sequence->index, deadline.within(lns_per_sequence_s));
     } else if (config_.complete_fallback && variant_ != Variant::kV1) {
       // This sequence defeated Extended-PIBT and the releases: the complete search gets as much
       // time as they took (it goes on where it stopped the next time).
@@ -138,11 +145,21 @@ SolveResult CtsPll::solve(const Instance& instance, const SolveOptions& options)
         break;
       }
       if (outcome == CompleteSearch::Outcome::kFound && variant_ == Variant::kV3) {
-        refine_by_lns(result.solution, result.orders, result.improvements.back().sequence_index);
+        refine_by_lns(result.solution, result.orders, result.improvements.back().sequence_index,
+                      deadline.within(lns_per_sequence_s));
       }
     }
     if (variant_ == Variant::kV1) break;
     if (variant_ == Variant::kV2 && result.solved) break;
+    if (variant_ == Variant::kV3 && race_two_sequences && refined_sequences == 2 && result.solved) {
+      // The better of the first two refined plans gets the rest of the time; when its LNS stalls
+      // first (small instances), the next sequences go on as before.
+      refine_by_lns(result.solution, result.orders, result.improvements.back().sequence_index, deadline);
+    }
+  }
+  // v3: when the sequences ran out before the race, the best plan gets the rest of the time.
+  if (variant_ == Variant::kV3 && race_two_sequences && refined_sequences < 2 && result.solved && !deadline.expired()) {
+    refine_by_lns(result.solution, result.orders, result.improvements.back().sequence_index, deadline);
   }
   // Never give up before the deadline: the complete search takes over (and v3 refines its plan).
   if (!result.solved && !no_plan_exists && config_.complete_fallback && !deadline.expired()) {
