@@ -142,16 +142,21 @@ Path SafeIntervalPlanner::plan(DistTable& dist, const PathTable& table, Vertex s
     }
     if (++expansions > limits.max_expansions) break;
     if ((expansions & 1023) == 0 && limits.deadline.expired()) break;
+    // The last moment we can leave this cell: the step after our interval closes.
+    const int leave_by = here.last == PathTable::kForever ? PathTable::kForever : here.last + 1;
     for (Vertex u : graph.neighbours(state.v)) {
       const auto& slots = intervals(u);
+      const int done = advance(u, state.done);
+      const int to_go = remaining(u, done);
       // Intervals that close before the earliest move (t + 1) can take no move: start past them.
       const auto first_open = std::partition_point(
           slots.begin(), slots.end(), [&](const PathTable::Interval& slot) { return slot.last < state.t + 1; });
+      // Later intervals are entered later: once one is too late (horizon, length bound), so are
+      // all after it.
       for (int k = static_cast<int>(first_open - slots.begin()); k < static_cast<int>(slots.size()); ++k) {
-        const int latest = std::min(slots[k].last, here.last == PathTable::kForever ? PathTable::kForever : here.last + 1);
+        if (slots[k].first > leave_by) break;
+        const int latest = std::min(slots[k].last, leave_by);
         int t = std::max(state.t + 1, slots[k].first);
-        if (t > latest) continue;
-        if (slots[k].first > (here.last == PathTable::kForever ? PathTable::kForever : here.last + 1)) break;
         // Swap conflict: someone at u at t-1 moving onto our cell at t. Intervals are maximal, so
         // u can be occupied at t-1 only when its interval opens at t; one step later it is free.
         // Likewise our cell is taken at t only when our interval closes at t - 1: both agents are
@@ -164,11 +169,10 @@ Path SafeIntervalPlanner::plan(DistTable& dist, const PathTable& table, Vertex s
             ++t;  // one step later u has been free for a step: following nobody, closing nothing
           }
         }
-        if (t > latest || t > limits.horizon) continue;
-        const int done = advance(u, state.done);
-        const int to_go = remaining(u, done);
+        if (t > latest) continue;
+        if (t > limits.horizon) break;
         const int f = std::max(t + to_go, earliest_rest);
-        if (f > latest_arrival) continue;
+        if (f > latest_arrival) break;
         if (best_arrival(u, k, done) <= t) continue;
         store.push_back({u, k, done, t, f, to_go, index});
         push(static_cast<int>(store.size()) - 1);
