@@ -79,17 +79,23 @@ std::vector<int> LnsRefiner::intersection_agents() {
   return random_agents(chosen);
 }
 
-// Starts from an agent picked in proportion to its delay (arrival minus its tour length) and
-// follows the agents it meets along its path.
+std::optional<int> LnsRefiner::delayed_agent() {
+  const int n = instance_.agent_count();
+  std::vector<double> delay(n);
+  for (int a = 0; a < n; ++a) {
+    delay[a] = std::max(0.0, static_cast<double>(static_cast<int>(paths_[a].size()) - 1 - tour_length_[a]));
+  }
+  if (std::all_of(delay.begin(), delay.end(), [](double d) { return d <= 0; })) return std::nullopt;
+  return std::discrete_distribution<int>(delay.begin(), delay.end())(rng_);
+}
+
+// Starts from a delayed agent and follows the agents it meets along its path.
 std::vector<int> LnsRefiner::random_walk_agents() {
   const Graph& graph = *instance_.graph;
-  const int n = instance_.agent_count();
-  const int size = std::min(config_.neighbourhood_size, n);
-  std::vector<double> delay(n);
-  for (int a = 0; a < n; ++a) delay[a] = static_cast<double>(static_cast<int>(paths_[a].size()) - 1 - tour_length_[a]);
-  if (std::all_of(delay.begin(), delay.end(), [](double d) { return d <= 0; })) return random_agents({});
-  for (double& d : delay) d = std::max(d, 0.0);
-  int walker = std::discrete_distribution<int>(delay.begin(), delay.end())(rng_);
+  const int size = std::min(config_.neighbourhood_size, instance_.agent_count());
+  const std::optional<int> late = delayed_agent();
+  if (!late) return random_agents({});
+  int walker = *late;
   std::vector<int> chosen{walker};
   std::vector<int> met;
   for (int step = 0; step < 4 * size && static_cast<int>(chosen.size()) < size; ++step) {
@@ -113,11 +119,25 @@ std::vector<int> LnsRefiner::random_walk_agents() {
   return random_agents(chosen);
 }
 
+// A delayed agent and the agents that pass its goal last, after it could have arrived: while they
+// do, it cannot rest there. An agent parked on its goal in a corridor waits for everyone who still
+// has to go through; replanned first, it arrives early and they pass it by another lane or earlier.
+// The latest visitors go first, so a repeated pick peels them off from the end.
+std::vector<int> LnsRefiner::goal_blocker_agents() {
+  const std::optional<int> late = delayed_agent();
+  if (!late) return random_agents({});
+  const int size = std::min(config_.neighbourhood_size, instance_.agent_count());
+  std::vector<int> chosen{*late};
+  table_.visitors_from(instance_.goals[*late], tour_length_[*late], *late, size - 1, chosen);
+  return random_agents(chosen);
+}
+
 std::vector<int> LnsRefiner::pick_neighbourhood(DestroyOperator op) {
   switch (op) {
     case DestroyOperator::kRandom: return random_agents({});
     case DestroyOperator::kIntersection: return intersection_agents();
     case DestroyOperator::kRandomWalk: return random_walk_agents();
+    case DestroyOperator::kGoalBlockers: return goal_blocker_agents();
   }
   return random_agents({});
 }
@@ -170,7 +190,9 @@ LnsStats LnsRefiner::refine(Solution& plan, const std::vector<std::vector<int>>&
     ++stats.iterations;
     const DestroyOperator op = roulette();
     std::vector<int> group = pick_neighbourhood(op);
-    std::shuffle(group.begin(), group.end(), rng_);  // the repair's priority order
+    // The repair's priority order: random, except that the late agent of a goal-blocker
+    // neighbourhood goes first, to take its early arrival before the others are replanned.
+    std::shuffle(group.begin() + (op == DestroyOperator::kGoalBlockers ? 1 : 0), group.end(), rng_);
     int64_t old_cost = 0;
     old_paths.clear();
     for (int a : group) {

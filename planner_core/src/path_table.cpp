@@ -86,4 +86,14 @@ void PathTable::agents_at(Vertex v, std::vector<int>& out) const {
   }
 }
 
+void PathTable::visitors_from(Vertex v, int from, int except, int count, std::vector<int>& out) const {
+  const size_t wanted = out.size() + static_cast<size_t>(std::max(count, 0));
+  for (auto visit = visits_[v].rbegin(); visit != visits_[v].rend() && visit->t >= from; ++visit) {
+    if (out.size() >= wanted) return;
+    if (visit->agent != except && std::find(out.begin(), out.end(), visit->agent) == out.end()) {
+      out.push_back(visit->agent);
+    }
+  }
+}
+
 }  // namespace planner_core

@@ -1,12 +1,13 @@
 // LNS refinement (CTS-PLL paper, section III-C; destroy/repair structure after MAPF-LNS2, Li et
 // al. AAAI 2022): repeatedly remove the paths of a neighbourhood of agents, replan them one by one
 // with prioritized planning in random order through their fixed task orders, and keep the result
-// when the neighbourhood's cost (sum of arrival times) does not increase. Three destroy operators
+// when the neighbourhood's cost (sum of arrival times) does not increase. Four destroy operators
 // with adaptive weights w <- (1 - gamma) w + gamma max(delta, 0), picked by roulette.
 #pragma once
 
 #include <array>
 #include <functional>
+#include <optional>
 #include <random>
 #include <vector>
 
@@ -27,8 +28,8 @@ struct LnsConfig {
   SpaceTimeLimits search;
 };
 
-enum class DestroyOperator { kRandom, kIntersection, kRandomWalk };
-constexpr int kDestroyOperatorCount = 3;
+enum class DestroyOperator { kRandom, kIntersection, kRandomWalk, kGoalBlockers };
+constexpr int kDestroyOperatorCount = 4;
 
 struct LnsStats {
   int iterations = 0;
@@ -54,6 +55,9 @@ class LnsRefiner {
   std::vector<int> random_agents(std::vector<int> chosen);
   std::vector<int> intersection_agents();
   std::vector<int> random_walk_agents();
+  std::vector<int> goal_blocker_agents();
+  // An agent picked in proportion to its delay (arrival minus its tour length); none if no agent is late.
+  std::optional<int> delayed_agent();
   DestroyOperator roulette();
 
   const Instance& instance_;

@@ -39,6 +39,9 @@ class PathTable {
   void safe_intervals(Vertex v, std::vector<Interval>& out) const;
   // Agents whose stored paths visit v at some time.
   void agents_at(Vertex v, std::vector<int>& out) const;
+  // Agents other than `except` that visit v at time `from` or later, the latest visitor first, up
+  // to `count` of them (appended to `out`).
+  void visitors_from(Vertex v, int from, int except, int count, std::vector<int>& out) const;
 
  private:
   struct Visit {
