@@ -99,6 +99,10 @@ int main(int argc, char** argv) {
                "CTS solvers: no complete search when their own method runs out (the --experiment runs never use it)");
   app.add_flag("--no-scatter{false}", config.scatter,
                "lacam-star: no second search guided by paths spread over the map (to study LaCAM* alone)");
+  app.add_option("--recursive-lacam", config.recursive_lacam_rate,
+                 "lacam-star: share of refinement rounds spent re-planning the plan's tail with a fresh LaCAM (lacam3's recursive LaCAM; 0 = never)")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
   app.add_flag("--swap,!--no-swap", config.pibt.swap,
                "Extended-PIBT with LaCAM3's swap operation for head-on meetings in corridors (default; --no-swap: without)");
   app.add_flag("--no-rotations", config.forbid_rotations,

@@ -34,6 +34,22 @@ std::unique_ptr<Scatter> spread_out(const Instance& instance, DistTable& dist, u
   return scatter;
 }
 
+// lacam3's recursive LaCAM: a fresh LaCAM from a configuration of `plan` picked at random, its plan
+// spliced after the part of `plan` that led there. Returns the spliced plan, or an empty one when
+// none was found in time.
+Solution replan_tail(const Instance& instance, DistTable& dist, const Solution& plan, bool forbid_rotations,
+                     std::mt19937& rng, const Deadline& deadline) {
+  if (plan.size() < 4) return {};
+  const size_t from = std::uniform_int_distribution<size_t>(1, plan.size() - 3)(rng);
+  const LacamConfig config{/*refine=*/false, forbid_rotations, /*swap=*/true, /*prefer_free_cells=*/true};
+  Lacam lacam(*instance.graph, dist, config, rng);
+  const LacamResult found = lacam.solve(plan[from], instance.goals, {}, deadline);
+  if (!found.solved) return {};
+  Solution spliced(plan.begin(), plan.begin() + static_cast<std::ptrdiff_t>(from));
+  spliced.insert(spliced.end(), found.solution.begin(), found.solution.end());
+  return spliced;
+}
+
 }  // namespace
 
 SolveResult LacamSolver::solve(const Instance& instance, const SolveOptions& options) {
@@ -141,6 +157,19 @@ void refine_until_deadline(const Instance& instance, DistTable& dist, LacamSearc
       search_slice_s = std::clamp(search_slice_s * (cheaper ? 2.0 : 0.5), kMinSearchSliceS, kMaxSearchSliceS);
       if (search_done && optimal_when_exhausted) break;
       if (deadline.seconds_left() <= unclocked_s) break;
+    }
+    const bool plain_mapf = instance.task_count() == 0;
+    if (plain_mapf && config.recursive_lacam_rate > 0 &&
+        std::uniform_real_distribution<double>(0, 1)(rng) < config.recursive_lacam_rate) {
+      const Deadline recursion_deadline = slice(kRefinerSliceS);
+      const Solution spliced =
+          replan_tail(instance, dist, result.solution, config.forbid_rotations, rng, recursion_deadline);
+      if (!spliced.empty() && flowtime(spliced, instance.goals) < result.flowtime) {
+        keep_timed(spliced, name + " recursive LaCAM");
+        refined = result.solution;
+      }
+      measure_overrun(recursion_deadline);
+      continue;
     }
     const Deadline refiner_deadline = slice(kRefinerSliceS);
     const LnsStats stats = refiner.refine(refined, orders, refiner_deadline);

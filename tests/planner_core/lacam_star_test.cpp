@@ -46,6 +46,27 @@ TEST(LacamStar, RefinementLowersTheFirstPlansFlowtime) {
   EXPECT_LT(refined.improvements.back().flowtime, refined.improvements.front().flowtime);
 }
 
+TEST(LacamStar, RecursiveLacamAloneAlsoLowersTheFirstPlansFlowtime) {
+  // Every refinement round a fresh LaCAM from a configuration of the plan (no LNS at all): the
+  // spliced plans kept must be valid and, taken together, cheaper than the first plan.
+  const Instance instance = crowded_random_map();
+  SolverConfig config;
+  config.solver = "lacam-star";
+  config.pibt.swap = true;
+  config.scatter = false;
+  config.recursive_lacam_rate = 1.0;
+  SolveOptions options;
+  options.deadline = Deadline::in_seconds(3);
+  const SolveResult result = make_solver(config)->solve(instance, options);
+  ASSERT_TRUE(result.solved) << result.failure_reason;
+  const ValidationReport report = validate(instance, result.solution);
+  ASSERT_TRUE(report.ok()) << report.summary();
+  EXPECT_EQ(report.flowtime, result.flowtime);
+  EXPECT_EQ(result.lns_iterations, 0);
+  ASSERT_GE(result.improvements.size(), 2u);
+  EXPECT_LT(result.improvements.back().flowtime, result.improvements.front().flowtime);
+}
+
 TEST(LacamStar, StopsEarlyWhenItsPlanMeetsTheLowerBound) {
   const Instance instance =
       testing::make_instance({".....", ".....", "....."}, {{{0, 0}, {4, 0}}, {{0, 2}, {4, 2}}});

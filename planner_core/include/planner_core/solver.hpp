@@ -35,6 +35,10 @@ struct SolverConfig {
   // LaCAM* (plain MAPF): after the first plan, a second search guided by agents' paths spread
   // over the map (scatter.hpp); its plan is kept when cheaper. Off to study LaCAM* alone.
   bool scatter = true;
+  // LaCAM* (plain MAPF): the share of refinement rounds that re-plan the best plan's tail with a
+  // fresh LaCAM from one of its configurations, picked at random (lacam3's recursive LaCAM); the
+  // spliced plan is kept when cheaper. 0 = never.
+  double recursive_lacam_rate = 0;
 };
 
 struct Improvement {
