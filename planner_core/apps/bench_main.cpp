@@ -103,6 +103,8 @@ int main(int argc, char** argv) {
                  "lacam-star: share of refinement rounds spent re-planning the plan's tail with a fresh LaCAM (lacam3's recursive LaCAM; 0 = never)")
       ->check(CLI::Range(0.0, 1.0))
       ->capture_default_str();
+  app.add_flag("--scatter-pibt", config.pibt.scatter,
+               "cts-pll-*: Extended-PIBT guided by paths through each agent's tasks spread over the map (Scatter)");
   app.add_flag("--swap,!--no-swap", config.pibt.swap,
                "Extended-PIBT with LaCAM3's swap operation for head-on meetings in corridors (default; --no-swap: without)");
   app.add_flag("--no-rotations", config.forbid_rotations,

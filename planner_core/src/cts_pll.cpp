@@ -1,8 +1,10 @@
 #include "planner_core/cts_pll.hpp"
 
+#include <memory>
 #include <random>
 
 #include "planner_core/cts_lacam.hpp"
+#include "planner_core/scatter.hpp"
 
 namespace planner_core {
 
@@ -10,6 +12,8 @@ namespace {
 
 // The least time the complete search gets after a joint sequence failed.
 constexpr double kMinCompleteSliceS = 0.05;
+// Scatter paths (PibtConfig::scatter): each leg at most this many steps longer than its shortest.
+constexpr int kScatterMargin = 10;
 
 }  // namespace
 
@@ -54,6 +58,7 @@ SolveResult CtsPll::solve(const Instance& instance, const SolveOptions& options)
     keep_if_better(result, instance, plan, orders, sequence_index, started, options, "CTS-PLL");
   };
   CompleteSearch complete(instance, dist, config_, rng, variant_ == Variant::kV3);
+  std::unique_ptr<Scatter> scatter;  // guides `pibt` through the current sequence (PibtConfig::scatter)
   bool no_plan_exists = false;
   while (!deadline.expired()) {
     if (config_.max_sequences > 0 && result.sequences_tried >= config_.max_sequences) break;
@@ -71,6 +76,16 @@ SolveResult CtsPll::solve(const Instance& instance, const SolveOptions& options)
 
     // Extended-PIBT, releasing locks until the plan is feasible (Algorithm 2, lines 4-7).
     pibt.reset(*sequence);
+    if (config_.pibt.scatter) {
+      Waypoints waypoints(instance.agent_count());
+      for (int a = 0; a < instance.agent_count(); ++a) {
+        for (int task : sequence->orders[a]) waypoints[a].push_back(instance.tasks[task].at);
+      }
+      scatter = std::make_unique<Scatter>(*instance.graph, dist, instance.starts, instance.goals, kScatterMargin,
+                                          config_.seed + sequence->index, waypoints);
+      scatter->build(deadline.within(deadline.seconds_left() * 0.25));
+    }
+    pibt.set_guide(scatter.get());
     bool feasible = false;
     std::optional<Solution> completed_plan;
     for (int releases = 0; !deadline.expired() && releases < config_.lock_release.max_releases;) {

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <array>
 
+#include "planner_core/scatter.hpp"
+
 namespace planner_core {
 
 namespace {
@@ -145,6 +147,11 @@ bool ExtendedPibt::plan_move(int agent) {
   MoveKeys to_target{};
   for (int k = 0; k < count; ++k) to_target[k] = dist_.get(target, candidates[k]);
   sort_by_key(candidates, to_target, count);
+  if (guide_) {
+    const Vertex preferred = guide_->next(agent, agents_[agent].next, here);
+    const auto at = std::find(candidates.begin(), candidates.begin() + count, preferred);
+    if (preferred != kNoVertex && at != candidates.begin() + count) std::rotate(candidates.begin(), at, at + 1);
+  }
   // A head-on meeting in a corridor: back off (worst candidate first) and pull the other along.
   const int partner = config_.swap ? swap_.partner(agent, here, candidates[0], to_) : kNobody;
   if (partner != kNobody) std::reverse(candidates.begin(), candidates.begin() + count);

@@ -17,19 +17,26 @@ auto first_at_or_after(Visits& visits, int t) {
 }  // namespace
 
 Scatter::Scatter(const Graph& graph, DistTable& dist, const Config& starts, const Config& goals, int cost_margin,
-                 uint32_t seed)
+                 uint32_t seed, const std::vector<std::vector<Vertex>>& waypoints)
     : graph_(graph),
       dist_(dist),
       starts_(starts),
       goals_(goals),
+      targets_(starts.size()),
       cost_margin_(cost_margin),
       rng_(seed),
       paths_(starts.size()),
+      leg_ends_(starts.size()),
       visits_(graph.vertex_count()),
       arrivals_(graph.vertex_count()),
       steps_(starts.size()),
       parent_(graph.vertex_count(), kNoVertex),
-      closed_stamp_(graph.vertex_count(), 0) {}
+      closed_stamp_(graph.vertex_count(), 0) {
+  for (size_t a = 0; a < starts.size(); ++a) {
+    if (a < waypoints.size()) targets_[a] = waypoints[a];
+    targets_[a].push_back(goals[a]);
+  }
+}
 
 // Moving from -> to between t_from and t_from + 1: agents at `to` then (vertex), agents coming
 // the other way (swap), agents whose paths ended at `to` before (they rest there).
@@ -87,14 +94,27 @@ void Scatter::clear(int agent) {
   collisions_ -= path_collisions(path);
 }
 
-// Best-first over cells (each cell once, no waiting): fewest collisions, then shortest; no path
-// longer than the shortest plus the margin. Keeps the old path when none is found.
+// Leg by leg, each leg best-first over cells (each cell once, no waiting): fewest collisions, then
+// shortest; no leg longer than its shortest plus the margin. Keeps the old path when none is found.
 bool Scatter::plan(int agent, const Deadline& deadline) {
-  const Vertex start = starts_[agent];
-  const Vertex goal = goals_[agent];
-  const DistTable::Row to_goal = dist_.row(goal);
-  const int shortest = to_goal.get(start);
+  Path path{starts_[agent]};
+  std::vector<int> leg_ends;
+  for (Vertex target : targets_[agent]) {
+    if (!plan_leg(path, target, deadline)) return false;
+    leg_ends.push_back(static_cast<int>(path.size()) - 1);
+  }
+  paths_[agent] = std::move(path);
+  leg_ends_[agent] = std::move(leg_ends);
+  return true;
+}
+
+bool Scatter::plan_leg(Path& path, Vertex target, const Deadline& deadline) {
+  const Vertex start = path.back();
+  const int begin = static_cast<int>(path.size()) - 1;  // the time the leg starts
+  const DistTable::Row to_target = dist_.row(target);
+  const int shortest = to_target.get(start);
   if (shortest >= kUnreachable) return false;
+  if (start == target) return true;
   const int longest = shortest + cost_margin_;
   if (++stamp_ == 0) {
     std::fill(closed_stamp_.begin(), closed_stamp_.end(), 0);
@@ -119,19 +139,18 @@ bool Scatter::plan(int agent, const Deadline& deadline) {
     if (closed_stamp_[node.v] == stamp_) continue;
     closed_stamp_[node.v] = stamp_;
     parent_[node.v] = node.parent;
-    if (node.v == goal) {
-      Path path;
-      for (Vertex v = goal; v != kNoVertex; v = parent_[v]) path.push_back(v);
-      std::reverse(path.begin(), path.end());
-      paths_[agent] = std::move(path);
+    if (node.v == target) {
+      const size_t leg_begin = path.size();
+      for (Vertex v = target; v != start; v = parent_[v]) path.push_back(v);
+      std::reverse(path.begin() + static_cast<std::ptrdiff_t>(leg_begin), path.end());
       return true;
     }
     if ((++popped & 255) == 0 && deadline.expired()) return false;
     for (Vertex u : graph_.neighbours(node.v)) {
       if (closed_stamp_[u] == stamp_ || u == start) continue;
-      const int h = to_goal.get(u);
+      const int h = to_target.get(u);
       if (node.g + 1 + h > longest) continue;
-      open.push({node.collisions + collision_cost(node.v, u, node.g), node.g + 1 + h, node.g + 1, u, node.v});
+      open.push({node.collisions + collision_cost(node.v, u, begin + node.g), node.g + 1 + h, node.g + 1, u, node.v});
     }
   }
   return false;
@@ -159,23 +178,28 @@ ScatterStats Scatter::build(const Deadline& deadline) {
   stats.complete = true;
   for (int agent = 0; agent < n; ++agent) {
     const Path& path = paths_[agent];
-    std::vector<std::pair<Vertex, Vertex>>& steps = steps_[agent];
+    std::vector<Step>& steps = steps_[agent];
     steps.clear();
     if (path.empty()) {
       stats.complete = false;
       continue;
     }
     stats.sum_of_lengths += static_cast<int64_t>(path.size()) - 1;
-    for (size_t t = 0; t + 1 < path.size(); ++t) steps.emplace_back(path[t], path[t + 1]);
+    int leg = 0;
+    const std::vector<int>& leg_ends = leg_ends_[agent];
+    for (int t = 0; t + 1 < static_cast<int>(path.size()); ++t) {
+      while (t >= leg_ends[leg]) ++leg;  // legs of length 0 (a waypoint where the last one ended)
+      steps.push_back({leg, path[t], path[t + 1]});
+    }
     std::sort(steps.begin(), steps.end());
   }
   return stats;
 }
 
-Vertex Scatter::next(int agent, Vertex v) const {
-  const std::vector<std::pair<Vertex, Vertex>>& steps = steps_[agent];
-  const auto it = std::lower_bound(steps.begin(), steps.end(), std::make_pair(v, kNoVertex));
-  return it != steps.end() && it->first == v ? it->second : kNoVertex;
+Vertex Scatter::next(int agent, int leg, Vertex v) const {
+  const std::vector<Step>& steps = steps_[agent];
+  const auto it = std::lower_bound(steps.begin(), steps.end(), Step{leg, v, kNoVertex});
+  return it != steps.end() && it->leg == leg && it->v == v ? it->next : kNoVertex;
 }
 
 }  // namespace planner_core

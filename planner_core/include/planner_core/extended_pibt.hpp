@@ -33,7 +33,12 @@ struct PibtConfig {
   // better overall (docs/RESULTS.md, section 5); --no-swap turns it off, e.g. for the paper's
   // CTS-PIBT baseline exactly as published.
   bool swap = true;
+  // CTS-PLL: each joint sequence's run is guided by Scatter paths through the agents' task orders
+  // (scatter.hpp): an agent's next cell on its path is its first choice.
+  bool scatter = false;
 };
+
+class Scatter;
 
 class ExtendedPibt {
  public:
@@ -44,6 +49,8 @@ class ExtendedPibt {
   // Starts a run for `sequence` from the instance's starts, or from the last configuration of
   // `prefix` (whose visits count) when it is given.
   void reset(const JointSequence& sequence, const Solution& prefix = {});
+  // Paths to follow where they lead (null: none); `guide` must outlive the runs it guides.
+  void set_guide(const Scatter* guide) { guide_ = guide; }
   // Steps until every agent has visited its tasks and stands on its goal, the step limit, a stall
   // (see PibtConfig::stall_window), or the deadline.
   Outcome run(const Deadline& deadline);
@@ -99,6 +106,7 @@ class ExtendedPibt {
   std::vector<int> order_;
   std::vector<PriorityKey> priority_;
   CorridorSwap swap_;  // reads occupied_now_
+  const Scatter* guide_ = nullptr;
 };
 
 }  // namespace planner_core
