@@ -101,7 +101,7 @@ int main(int argc, char** argv) {
                "lacam-star: no second search guided by paths spread over the map (to study LaCAM* alone)");
   app.add_option("--recursive-lacam", config.recursive_lacam_rate,
                  "lacam-star: share of refinement rounds spent re-planning the plan's tail with a fresh LaCAM (lacam3's recursive LaCAM; 0 = never)")
-      ->check(CLI::Range(0.0, 1.0))
+      ->check(ctsfleet::number_in(0, 1))
       ->capture_default_str();
   app.add_flag("--scatter-pibt", config.pibt.scatter,
                "cts-pll-*: Extended-PIBT guided by paths through each agent's tasks spread over the map (Scatter)");
