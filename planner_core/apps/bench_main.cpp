@@ -15,6 +15,7 @@
 #include "paper_experiments.hpp"
 #include "planner_core/benchmark_runner.hpp"
 #include "planner_core/input_error.hpp"
+#include "solver_options.hpp"
 
 namespace fs = std::filesystem;
 
@@ -97,18 +98,7 @@ int main(int argc, char** argv) {
   app.add_option("--seed", config.seed, "random seed")->capture_default_str();
   app.add_flag("--no-fallback{false}", config.complete_fallback,
                "CTS solvers: no complete search when their own method runs out (the --experiment runs never use it)");
-  app.add_flag("--no-scatter{false}", config.scatter,
-               "lacam-star: no second search guided by paths spread over the map (to study LaCAM* alone)");
-  app.add_option("--recursive-lacam", config.recursive_lacam_rate,
-                 "lacam-star: share of refinement rounds spent re-planning the plan's tail with a fresh LaCAM (lacam3's recursive LaCAM; 0 = never)")
-      ->check(ctsfleet::number_in(0, 1))
-      ->capture_default_str();
-  app.add_flag("--scatter-pibt", config.pibt.scatter,
-               "cts-pll-*: Extended-PIBT guided by paths through each agent's tasks spread over the map (Scatter)");
-  app.add_flag("--swap,!--no-swap", config.pibt.swap,
-               "Extended-PIBT with LaCAM3's swap operation for head-on meetings in corridors (default; --no-swap: without)");
-  app.add_flag("--no-rotations", config.forbid_rotations,
-               "plans for robots: no agents moving in a cycle within one step (as the coordinator plans; validated so)");
+  add_solver_part_options(app, config);
   return program.main(argc, argv, [&] {
     if (!experiment.empty()) {
       if (std::string unwritable = ctsfleet::writable_folder()(experiment_settings.out_dir); !unwritable.empty()) {
