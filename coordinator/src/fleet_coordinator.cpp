@@ -554,7 +554,7 @@ void FleetCoordinator::update_progress() {
   }
 }
 
-void FleetCoordinator::dispatch(fleet_transport::Transport& transport) {
+void FleetCoordinator::dispatch(fleet_transport::Transport& transport, bool resend_only) {
   if (!plan_) return;
   const Clock::time_point now = Clock::now();
   const double resend_after_s = std::max(1.0, 5 * config_.step_s);
@@ -562,6 +562,7 @@ void FleetCoordinator::dispatch(fleet_transport::Transport& transport) {
     RobotRecord* driver = robot_of_agent(a);
     if (driver == nullptr || !driver->active) continue;
     RobotRecord& robot = *driver;
+    if (resend_only && !plan_->in_flight(a)) continue;
     if (plan_->done(a)) {
       if (!robot.finished_plan) {
         robot.finished_plan = true;
@@ -580,7 +581,7 @@ void FleetCoordinator::dispatch(fleet_transport::Transport& transport) {
       summary_.first_command_wall_ms = fleet_transport::wall_clock_ms();
       spdlog::info("first command of term {} sent at wall-clock ms {}", term_, summary_.first_command_wall_ms);
     }
-    if (awaiting_replan_latency_) {
+    if (awaiting_replan_latency_ && !resend_only) {
       awaiting_replan_latency_ = false;
       summary_.replan_latencies_s.push_back(seconds_between(replan_requested_at_, now));
     }
@@ -788,6 +789,7 @@ bool FleetCoordinator::step(fleet_transport::Transport& transport) {
       }
       // Plan only from where robots really stand: every move in flight must have ended (a robot
       // that never finishes is taken out by the silence timeout or its lease).
+      if (moves_in_flight) dispatch(transport, /*resend_only=*/true);
       if (moves_in_flight && now >= settle_deadline_) {
         spdlog::warn("replanning waits for moves still in flight");
         settle_deadline_ = now + seconds(config_.replan_settle_s);

@@ -192,6 +192,41 @@ TEST(FleetCoordinator, ACoordinatorThatStoodStillBlamesNoRobotButStillFindsTheOn
   EXPECT_FALSE(summary.completed);    // its role has no robot left
 }
 
+TEST(FleetCoordinator, ACommandLostWhileARobotDiesIsSentAgainSoTheReplanDoesNotWaitForever) {
+  // robot5's command is lost on the wire (as when a Fast DDS channel is not matched yet) in the
+  // very step robot3 dies. The replan for robot3 waits for moves in flight, robot5's among them:
+  // that move must be sent again, or the wait never ends and the mission stands still.
+  planner_core::Instance mission = planner_core::load_instance(CTSFLEET_CONFIG_DIR "/default/mission-8.yaml");
+  std::vector<FakeRobot> robots;
+  for (int r = 0; r < mission.agent_count(); ++r) {
+    robots.push_back({"robot" + std::to_string(r), mission.graph->cell_of(mission.starts[r])});
+  }
+  FleetConfig config = config_for(mission.agent_count());
+  config.mission_timeout_s = 20;
+  FleetCoordinator coordinator(config, std::move(mission));
+  bool dropped = false;
+  const auto drop = [&](FleetCoordinator&, FakeTransport& transport, int) {
+    if (dropped) return true;
+    const auto lost = std::find_if(transport.commands.begin(), transport.commands.end(),
+                                   [](const fleet_transport::StepCommand& c) { return c.robot_id == "robot5"; });
+    if (lost != transport.commands.end() && lost->action_index >= 2) {
+      transport.commands.erase(lost);
+      robots[3].silent = true;
+      dropped = true;
+    }
+    return true;
+  };
+  run(coordinator, robots, {}, drop);
+  ASSERT_TRUE(dropped);
+  const MissionSummary& summary = coordinator.summary();
+  EXPECT_EQ(summary.robots_lost, 1);  // robot3 only
+  EXPECT_GE(summary.replans, 1);
+  // The replan happened and the mission went on to its end (robot5's role finished), rather
+  // than standing still until its timeout.
+  for (const std::string& line : summary.pending) EXPECT_EQ(line.find("robot5"), std::string::npos) << line;
+  EXPECT_LT(summary.seconds, 15) << "the mission stood still until its timeout";
+}
+
 TEST(FleetCoordinator, WithoutAReplacementTimeoutTheRobotsHoldUntilARobotJoinsLate) {
   planner_core::Instance mission = planner_core::load_instance(CTSFLEET_CONFIG_DIR "/default/mission-8.yaml");
   std::vector<FakeRobot> robots;

@@ -152,7 +152,10 @@ class FleetCoordinator {
   void bind_roles(const std::vector<RobotRecord*>& robots);
   bool replan(fleet_transport::Transport& transport);
   void update_progress();
-  void dispatch(fleet_transport::Transport& transport);
+  // Sends every command that is due. With `resend_only`, only the repeats of moves already sent
+  // and not yet done: while a replan waits for moves in flight, a command that was lost must
+  // still reach its robot, or the wait never ends.
+  void dispatch(fleet_transport::Transport& transport, bool resend_only = false);
   bool mission_complete() const;
   bool plan_finished() const;
   // The heartbeat (at once: a new epoch or role must be announced before it is used).
