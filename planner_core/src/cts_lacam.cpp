@@ -4,8 +4,6 @@
 
 namespace planner_core {
 
-namespace {
-
 Waypoints waypoints_of(const Instance& instance, const JointSequence& sequence) {
   Waypoints waypoints(instance.agent_count());
   for (int a = 0; a < instance.agent_count(); ++a) {
@@ -13,8 +11,6 @@ Waypoints waypoints_of(const Instance& instance, const JointSequence& sequence) 
   }
   return waypoints;
 }
-
-}  // namespace
 
 CompleteSearch::CompleteSearch(const Instance& instance, DistTable& dist, const SolverConfig& config,
                                std::mt19937& rng, bool anytime)

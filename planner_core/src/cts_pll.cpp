@@ -12,8 +12,8 @@ namespace {
 
 // The least time the complete search gets after a joint sequence failed.
 constexpr double kMinCompleteSliceS = 0.05;
-// Scatter paths (PibtConfig::scatter): each leg at most this many steps longer than its shortest.
-constexpr int kScatterMargin = 10;
+// Of the time left, at most this share for a sequence's Scatter paths (PibtConfig::scatter).
+constexpr double kScatterShare = 0.25;
 
 }  // namespace
 
@@ -77,13 +77,9 @@ SolveResult CtsPll::solve(const Instance& instance, const SolveOptions& options)
     // Extended-PIBT, releasing locks until the plan is feasible (Algorithm 2, lines 4-7).
     pibt.reset(*sequence);
     if (config_.pibt.scatter) {
-      Waypoints waypoints(instance.agent_count());
-      for (int a = 0; a < instance.agent_count(); ++a) {
-        for (int task : sequence->orders[a]) waypoints[a].push_back(instance.tasks[task].at);
-      }
       scatter = std::make_unique<Scatter>(*instance.graph, dist, instance.starts, instance.goals, kScatterMargin,
-                                          config_.seed + sequence->index, waypoints);
-      scatter->build(deadline.within(deadline.seconds_left() * 0.25));
+                                          config_.seed + sequence->index, waypoints_of(instance, *sequence));
+      scatter->build(deadline.within(deadline.seconds_left() * kScatterShare));
     }
     pibt.set_guide(scatter.get());
     bool feasible = false;

@@ -19,8 +19,6 @@ constexpr double kFirstSearchSliceS = 0.25;
 constexpr double kMinSearchSliceS = 0.02;
 constexpr double kMaxSearchSliceS = 4.0;
 
-// Scatter's paths: at most this many steps longer than an agent's shortest path (as lacam3).
-constexpr int kScatterMargin = 10;
 // Of the time left after the first plan: at most this share for the scatter paths, and as much
 // again for the guided search's first plan.
 constexpr double kScatterShare = 0.25;
@@ -125,7 +123,8 @@ void refine_until_deadline(const Instance& instance, DistTable& dist, LacamSearc
   Solution refined = result.solution;
   // An exhausted LaCAM* search has proved its plan optimal (for plain MAPF; for a joint sequence,
   // optimal among plans that follow it, which the refiner may still beat).
-  const bool optimal_when_exhausted = instance.task_count() == 0;
+  const bool plain_mapf = instance.task_count() == 0;
+  const bool optimal_when_exhausted = plain_mapf;
   if (search_done && optimal_when_exhausted) return;
   // Some steps cannot look at the clock: checking a plan found, loading it into the refiner,
   // writing the refiner's plan back (each O(agents x makespan), up to a second at 10,000 agents on
@@ -158,7 +157,6 @@ void refine_until_deadline(const Instance& instance, DistTable& dist, LacamSearc
       if (search_done && optimal_when_exhausted) break;
       if (deadline.seconds_left() <= unclocked_s) break;
     }
-    const bool plain_mapf = instance.task_count() == 0;
     if (plain_mapf && config.recursive_lacam_rate > 0 &&
         std::uniform_real_distribution<double>(0, 1)(rng) < config.recursive_lacam_rate) {
       const Deadline recursion_deadline = slice(kRefinerSliceS);

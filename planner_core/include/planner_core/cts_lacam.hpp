@@ -19,6 +19,10 @@
 
 namespace planner_core {
 
+// Each agent's task cells in the sequence's order: what an augmented LaCAM search (and a Scatter)
+// takes as waypoints.
+Waypoints waypoints_of(const Instance& instance, const JointSequence& sequence);
+
 class CtsLacam : public Solver {
  public:
   explicit CtsLacam(const SolverConfig& config) : config_(config) {}

@@ -36,6 +36,10 @@ struct ScatterStats {
   bool complete = false;   // every agent has a path (false when the deadline came first)
 };
 
+// The margin the solvers use: each path (or leg) at most this many steps longer than its shortest,
+// as lacam3.
+constexpr int kScatterMargin = 10;
+
 class Scatter {
  public:
   // `waypoints[a]`: the cells agent a visits in this order before its goal (none: empty or no row).
