@@ -2,7 +2,8 @@
 // different --server-id, for redundancy), then give every Fast DDS program of the fleet
 // --discovery-server with the servers' addresses: each robot then discovers its coordinators and
 // observers through the server, never the other robots. Open fleets only: Fast DDS 2.9.1 cannot
-// combine a discovery server with DDS Security. Runs until SIGINT/SIGTERM.
+// combine a discovery server with DDS Security. Runs until SIGINT/SIGTERM; the server itself runs
+// in a child process that is started again when it crashes.
 #include <spdlog/spdlog.h>
 
 #include <unistd.h>
@@ -17,6 +18,30 @@
 #include "ctsfleet/program.hpp"
 #include "fleet_transport/discovery_server.hpp"
 #include "fleet_transport/transport.hpp"
+#include "restart_on_crash.hpp"
+
+namespace {
+
+// Runs the server until SIGINT/SIGTERM.
+int serve(const fleet_transport::DiscoveryServerConfig& config) {
+  auto server = std::make_unique<fleet_transport::DiscoveryServer>(config);
+  spdlog::info("discovery server {} listening on {} (Fast DDS, domain {}); programs take --discovery-server {}",
+               config.server_id, config.listen, config.domain_id, config.listen);
+  const auto& stop = ctsfleet::stop_requested();
+  auto next_report = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+  while (!stop.load()) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    if (std::chrono::steady_clock::now() >= next_report) {
+      spdlog::info("participants known: {}", server->participants());
+      next_report += std::chrono::seconds(30);
+    }
+  }
+  fleet_transport::exit_if_shutdown_hangs(1.5, 0);
+  server.reset();
+  return 0;
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   ctsfleet::Program program("ctsfleet-discovery", "a Fast DDS discovery server for the fleet");
@@ -33,6 +58,11 @@ int main(int argc, char** argv) {
   app.add_option("--state-dir", state_dir,
                  "where the server keeps what it knows, so that it restarts where it stopped (default: "
                  "ctsfleet-discovery-state/domain-D-server-I in the current directory)");
+  coordinator::RestartPolicy restarts;
+  app.add_option("--max-crashes", restarts.max_crashes_a_minute,
+                 "crashes within a minute after which the server is not started again (0: a crash ends it)")
+      ->check(CLI::Range(0, 1000))
+      ->capture_default_str();
   app.add_option("--dds-config-dir", config.loopback_config_dir,
                  "folder with the loopback DDS XML files (default: the shipped config/dds)")
       ->check(CLI::ExistingDirectory);
@@ -53,20 +83,8 @@ int main(int argc, char** argv) {
     spdlog::info("state kept in {}", std::filesystem::current_path().string());
     spdlog::warn("a discovery server is open (Fast DDS 2.9.1 cannot secure one): use it for open fleets only");
     config.on_event = [](const std::string& event) { spdlog::info("{}", event); };
-    auto server = std::make_unique<fleet_transport::DiscoveryServer>(config);
-    spdlog::info("discovery server {} listening on {} (Fast DDS, domain {}); programs take --discovery-server {}",
-                 config.server_id, config.listen, config.domain_id, config.listen);
-    const auto& stop = ctsfleet::stop_requested();
-    auto next_report = std::chrono::steady_clock::now() + std::chrono::seconds(30);
-    while (!stop.load()) {
-      std::this_thread::sleep_for(std::chrono::milliseconds(100));
-      if (std::chrono::steady_clock::now() >= next_report) {
-        spdlog::info("participants known: {}", server->participants());
-        next_report += std::chrono::seconds(30);
-      }
-    }
-    fleet_transport::exit_if_shutdown_hangs(1.5, 0);
-    server.reset();
-    return 0;
+    // Fast DDS 2.9.1's server can abort on an assertion of its own when many programs join at
+    // once; it then starts again from its state file, and the programs find it again.
+    return coordinator::run_restarting_on_crash("the discovery server", [&] { return serve(config); }, restarts);
   });
 }

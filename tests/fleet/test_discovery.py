@@ -18,6 +18,7 @@ TESTS = [
     "test_server_killed_and_restarted_while_a_robot_restarts",
     "test_bad_discovery_options_are_refused_clearly",
     "test_bad_network_options_are_refused_clearly",
+    "test_a_server_that_crashes_starts_again_and_robots_find_it",
 ]
 
 
@@ -54,6 +55,20 @@ class DiscoveryFleet(Fleet):
     def monitor(self, dds="fastdds"):
         return self.start("monitor", [f"{BIN}/ctsfleet-monitor", "--dds", dds, "--domain", str(self.domain),
                                       "--dds-config-dir", DDS_DIR, *self.client()])
+
+
+def children_of(pid):
+    """The pids of the processes whose parent is `pid`."""
+    children = []
+    for entry in os.listdir("/proc"):
+        try:
+            with open(f"/proc/{entry}/stat") as f:
+                fields = f.read().rsplit(")", 1)[1].split()
+        except (OSError, IndexError):
+            continue  # not a process, or one that just ended
+        if entry.isdigit() and int(fields[1]) == pid:
+            children.append(int(entry))
+    return children
 
 
 def run(args, timeout=60):
@@ -129,6 +144,43 @@ class DiscoveryTest(unittest.TestCase):
         self.assertIn("mission completed: tasks 16/16", text)
         self.assert_safe()
 
+    def test_a_server_that_crashes_starts_again_and_robots_find_it(self):
+        """The server process aborts mid-mission (as Fast DDS 2.9.1's does on an assertion of its
+        own): ctsfleet-discovery starts it again, a robot restarted afterwards is found through it,
+        and the mission completes with no collision. Stopping ctsfleet-discovery leaves no server."""
+        supervisor = self.fleet.discovery_server()
+        self.fleet.monitor()
+        self.agents()
+        self.fleet.coordinator()
+        log, server_log = self.fleet.log("coordinator"), self.fleet.log("discovery")
+        wait_for(lambda: "plan epoch 1" in read(log), 120, "the first plan")
+        first_server = children_of(supervisor.pid)
+        self.assertEqual(len(first_server), 1, f"one server process expected under ctsfleet-discovery: {first_server}")
+        os.kill(first_server[0], signal.SIGABRT)
+        wait_for(lambda: read(server_log).count("listening on") == 2, 30, "the server started again")
+        self.assertIn("the discovery server crashed (Aborted, signal 6): starting it again", read(server_log))
+        self.assertIsNone(supervisor.poll(), read(server_log))
+        # A robot that (re)starts now has only the new server to find its coordinator through.
+        old = self.fleet.processes["robot3"]
+        old.send_signal(signal.SIGKILL)
+        old.wait()
+        wait_for(lambda: "robot robot3 taken out" in read(log), 60, "the loss detected")
+        line = next(l for l in read(log).splitlines() if "robot robot3 taken out" in l)
+        cell = tuple(int(v) for v in re.search(r"last at \((\d+),(\d+)\)", line).groups())
+        self.fleet.agent("robot3", cell)
+        wait_for(lambda: "replanning: robot robot3 joined" in read(log), 60,
+                 "the restarted robot found through the restarted server")
+        code = self.fleet.wait_exit("coordinator", 240)
+        text = read(log)
+        self.assertEqual(code, 0, text[-3000:])
+        self.assertIn("mission completed: tasks 16/16", text)
+        self.assert_safe()
+        second_server = children_of(supervisor.pid)
+        supervisor.send_signal(signal.SIGTERM)
+        self.assertEqual(self.fleet.wait_exit("discovery", 30), 0, read(server_log))
+        for pid in second_server:
+            wait_for(lambda: not os.path.exists(f"/proc/{pid}"), 10, f"server process {pid} gone")
+
     def test_bad_discovery_options_are_refused_clearly(self):
         domain = str(self.fleet.domain)
         agent = [f"{BIN}/ctsfleet-agent", "--id", "robot0", "--start", "1,1", "--domain", domain,
@@ -148,11 +200,13 @@ class DiscoveryTest(unittest.TestCase):
         self.assertEqual(result.returncode, 2, result.stdout + result.stderr)
         self.assertIn("Fast DDS 2.9.1", result.stderr)
         for args in (["--listen", "127.0.0.1"], ["--listen", "999.0.0.1:5"], ["--server-id", "256"],
+                     ["--max-crashes", "-1"], ["--max-crashes", "many"],
                      ["--listen", "192.0.2.1:65161"]):  # the last: not an address of this host
             result = run([f"{BIN}/ctsfleet-discovery", "--domain", domain, "--dds-config-dir", DDS_DIR, *args])
             self.assertIn(result.returncode, (1, 2), f"{args}: {result.stdout}{result.stderr}")
-            self.assertTrue("--listen" in result.stderr or "server-id" in result.stderr or
-                            "cannot start discovery server" in result.stderr, f"{args}: {result.stderr}")
+            self.assertTrue("--listen" in result.stderr or "server-id" in result.stderr or "max-crashes" in
+                            result.stderr or "cannot start discovery server" in result.stderr, f"{args}: {result.stderr}")
+            self.assertNotIn("crashed", result.stderr, f"{args}: {result.stderr}")
         sim = [f"{BIN}/ctsfleet-sim", "--robots", "2", "--domain", domain, "--log-dir",
                os.path.join(self.fleet.dir, "sim")]
         result = run([*sim, "--dds", "fastdds", "--agent-dds", "cyclone", "--discovery", "server"])
