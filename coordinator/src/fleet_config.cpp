@@ -126,13 +126,25 @@ FleetConfig load_fleet_config(const std::string& path) {
     }
   }
   if (const YAML::Node timing = root["timing"]) {
-    r.only_keys(timing, {"step_s", "silence_timeout_s", "mission_timeout_s", "replan_settle_s", "replacement_timeout_s"}, "timing");
+    r.only_keys(timing, {"step_s", "silence_timeout_s", "command_timeout_s", "mission_timeout_s", "replan_settle_s",
+                         "replacement_timeout_s"}, "timing");
     r.read(timing, "step_s", "timing", config.step_s);
     r.read(timing, "silence_timeout_s", "timing", config.silence_timeout_s);
+    r.read(timing, "command_timeout_s", "timing", config.command_timeout_s);
     r.read(timing, "mission_timeout_s", "timing", config.mission_timeout_s);
     r.read(timing, "replan_settle_s", "timing", config.replan_settle_s);
     check_range(r, timing, "timing.step_s", config.step_s, 0, 3600, true);
     check_range(r, timing, "timing.silence_timeout_s", config.silence_timeout_s, 0, 3600, true);
+    check_range(r, timing, "timing.command_timeout_s", config.command_timeout_s, 0, 3600, true);
+    if (!timing["command_timeout_s"]) {  // the default, raised for long steps
+      config.command_timeout_s = std::max(config.command_timeout_s, 2 * config.resend_after_s());
+    } else if (config.command_timeout_s < 2 * config.resend_after_s()) {
+      std::ostringstream least;
+      least << 2 * config.resend_after_s();
+      r.fail(timing["command_timeout_s"] ? timing["command_timeout_s"] : timing, "timing.command_timeout_s",
+             "must be at least " + least.str() + " s: twice the resend interval max(1 s, 5 x step_s), so that a "
+             "lost command is sent again before its robot is taken out");
+    }
     check_range(r, timing, "timing.mission_timeout_s", config.mission_timeout_s, 0, 1e6, true);
     check_range(r, timing, "timing.replan_settle_s", config.replan_settle_s, 0, 3600, false);
     if (timing["replacement_timeout_s"]) {

@@ -48,6 +48,9 @@ constexpr double kStatusPeriodS = 0.25;
 constexpr double kProgressPeriodS = 0.5;
 constexpr double kProgressGapS = 0.05;
 constexpr double kStoodStillS = 1.0;  // a step this long after the last one heard nobody
+// Robots judge a command's deadline on their own clock through an offset they estimate from send
+// stamps; this much is allowed for that estimate's error.
+constexpr double kClockMarginS = 1.0;
 
 }  // namespace
 
@@ -214,6 +217,27 @@ void FleetCoordinator::lose(RobotRecord& robot, const std::string& why, const ch
   if (robot.plan_agent >= 0) request_replan("robot " + robot.id + " lost");
 }
 
+// A robot whose states arrive but that has not acknowledged its move for timing.command_timeout_s
+// (resent all along) cannot be commanded: its command channel is broken (seen with Fast DDS when a
+// writer never matched its robot's reader). Waiting for it would hold its dependents, or a replan,
+// for ever; it is taken out like a robot that fell silent, its cell and its move's target kept
+// clear, and it may rejoin only once that move's last command has expired, so that it cannot
+// start a move the next plan does not know of.
+void FleetCoordinator::take_out_robots_deaf_to_commands(Clock::time_point now) {
+  if (!plan_) return;
+  for (int a = 0; a < plan_->agent_count(); ++a) {
+    RobotRecord* robot = robot_of_agent(a);
+    if (robot == nullptr || !robot->active || !plan_->unacknowledged(a)) continue;
+    const PlanExecution::Agent& agent = plan_->agent(a);
+    const double waited_s = seconds_between(agent.first_sent_at, now);
+    if (waited_s < config_.command_timeout_s) continue;
+    robot->rejoin_not_before = agent.sent_at + seconds(config_.command_lifetime_s() + kClockMarginS);
+    lose(*robot, fmt::format("move {} of plan epoch {} not acknowledged in {:.1f} s though its states arrive (its "
+                             "command channel may be broken)", agent.sent, plan_->epoch(), waited_s),
+         "unresponsive");
+  }
+}
+
 void FleetCoordinator::handle(const Event& event) {
   if (event.kind == Event::Kind::kStatus) {
     handle_status(event.status, event.received);
@@ -328,7 +352,7 @@ void FleetCoordinator::handle_state(RobotRecord& robot, const fleet_transport::R
   }
   if (!robot.active) {
     // A robot (re)joins once it stands still on a cell.
-    if (state.status == RobotStatus::kMoving) return;
+    if (state.status == RobotStatus::kMoving || now < robot.rejoin_not_before) return;
     robot.active = true;
     // The current plan was made without it (or with it elsewhere): its reports are not checked
     // against that plan, nor is it commanded by it, until the replan places it.
@@ -557,7 +581,7 @@ void FleetCoordinator::update_progress() {
 void FleetCoordinator::dispatch(fleet_transport::Transport& transport, bool resend_only) {
   if (!plan_) return;
   const Clock::time_point now = Clock::now();
-  const double resend_after_s = std::max(1.0, 5 * config_.step_s);
+  const double resend_after_s = config_.resend_after_s();
   for (int a = 0; a < plan_->agent_count(); ++a) {
     RobotRecord* driver = robot_of_agent(a);
     if (driver == nullptr || !driver->active) continue;
@@ -570,7 +594,8 @@ void FleetCoordinator::dispatch(fleet_transport::Transport& transport, bool rese
       }
       continue;
     }
-    const int64_t deadline_ms = fleet_transport::wall_clock_ms() + static_cast<int64_t>(4000 * config_.step_s) + 1000;
+    const int64_t deadline_ms =
+        fleet_transport::wall_clock_ms() + static_cast<int64_t>(1000 * config_.command_lifetime_s());
     const auto command = plan_->due_command(a, now, resend_after_s, deadline_ms);
     if (!command) continue;
     transport.send_command(*command);
@@ -702,6 +727,7 @@ bool FleetCoordinator::step(fleet_transport::Transport& transport) {
   for (RobotRecord* robot : robots_.silent_robots(now, config_.silence_timeout_s)) {
     lose(*robot, "no state for " + std::to_string(config_.silence_timeout_s) + " s");
   }
+  take_out_robots_deaf_to_commands(now);
   summary_.tasks_done = progress_.tasks_done();
 
   switch (phase_) {

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <functional>
 #include <map>
+#include <optional>
 #include <set>
 #include <thread>
 #include <filesystem>
@@ -225,6 +226,55 @@ TEST(FleetCoordinator, ACommandLostWhileARobotDiesIsSentAgainSoTheReplanDoesNotW
   // than standing still until its timeout.
   for (const std::string& line : summary.pending) EXPECT_EQ(line.find("robot5"), std::string::npos) << line;
   EXPECT_LT(summary.seconds, 15) << "the mission stood still until its timeout";
+}
+
+TEST(FleetCoordinator, ARobotDeafToItsCommandsIsTakenOutAndRejoinsOnlyOnceTheCommandExpired) {
+  // robot5's command channel breaks (every command to it is lost) while its states still arrive:
+  // resending cannot help. Without a bound the robots waiting on it (and any replan) would wait for
+  // ever. It must be taken out after timing.command_timeout_s, not rejoin while the last command
+  // sent to it could still start a move, and, once its channel works again, rejoin and finish.
+  planner_core::Instance mission = planner_core::load_instance(CTSFLEET_CONFIG_DIR "/default/mission-8.yaml");
+  std::vector<FakeRobot> robots;
+  for (int r = 0; r < mission.agent_count(); ++r) {
+    robots.push_back({"robot" + std::to_string(r), mission.graph->cell_of(mission.starts[r])});
+  }
+  FleetConfig config = config_for(mission.agent_count());
+  config.command_timeout_s = 2;  // step 0.2 s: resent after 1 s, valid for 1.8 s after each sending
+  config.replacement_timeout_s.reset();
+  config.mission_timeout_s = 30;
+  FleetCoordinator coordinator(config, std::move(mission));
+  using Clock = std::chrono::steady_clock;
+  std::optional<Clock::time_point> channel_broken, taken_out, rejoined;
+  int dropped = 0;
+  const auto deaf_robot5 = [&](FleetCoordinator& c, FakeTransport& transport, int) {
+    const auto now = Clock::now();
+    if (!taken_out && c.summary().robots_lost == 1) taken_out = now;
+    if (taken_out && !rejoined && c.summary().robots_joined == 1) rejoined = now;
+    if (taken_out) return true;  // the channel works again
+    const auto to_robot5 = [](const fleet_transport::StepCommand& command) { return command.robot_id == "robot5"; };
+    const auto lost = std::find_if(transport.commands.begin(), transport.commands.end(), to_robot5);
+    if (lost != transport.commands.end() && (channel_broken || lost->action_index >= 2)) {
+      if (!channel_broken) channel_broken = now;
+      dropped += static_cast<int>(std::count_if(transport.commands.begin(), transport.commands.end(), to_robot5));
+      transport.commands.erase(std::remove_if(transport.commands.begin(), transport.commands.end(), to_robot5),
+                               transport.commands.end());
+    }
+    return true;
+  };
+  run(coordinator, robots, {}, deaf_robot5);
+  ASSERT_TRUE(channel_broken);
+  ASSERT_TRUE(taken_out) << "robot5 was never taken out";
+  EXPECT_GE(dropped, 2) << "its move was not sent again before it was taken out";
+  const double waited_s = std::chrono::duration<double>(*taken_out - *channel_broken).count();
+  EXPECT_GE(waited_s, 1.9);
+  EXPECT_LT(waited_s, 4.0);
+  ASSERT_TRUE(rejoined) << "robot5 never rejoined once its channel worked again";
+  // The last sending was at most 1 s (the resend interval) before the take-out and stays valid for
+  // 1.8 s, plus 1 s for the robots' clock estimate: no rejoin within 1.8 s of the take-out.
+  EXPECT_GE(std::chrono::duration<double>(*rejoined - *taken_out).count(), 1.75);
+  const MissionSummary& summary = coordinator.summary();
+  EXPECT_EQ(summary.robots_lost, 1);
+  EXPECT_TRUE(summary.completed) << "the mission did not finish with robot5 back";
 }
 
 TEST(FleetCoordinator, WithoutAReplacementTimeoutTheRobotsHoldUntilARobotJoinsLate) {

@@ -2,6 +2,7 @@
 // Errors name the file and the field.
 #pragma once
 
+#include <algorithm>
 #include <optional>
 #include <string>
 #include <vector>
@@ -36,6 +37,10 @@ struct FleetConfig {
   std::string dds_config_dir;    // folder with the loopback XML files ("" = environment as is)
   double step_s = 0.2;           // nominal seconds per move, for command deadlines
   double silence_timeout_s = 2;  // a robot whose state stops this long is taken out
+  // A robot that has not acknowledged its move this long (counted from the first sending; its
+  // states still arrive, so its command channel is what is broken) is taken out. The config's
+  // default is raised to the least allowed, 2 x resend_after_s(), for long steps.
+  double command_timeout_s = 10;
   double mission_timeout_s = 300;
   double replan_settle_s = 3;    // after a loss or join: wait this long at most for moves in flight
   // When only tasks of roles without a robot are left: unset, the robots hold and the coordinator
@@ -54,6 +59,10 @@ struct FleetConfig {
   // rotation-free, as robots execute one move at a time.
   planner_core::SolverConfig solver_config(bool first_plan) const;
   double plan_limit_s(bool first_plan) const { return first_plan ? plan_time_s : replan_time_s; }
+  // A move not confirmed this long after its last sending is sent again.
+  double resend_after_s() const { return std::max(1.0, 5 * step_s); }
+  // How long a step command stays valid after it is sent: robots refuse it after that.
+  double command_lifetime_s() const { return 4 * step_s + 1; }
   // Loads and checks the security files when security_dir is set (throws std::invalid_argument
   // naming the file); throws planner_core::InputError when security is required but not set up.
   fleet_transport::TransportConfig transport_config() const;

@@ -149,6 +149,7 @@ class FleetCoordinator {
   bool accept_incarnation(RobotRecord& robot, const fleet_transport::RobotState& state, Clock::time_point now);
   // Takes a robot out; `kind` is the operators' event (lost, fault, off_plan).
   void lose(RobotRecord& robot, const std::string& why, const char* kind = "lost");
+  void take_out_robots_deaf_to_commands(Clock::time_point now);
   void bind_roles(const std::vector<RobotRecord*>& robots);
   bool replan(fleet_transport::Transport& transport);
   void update_progress();

@@ -47,6 +47,8 @@ class PlanExecution {
   bool done(int a) const { return agents_[a].finished >= static_cast<int>(moves(a).size()); }
   // A move of agent a was sent and not yet confirmed.
   bool in_flight(int a) const { return !done(a) && agents_[a].sent == agents_[a].finished; }
+  // A move in flight that the robot has not reported yet (not even as started).
+  bool unacknowledged(int a) const { return in_flight(a) && !agents_[a].acknowledged; }
   // Where the plan has agent a now: its start, or the end of its last confirmed move.
   planner_core::Cell position(int a) const;
   // A cell the robot of agent a may report under the plan: its position, or the target of the move

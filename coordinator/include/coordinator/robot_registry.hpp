@@ -27,6 +27,9 @@ struct RobotRecord {
   Clock::time_point last_heard;
   int role = -1;          // mission role, -1 for an extra robot
   int plan_agent = -1;    // agent in the current plan, -1 when not in it
+  // A robot taken out for not acknowledging a command rejoins only once that command has expired
+  // (it can no longer start the move the next plan would not know of).
+  Clock::time_point rejoin_not_before{};
   bool finished_plan = false;
   uint64_t incarnation = 0;               // of the process whose states are accepted
   std::set<uint64_t> refused_incarnations;  // other live processes claiming this id (reported once each)
