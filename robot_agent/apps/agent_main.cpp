@@ -3,6 +3,8 @@
 #include <spdlog/spdlog.h>
 
 #include <atomic>
+#include <chrono>
+#include <optional>
 #include <cstdlib>
 #include <thread>
 
@@ -39,6 +41,15 @@ int main(int argc, char** argv) {
                  "tests only: this agent's wall clock runs this many ms ahead (behind when negative), as on a host "
                  "whose clock is off")
       ->check(CLI::Range(int64_t{-3600000}, int64_t{3600000}));
+  int test_deaf_after = -1;
+  double test_deaf_s = 0;
+  CLI::Option* deaf_for = app.add_option("--test-deaf-s", test_deaf_s, "tests only: how long --test-deaf-after lasts")
+                              ->check(ctsfleet::positive_seconds(3600));
+  app.add_option("--test-deaf-after", test_deaf_after,
+                 "tests only: after this many step commands, every command is lost before it reaches the robot "
+                 "for --test-deaf-s, as when a command channel breaks while states still go out")
+      ->check(CLI::Range(0, 1000000))
+      ->needs(deaf_for);
   std::string network_interface, peers;
   app.add_option("--iface", network_interface, fleet_transport::kInterfaceHelp);
   app.add_option("--peers", peers, fleet_transport::kPeersHelp);
@@ -143,6 +154,20 @@ int main(int argc, char** argv) {
       config.security = security;
       fleet_transport::Handlers handlers;
       handlers.on_command = [&agent](const fleet_transport::StepCommand& c) { agent.on_command(c); };
+      if (test_deaf_after >= 0) {
+        handlers.on_command = [&agent, &settings, test_deaf_after, test_deaf_s, heard = 0,
+                               deaf_until = std::optional<std::chrono::steady_clock::time_point>()](
+                                  const fleet_transport::StepCommand& c) mutable {
+          const auto now = std::chrono::steady_clock::now();
+          if (++heard > test_deaf_after && !deaf_until) {
+            deaf_until = now + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                   std::chrono::duration<double>(test_deaf_s));
+            spdlog::warn("{}: deaf to commands for {} s (a test)", settings.robot_id, test_deaf_s);
+          }
+          if (deaf_until && now < *deaf_until) return;
+          agent.on_command(c);
+        };
+      }
       handlers.on_coordinator_status = [&agent](const fleet_transport::CoordinatorStatus& s) {
         agent.on_coordinator_status(s);
       };

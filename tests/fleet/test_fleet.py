@@ -37,6 +37,7 @@ TESTS = [
     "test_restarted_robot_with_the_same_id_rejoins",
     "test_duplicate_id_is_refused_and_reported",
     "test_robot_moved_by_hand_is_taken_out_and_planned_around",
+    "test_robot_deaf_to_commands_is_taken_out_and_rejoins",
 ]
 
 
@@ -333,6 +334,29 @@ class FleetTest(unittest.TestCase):
         self.assertEqual(summary["off_plan"], 1, summary)
         if code == 3:
             self.assert_pending_explained(text)
+        self.assert_safe()
+
+    def test_robot_deaf_to_commands_is_taken_out_and_rejoins(self):
+        # robot2 loses every command after its 3rd for 6 s while its states still go out (a broken
+        # command channel). The coordinator must not wait on it for ever: it is taken out after
+        # timing.command_timeout_s, planned around, and once it hears commands again it rejoins.
+        self.fleet.monitor()
+        for index, cell in enumerate(role_starts()):
+            extra = ["--test-deaf-after", "3", "--test-deaf-s", "6"] if index == 2 else []
+            self.fleet.agent(f"robot{index}", cell, extra=extra)
+        self.fleet.coordinator(config=self.fleet.config_with(command_timeout_s=3), extra=["--json"])
+        log = self.fleet.log("coordinator")
+        wait_for(lambda: "robot robot2 taken out: move" in read(log), 120, "robot2 taken out as deaf")
+        self.assertIn("deaf to commands for 6", read(self.fleet.log("robot2")))
+        code = self.fleet.wait_exit("coordinator", 240)
+        text = read(log)
+        self.assertEqual(code, 0, text[-3000:])
+        self.assertIn("not acknowledged in", text)
+        self.assertIn("replanning: robot robot2 joined", text)
+        summary = json.loads(next(l for l in reversed(text.splitlines()) if l.startswith("{")))
+        self.assertTrue(summary["completed"], summary)
+        self.assertEqual(summary["tasks_done"], 16, summary)
+        self.assertGreaterEqual(summary["robots_lost"], 1, summary)
         self.assert_safe()
 
     def test_killed_agent_is_detected_and_the_others_finish(self):
