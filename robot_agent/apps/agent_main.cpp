@@ -4,8 +4,8 @@
 
 #include <atomic>
 #include <chrono>
-#include <optional>
 #include <cstdlib>
+#include <optional>
 #include <thread>
 
 #include "ctsfleet/data_dir.hpp"
