@@ -38,6 +38,7 @@ TESTS = [
     "test_duplicate_id_is_refused_and_reported",
     "test_robot_moved_by_hand_is_taken_out_and_planned_around",
     "test_robot_deaf_to_commands_is_taken_out_and_rejoins",
+    "test_fastdds_robot_deaf_to_commands_is_taken_out_and_rejoins",
 ]
 
 
@@ -337,14 +338,21 @@ class FleetTest(unittest.TestCase):
         self.assert_safe()
 
     def test_robot_deaf_to_commands_is_taken_out_and_rejoins(self):
+        self.deaf_robot_is_taken_out_and_rejoins("cyclone")
+
+    def test_fastdds_robot_deaf_to_commands_is_taken_out_and_rejoins(self):
+        self.deaf_robot_is_taken_out_and_rejoins("fastdds")
+
+    def deaf_robot_is_taken_out_and_rejoins(self, dds):
         # robot2 loses every command after its 3rd for 6 s while its states still go out (a broken
         # command channel). The coordinator must not wait on it for ever: it is taken out after
-        # timing.command_timeout_s, planned around, and once it hears commands again it rejoins.
-        self.fleet.monitor()
+        # timing.command_timeout_s, its command channel reopened, the others planned around it, and
+        # once it hears commands again it rejoins.
+        self.fleet.monitor(dds)
         for index, cell in enumerate(role_starts()):
             extra = ["--test-deaf-after", "3", "--test-deaf-s", "6"] if index == 2 else []
-            self.fleet.agent(f"robot{index}", cell, extra=extra)
-        self.fleet.coordinator(config=self.fleet.config_with(command_timeout_s=3), extra=["--json"])
+            self.fleet.agent(f"robot{index}", cell, dds, extra=extra)
+        self.fleet.coordinator(dds, config=self.fleet.config_with(command_timeout_s=3), extra=["--json"])
         log = self.fleet.log("coordinator")
         wait_for(lambda: "robot robot2 taken out: move" in read(log), 120, "robot2 taken out as deaf")
         self.assertIn("deaf to commands for 6", read(self.fleet.log("robot2")))
