@@ -15,7 +15,6 @@ class FakeTransport : public fleet_transport::Transport {
   void publish_state(const fleet_transport::RobotState& state) override { last_state = state; }
   void send_command(const fleet_transport::StepCommand& command) override { commands.push_back(command); }
   void open_commands_for(const std::string&) override {}
-  void reopen_commands_for(const std::string& robot_id) override { reopened.push_back(robot_id); }
   void publish_coordinator_status(const fleet_transport::CoordinatorStatus& status) override {
     last_coordinator_status = status;
   }
@@ -38,7 +37,6 @@ class FakeTransport : public fleet_transport::Transport {
   fleet_transport::FleetPlan last_plan;
   std::vector<fleet_transport::FleetEvent> events;
   std::vector<fleet_transport::TaskReply> replies;
-  std::vector<std::string> reopened;  // robots whose command channel was reopened
   int statuses = 0;
   int strength = 0;
 };

@@ -222,8 +222,8 @@ void FleetCoordinator::lose(RobotRecord& robot, const std::string& why, const ch
 // writer never matched its robot's reader). Waiting for it would hold its dependents, or a replan,
 // for ever; it is taken out like a robot that fell silent, its cell and its move's target kept
 // clear, and it may rejoin only once that move's last command has expired, so that it cannot
-// start a move the next plan does not know of. Its command channel is opened anew meanwhile.
-void FleetCoordinator::take_out_robots_deaf_to_commands(Clock::time_point now, fleet_transport::Transport& transport) {
+// start a move the next plan does not know of.
+void FleetCoordinator::take_out_robots_deaf_to_commands(Clock::time_point now) {
   if (!plan_) return;
   for (int a = 0; a < plan_->agent_count(); ++a) {
     RobotRecord* robot = robot_of_agent(a);
@@ -235,11 +235,6 @@ void FleetCoordinator::take_out_robots_deaf_to_commands(Clock::time_point now, f
     lose(*robot, fmt::format("move {} of plan epoch {} not acknowledged in {:.1f} s though its states arrive (its "
                              "command channel may be broken)", agent.sent, plan_->epoch(), waited_s),
          "unresponsive");
-    try {
-      transport.reopen_commands_for(robot->id);
-    } catch (const std::exception& error) {
-      spdlog::error("robot {}: its command channel could not be opened again: {}", robot->id, error.what());
-    }
   }
 }
 
@@ -732,7 +727,7 @@ bool FleetCoordinator::step(fleet_transport::Transport& transport) {
   for (RobotRecord* robot : robots_.silent_robots(now, config_.silence_timeout_s)) {
     lose(*robot, "no state for " + std::to_string(config_.silence_timeout_s) + " s");
   }
-  take_out_robots_deaf_to_commands(now, transport);
+  take_out_robots_deaf_to_commands(now);
   summary_.tasks_done = progress_.tasks_done();
 
   switch (phase_) {

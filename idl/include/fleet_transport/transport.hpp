@@ -127,9 +127,6 @@ class Transport {
   // writer can take it a second once 200 participants are matched). A refusal goes to
   // Handlers::on_refused, and the first command to that robot meets it again.
   virtual void prepare_commands_for(const std::string& robot_id) { open_commands_for(robot_id); }
-  // Closes the command channel to a robot that does not hear it and prepares a new one: the new
-  // writer is announced again, which may match where the first announcement did not.
-  virtual void reopen_commands_for(const std::string& robot_id) = 0;
   virtual void publish_coordinator_status(const CoordinatorStatus& status) = 0;
   virtual void publish_fleet_status(const FleetStatus& status) = 0;
   // For operators (dashboard, ctsfleet-task): mission, plan and events reliable; mission and plan
