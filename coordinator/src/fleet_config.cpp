@@ -141,7 +141,7 @@ FleetConfig load_fleet_config(const std::string& path) {
     } else if (config.command_timeout_s < 2 * config.resend_after_s()) {
       std::ostringstream least;
       least << 2 * config.resend_after_s();
-      r.fail(timing["command_timeout_s"] ? timing["command_timeout_s"] : timing, "timing.command_timeout_s",
+      r.fail(timing["command_timeout_s"], "timing.command_timeout_s",
              "must be at least " + least.str() + " s: twice the resend interval max(1 s, 5 x step_s), so that a "
              "lost command is sent again before its robot is taken out");
     }

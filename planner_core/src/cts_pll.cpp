@@ -12,8 +12,6 @@ namespace {
 
 // The least time the complete search gets after a joint sequence failed.
 constexpr double kMinCompleteSliceS = 0.05;
-// Of the time left, at most this share for a sequence's Scatter paths (PibtConfig::scatter).
-constexpr double kScatterShare = 0.25;
 
 }  // namespace
 
@@ -79,7 +77,7 @@ SolveResult CtsPll::solve(const Instance& instance, const SolveOptions& options)
     if (config_.pibt.scatter) {
       scatter = std::make_unique<Scatter>(*instance.graph, dist, instance.starts, instance.goals, kScatterMargin,
                                           config_.seed + sequence->index, waypoints_of(instance, *sequence));
-      scatter->build(deadline.within(deadline.seconds_left() * kScatterShare));
+      scatter->build(deadline.within(deadline.seconds_left() * kScatterTimeShare));
     }
     pibt.set_guide(scatter.get());
     bool feasible = false;

@@ -19,16 +19,15 @@ constexpr double kFirstSearchSliceS = 0.25;
 constexpr double kMinSearchSliceS = 0.02;
 constexpr double kMaxSearchSliceS = 4.0;
 
-// Of the time left after the first plan: at most this share for the scatter paths, and as much
-// again for the guided search's first plan.
-constexpr double kScatterShare = 0.25;
+// Of the time left after the first plan: at most kScatterTimeShare for the scatter paths, and as
+// much again for the guided search's first plan.
 
 // Agents' paths spread over the map, at most a quarter of the time left: LaCAM's first plan sends
 // crowds down the same shortest corridors (warehouse aisles), and a search whose generator
 // follows these paths finds a far cheaper plan (docs/RESULTS.md, section 6).
 std::unique_ptr<Scatter> spread_out(const Instance& instance, DistTable& dist, uint32_t seed, const Deadline& deadline) {
   auto scatter = std::make_unique<Scatter>(*instance.graph, dist, instance.starts, instance.goals, kScatterMargin, seed);
-  scatter->build(deadline.within(deadline.seconds_left() * kScatterShare));
+  scatter->build(deadline.within(deadline.seconds_left() * kScatterTimeShare));
   return scatter;
 }
 
@@ -98,7 +97,7 @@ SolveResult LacamSolver::solve(const Instance& instance, const SolveOptions& opt
       LacamConfig guided = lacam_config;
       guided.guide = scatter.get();
       search = std::make_unique<LacamSearch>(*instance.graph, dist, guided, rng, instance.starts, instance.goals);
-      found = search->run(deadline.within(deadline.seconds_left() * kScatterShare));
+      found = search->run(deadline.within(deadline.seconds_left() * kScatterTimeShare));
       if (found.solved) keep_if_better(result, instance, found.solution, no_tasks, 0, started, options, "LaCAM along scatter");
       search_done = found.exhausted;
     }

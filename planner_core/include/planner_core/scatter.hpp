@@ -39,6 +39,8 @@ struct ScatterStats {
 // The margin the solvers use: each path (or leg) at most this many steps longer than its shortest,
 // as lacam3.
 constexpr int kScatterMargin = 10;
+// The share of the time left that the solvers give Scatter to build its paths.
+constexpr double kScatterTimeShare = 0.25;
 
 class Scatter {
  public:
