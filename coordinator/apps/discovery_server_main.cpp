@@ -18,6 +18,7 @@
 #include "ctsfleet/program.hpp"
 #include "fleet_transport/discovery_server.hpp"
 #include "fleet_transport/transport.hpp"
+#include "discovery_state_keeper.hpp"
 #include "restart_on_crash.hpp"
 
 namespace {
@@ -84,7 +85,14 @@ int main(int argc, char** argv) {
     spdlog::warn("a discovery server is open (Fast DDS 2.9.1 cannot secure one): use it for open fleets only");
     config.on_event = [](const std::string& event) { spdlog::info("{}", event); };
     // Fast DDS 2.9.1's server can abort on an assertion of its own when many programs join at
-    // once; it then starts again from its state file, and the programs find it again.
-    return coordinator::run_restarting_on_crash("the discovery server", [&] { return serve(config); }, restarts);
+    // once; it then starts again from its state file (its last complete copy, if the crash cut
+    // the file short), and the programs find it again.
+    coordinator::DiscoveryStateKeeper state(std::filesystem::current_path());
+    state.restore_cut_short_files();  // a previous ctsfleet-discovery may have died with its server
+    coordinator::SupervisorHooks hooks;
+    hooks.every_second = [&] { state.keep_complete_copies(); };
+    hooks.before_restart = [&] { state.restore_cut_short_files(); };
+    return coordinator::run_restarting_on_crash("the discovery server", [&] { return serve(config); }, restarts,
+                                                hooks);
   });
 }

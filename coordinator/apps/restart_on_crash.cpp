@@ -32,9 +32,11 @@ using Clock = std::chrono::steady_clock;
   _exit(code);
 }
 
-// Waits for the child, passing a stop request on to it once. Returns its wait status.
-int wait_for_child(pid_t child) {
+// Waits for the child, passing a stop request on to it once and calling `every_second` meanwhile.
+// Returns its wait status.
+int wait_for_child(pid_t child, const std::function<void()>& every_second) {
   bool stop_passed_on = false;
+  Clock::time_point next_call = Clock::now() + std::chrono::seconds(1);
   for (;;) {
     int status = 0;
     const pid_t done = waitpid(child, &status, WNOHANG);
@@ -44,20 +46,25 @@ int wait_for_child(pid_t child) {
       kill(child, SIGTERM);
       stop_passed_on = true;
     }
+    if (every_second && Clock::now() >= next_call) {
+      every_second();
+      next_call = Clock::now() + std::chrono::seconds(1);
+    }
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
   }
 }
 
 }  // namespace
 
-int run_restarting_on_crash(const std::string& what, const std::function<int()>& work, RestartPolicy policy) {
+int run_restarting_on_crash(const std::string& what, const std::function<int()>& work, RestartPolicy policy,
+                            const SupervisorHooks& hooks) {
   std::deque<Clock::time_point> crashes;  // within the last minute
   const pid_t parent = getpid();
   for (;;) {
     const pid_t child = fork();
     if (child < 0) throw std::runtime_error(std::string("cannot start ") + what + ": fork: " + std::strerror(errno));
     if (child == 0) run_child(parent, work);
-    const int status = wait_for_child(child);
+    const int status = wait_for_child(child, hooks.every_second);
     if (WIFEXITED(status)) return WEXITSTATUS(status);
     const int signal_number = WTERMSIG(status);
     if (ctsfleet::stop_requested().load()) return 128 + signal_number;  // killed while stopping: not a crash
@@ -79,6 +86,7 @@ int run_restarting_on_crash(const std::string& what, const std::function<int()>&
       if (ctsfleet::stop_requested().load()) return 0;
       std::this_thread::sleep_for(std::chrono::milliseconds(50));
     }
+    if (hooks.before_restart) hooks.before_restart();
   }
 }
 

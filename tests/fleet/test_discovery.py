@@ -140,19 +140,33 @@ class DiscoveryTest(unittest.TestCase):
 
     def test_a_server_that_crashes_starts_again_and_robots_find_it(self):
         """The server process aborts mid-mission (as Fast DDS 2.9.1's does on an assertion of its
-        own): ctsfleet-discovery starts it again, a robot restarted afterwards is found through it,
-        and the mission completes with no collision. Stopping ctsfleet-discovery leaves no server."""
+        own) at the worst moment: while it rewrites its state file, which it does in place. The file
+        is cut short; ctsfleet-discovery puts its last complete copy back and starts the server
+        again, a robot restarted afterwards is found through it, and the mission completes with no
+        collision. Stopping ctsfleet-discovery leaves no server."""
         supervisor = self.fleet.discovery_server()
         self.fleet.monitor()
         self.agents()
         self.fleet.coordinator()
         log, server_log = self.fleet.log("coordinator"), self.fleet.log("discovery")
         wait_for(lambda: "plan epoch 1" in read(log), 120, "the first plan")
+        state_dir = os.path.join(self.fleet.dir, "discovery-state")
+        state_file = [os.path.join(state_dir, name) for name in os.listdir(state_dir)
+                      if name.startswith("server-") and name.endswith(".json") and "_queue" not in name]
+        self.assertEqual(len(state_file), 1, os.listdir(state_dir))
+        state_file = state_file[0]
+        wait_for(lambda: os.path.exists(state_file + ".complete"), 30, "a complete copy of the server's state kept")
         first_server = children_of(supervisor.pid)
         self.assertEqual(len(first_server), 1, f"one server process expected under ctsfleet-discovery: {first_server}")
+        # Caught between truncating its state file and writing it again.
+        os.kill(first_server[0], signal.SIGSTOP)
+        size = os.path.getsize(state_file)
+        os.truncate(state_file, size // 2)
         os.kill(first_server[0], signal.SIGABRT)
+        os.kill(first_server[0], signal.SIGCONT)
         wait_for(lambda: read(server_log).count("listening on") == 2, 30, "the server started again")
         self.assertIn("the discovery server crashed (Aborted, signal 6): starting it again", read(server_log))
+        self.assertIn("was cut short (the server died while writing it): its last complete copy is back", read(server_log))
         self.assertIsNone(supervisor.poll(), read(server_log))
         # A robot that (re)starts now has only the new server to find its coordinator through.
         cell = self.fleet.kill_robot("robot3")

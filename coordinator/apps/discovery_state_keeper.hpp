@@ -1,0 +1,45 @@
+// Keeping the Fast DDS discovery server's state file usable across a crash.
+//
+// Fast DDS 2.9.1's backup server rewrites its state file in place: it truncates the file, then
+// writes the whole state again. A crash between the two leaves the file cut short, the server
+// restarted on it begins with nothing, and the programs that knew the server ignore it (they have
+// seen its sequence numbers already): a robot that starts afterwards is never found. The keeper
+// copies every complete version of the file aside and puts the last complete one back before the
+// server is started again.
+#pragma once
+
+#include <filesystem>
+#include <map>
+#include <string>
+
+namespace coordinator {
+
+class DiscoveryStateKeeper {
+ public:
+  // `dir`: where the server writes its state files (server-<prefix>.json).
+  explicit DiscoveryStateKeeper(std::filesystem::path dir);
+
+  // Copies a state file aside once it is complete again after a change. Cheap when nothing
+  // changed; call it every second or so while the server runs.
+  void keep_complete_copies();
+
+  // Before a (re)start: a state file that is not complete JSON is replaced by its last complete
+  // copy, and that is logged. Returns how many files were restored.
+  int restore_cut_short_files();
+
+ private:
+  struct Seen {
+    std::filesystem::file_time_type written;
+    std::uintmax_t size = 0;
+  };
+  std::filesystem::path dir_;
+  std::map<std::string, Seen> kept_;  // by file name: the version last copied aside
+};
+
+// The name of the complete copy kept of a state file.
+std::filesystem::path complete_copy_of(const std::filesystem::path& state_file);
+
+// Whether a file holds one complete JSON document.
+bool is_complete_json(const std::filesystem::path& file);
+
+}  // namespace coordinator

@@ -1,0 +1,72 @@
+#include "../../coordinator/apps/discovery_state_keeper.hpp"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <fstream>
+#include <iterator>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+class DiscoveryStateKeeperTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("ctsfleet-state-keeper-" + std::to_string(getpid()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  void write(const std::string& text) {
+    std::ofstream out(state_file());
+    out << text;
+  }
+  std::string read(const fs::path& file) const {
+    std::ifstream in(file);
+    return {std::istreambuf_iterator<char>(in), {}};
+  }
+  fs::path state_file() const { return dir_ / "server-44-53-00-5f.json"; }
+
+  fs::path dir_;
+};
+
+const std::string kFirst = R"({"participants": {"a": 1}})";
+const std::string kSecond = R"({"participants": {"a": 1, "b": 2}})";
+
+TEST_F(DiscoveryStateKeeperTest, AFileCutShortByACrashGetsItsLastCompleteVersionBack) {
+  coordinator::DiscoveryStateKeeper keeper(dir_);
+  write(kFirst);
+  keeper.keep_complete_copies();
+  write(kSecond);
+  keeper.keep_complete_copies();
+  write(kSecond.substr(0, kSecond.size() / 2));  // the server died while rewriting it
+  keeper.keep_complete_copies();                 // a file cut short is never kept
+  EXPECT_EQ(read(coordinator::complete_copy_of(state_file())), kSecond);
+  EXPECT_EQ(keeper.restore_cut_short_files(), 1);
+  EXPECT_EQ(read(state_file()), kSecond);
+}
+
+TEST_F(DiscoveryStateKeeperTest, ACompleteFileAndTheServersOtherFilesAreLeftAsTheyAre) {
+  coordinator::DiscoveryStateKeeper keeper(dir_);
+  write(kFirst);
+  keeper.keep_complete_copies();
+  write(kSecond);  // complete, not copied yet: the newest is what the server restarts on
+  std::ofstream(dir_ / "server-44-53-00-5f_queue.json");  // empty, Fast DDS's unused queue file
+  EXPECT_EQ(keeper.restore_cut_short_files(), 0);
+  EXPECT_EQ(read(state_file()), kSecond);
+  EXPECT_EQ(read(dir_ / "server-44-53-00-5f_queue.json"), "");
+  EXPECT_FALSE(fs::exists(coordinator::complete_copy_of(dir_ / "server-44-53-00-5f_queue.json")));
+}
+
+TEST_F(DiscoveryStateKeeperTest, WithoutACompleteCopyTheFileCutShortStays) {
+  coordinator::DiscoveryStateKeeper keeper(dir_);
+  write("{\"participants\": {");
+  keeper.keep_complete_copies();
+  EXPECT_FALSE(fs::exists(coordinator::complete_copy_of(state_file())));
+  EXPECT_EQ(keeper.restore_cut_short_files(), 0);
+  EXPECT_EQ(read(state_file()), "{\"participants\": {");
+}
+
+}  // namespace
