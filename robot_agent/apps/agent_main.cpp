@@ -172,6 +172,7 @@ int main(int argc, char** argv) {
         agent.on_coordinator_status(s);
       };
       auto transport = fleet_transport::make_transport(config, handlers);
+      agent.start_commands_where_they_arrive(*transport, reporting);
       transport->announce(agent.announcement());
       spdlog::info("{}: {} robot on {} domain {}, incarnation {:016x}", settings.robot_id, robot.kind(), vendor, domain,
                    agent.incarnation());

@@ -44,21 +44,53 @@ void RobotAgent::on_command(const StepCommand& command) {
     reject(command, "addressed to robot '" + command.robot_id + "'");
     return;
   }
+  bool accepted = false;
+  {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    consider(command);
+    accepted = pending_.has_value();
+  }
+  if (accepted) start_here_if_allowed();
+}
+
+void RobotAgent::start_commands_where_they_arrive(fleet_transport::Transport& transport,
+                                                  std::function<bool()> reporting) {
+  if (!backend_.starts_moves_at_once()) return;  // a blocking backend must not hold DDS's thread
+  start_here_reporting_ = std::move(reporting);
+  start_here_transport_.store(&transport);
+}
+
+void RobotAgent::start_here_if_allowed() {
+  fleet_transport::Transport* transport = start_here_transport_.load();
+  if (transport == nullptr) return;
+  std::unique_lock<std::mutex> stepping(step_mutex_, std::try_to_lock);
+  if (!stepping.owns_lock()) return;  // the loop is stepping: it finds the command when it looks next
+  step_locked(*transport, start_here_reporting_());
+  // The loop chose how long to sleep before this move began. It must look again, at the latest
+  // when the move ends (to report the arrival at once): woken if it would sleep past that (a
+  // move shorter than its sleep), otherwise when its sleep ends, which spares a wake-up.
+  const auto arrival = backend_.time_to_arrival();
   const std::lock_guard<std::mutex> lock(mutex_);
-  consider(command);
+  loop_must_look_again_ = true;
+  if (arrival && std::chrono::steady_clock::now() + *arrival < loop_wakes_at_) command_arrived_.notify_one();
 }
 
 void RobotAgent::on_coordinator_status(const fleet_transport::CoordinatorStatus& status) {
-  const std::lock_guard<std::mutex> lock(mutex_);
-  KnownCoordinator& known = coordinators_[status.coordinator];
-  known.status = status;
-  known.heard = std::chrono::steady_clock::now();
-  choose_coordinator();
-  if (held_) {  // its coordinator or epoch may be announced now
-    const StepCommand command = *held_;
-    held_.reset();
-    consider(command);
+  bool accepted = false;
+  {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    KnownCoordinator& known = coordinators_[status.coordinator];
+    known.status = status;
+    known.heard = std::chrono::steady_clock::now();
+    choose_coordinator();
+    if (held_) {  // its coordinator or epoch may be announced now
+      const StepCommand command = *held_;
+      held_.reset();
+      consider(command);
+      accepted = pending_.has_value();
+    }
   }
+  if (accepted) start_here_if_allowed();
 }
 
 uint64_t RobotAgent::followed_coordinator() const {
@@ -148,10 +180,13 @@ void RobotAgent::consider(const StepCommand& command) {
 
 void RobotAgent::wait_for_command(std::chrono::steady_clock::duration timeout) {
   std::unique_lock<std::mutex> lock(mutex_);
-  command_arrived_.wait_for(lock, timeout, [this] { return pending_.has_value(); });
+  loop_wakes_at_ = std::chrono::steady_clock::now() + timeout;
+  command_arrived_.wait_for(lock, timeout, [this] { return pending_.has_value() || loop_must_look_again_; });
+  loop_must_look_again_ = false;
 }
 
 std::chrono::steady_clock::duration RobotAgent::idle_time() const {
+  const std::lock_guard<std::mutex> stepping(step_mutex_);
   const auto now = std::chrono::steady_clock::now();
   auto until = next_publish_ - now;
   if (const auto arrival = backend_.time_to_arrival()) until = std::min(until, *arrival);
@@ -159,6 +194,11 @@ std::chrono::steady_clock::duration RobotAgent::idle_time() const {
 }
 
 void RobotAgent::step(fleet_transport::Transport& transport, bool reporting) {
+  const std::lock_guard<std::mutex> stepping(step_mutex_);
+  step_locked(transport, reporting);
+}
+
+void RobotAgent::step_locked(fleet_transport::Transport& transport, bool reporting) {
   BackendReport report = backend_.poll();
   // in_fault_ is written only here, so this thread may read it without the lock.
   bool publish_now = (was_moving_ && !report.moving) || report.fault != in_fault_;  // report changes at once

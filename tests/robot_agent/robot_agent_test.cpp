@@ -2,6 +2,8 @@
 // refuses, before any of them can change what it accepts next.
 #include <gtest/gtest.h>
 
+#include <atomic>
+#include <mutex>
 #include <thread>
 
 #include "fake_transport.hpp"
@@ -89,6 +91,95 @@ TEST_F(AgentFixture, ACoordinatorWhoseClockIsAheadStillCannotReplayALateCommand)
   agent.on_command(late);
   settle();
   EXPECT_EQ(robot.poll().cell, (Cell{3, 2}));
+}
+
+TEST_F(AgentFixture, ACommandIsStartedAndAcknowledgedOnTheThreadThatReceivedIt) {
+  agent.start_commands_where_they_arrive(transport, [] { return true; });
+  agent.on_coordinator_status(status_of(kCoordinator, 1, 7));
+  agent.on_command(move(7, 0, 3, 2, in_5_s()));  // no step() of the agent's loop in between
+  EXPECT_TRUE(robot.poll().moving);
+  EXPECT_EQ(transport.last_state.plan_epoch, 7);
+  EXPECT_EQ(transport.last_state.action_index, 0);
+  EXPECT_EQ(transport.last_state.status, fleet_transport::RobotStatus::kMoving);
+  // The loop, asleep for a time chosen before the move, is woken to watch for the arrival.
+  const auto before = std::chrono::steady_clock::now();
+  agent.wait_for_command(std::chrono::seconds(5));
+  EXPECT_LT(std::chrono::steady_clock::now() - before, std::chrono::seconds(4));
+  settle();
+  EXPECT_EQ(robot.poll().cell, (Cell{3, 2}));
+  EXPECT_EQ(transport.last_state.status, fleet_transport::RobotStatus::kArrived);
+}
+
+TEST_F(AgentFixture, ACommandHeldForItsEpochStartsWhenTheStatusArrives) {
+  agent.start_commands_where_they_arrive(transport, [] { return true; });
+  agent.on_coordinator_status(status_of(kCoordinator, 1, 6));
+  agent.on_command(move(7, 0, 3, 2, in_5_s()));  // epoch 7 not announced yet
+  EXPECT_FALSE(robot.poll().moving);
+  agent.on_coordinator_status(status_of(kCoordinator, 1, 7));
+  EXPECT_TRUE(robot.poll().moving);
+  EXPECT_EQ(transport.last_state.plan_epoch, 7);
+}
+
+// A backend whose moves may block (a toio cube over Bluetooth) never runs on DDS's thread.
+struct BlockingBackend : SimRobot {
+  using SimRobot::SimRobot;
+  bool starts_moves_at_once() const override { return false; }
+};
+
+TEST(AgentStartingCommands, ABackendThatMayBlockIsDrivenOnlyByTheAgentsLoop) {
+  BlockingBackend robot({2, 2}, SimSettings{0.01, 0.0});
+  RobotAgent agent(AgentSettings{"r1"}, robot);
+  FakeTransport transport;
+  agent.start_commands_where_they_arrive(transport, [] { return true; });
+  agent.on_coordinator_status(status_of(kCoordinator, 1, 7));
+  agent.on_command(move(7, 0, 3, 2, in_5_s()));
+  EXPECT_FALSE(robot.poll().moving);
+  EXPECT_TRUE(transport.last_state.robot_id.empty());  // nothing published yet
+  agent.step(transport, true);
+  EXPECT_TRUE(robot.poll().moving);
+  EXPECT_EQ(transport.last_state.plan_epoch, 7);
+}
+
+// Published states read from another thread than the agents'.
+struct SharedTransport : FakeTransport {
+  void publish_state(const fleet_transport::RobotState& state) override {
+    const std::lock_guard<std::mutex> lock(mutex);
+    FakeTransport::publish_state(state);
+  }
+  fleet_transport::RobotState latest() {
+    const std::lock_guard<std::mutex> lock(mutex);
+    return last_state;
+  }
+  std::mutex mutex;
+};
+
+TEST_F(AgentFixture, TheLoopAndTheReceivingThreadStepInTurn) {
+  SharedTransport shared;
+  agent.start_commands_where_they_arrive(shared, [] { return true; });
+  agent.on_coordinator_status(status_of(kCoordinator, 1, 7));
+  std::atomic<bool> done{false};
+  std::thread loop([&] {
+    while (!done.load()) {
+      agent.step(shared, true);
+      agent.wait_for_command(std::chrono::milliseconds(2));
+    }
+  });
+  // Back and forth between two cells, each command sent once the last move ended.
+  for (int index = 0; index < 20; ++index) {
+    const Cell target = index % 2 == 0 ? Cell{3, 2} : Cell{2, 2};
+    agent.on_command(move(7, index, target.x, target.y, in_5_s()));
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+    while (std::chrono::steady_clock::now() < deadline) {
+      const fleet_transport::RobotState state = shared.latest();
+      if (state.action_index == index && state.status == fleet_transport::RobotStatus::kArrived) break;
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+  }
+  done = true;
+  loop.join();
+  EXPECT_EQ(shared.latest().action_index, 19);
+  EXPECT_EQ(shared.latest().status, fleet_transport::RobotStatus::kArrived);
+  EXPECT_EQ(robot.poll().cell, (Cell{2, 2}));
 }
 
 TEST(ClockOffset, IsTheSmallestDifferenceOfItsWindow) {

@@ -2,8 +2,10 @@
 // robot, executes step commands addressed to it (checking each one), publishes its state.
 #pragma once
 
+#include <atomic>
 #include <chrono>
 #include <condition_variable>
+#include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -40,10 +42,14 @@ class RobotAgent {
   // One iteration of the agent's loop: advance the backend, start commands, publish state when due.
   // Returns false when the agent must stop (crash fault).
   void step(fleet_transport::Transport& transport, bool reporting);
+  // With a backend that starts moves at once (the sim): from now on, an accepted command is
+  // started, and the state that acknowledges it published, on the thread that received it (DDS's)
+  // rather than after the agent's loop wakes up. `transport` must outlive the agent's handlers.
+  void start_commands_where_they_arrive(fleet_transport::Transport& transport, std::function<bool()> reporting);
   fleet_transport::Announcement announcement() const;
   // This process's incarnation: random, never 0, in every announcement and state.
   uint64_t incarnation() const { return incarnation_; }
-  // Sleeps until a command arrives or `timeout` passes (whichever is first).
+  // Sleeps until a command arrives (or was started on a receiving thread) or `timeout` passes.
   void wait_for_command(std::chrono::steady_clock::duration timeout);
   // How long the agent may sleep before step() has something to do (next state or arrival).
   std::chrono::steady_clock::duration idle_time() const;
@@ -54,16 +60,28 @@ class RobotAgent {
     std::chrono::steady_clock::time_point heard;
   };
   void reject(const fleet_transport::StepCommand& command, const std::string& why);
+  // Under step_mutex_.
+  void step_locked(fleet_transport::Transport& transport, bool reporting);
+  // After a command was accepted: starts it on this thread if start_commands_where_they_arrive
+  // allows it and the agent's loop is not stepping (it then starts the command itself).
+  void start_here_if_allowed();
   // Both under mutex_.
   void consider(const fleet_transport::StepCommand& command);
   void choose_coordinator();
 
   AgentSettings settings_;
   RobotBackend& backend_;
+  // step() may run on the agent's loop and on a receiving thread: one at a time. Taken before
+  // mutex_, never after it. It guards the backend and what only step() writes.
+  mutable std::mutex step_mutex_;
+  std::atomic<fleet_transport::Transport*> start_here_transport_{nullptr};
+  std::function<bool()> start_here_reporting_;  // set once, before start_here_transport_
   mutable std::mutex mutex_;
   std::condition_variable command_arrived_;
   std::optional<fleet_transport::StepCommand> pending_;  // the newest accepted command not yet started
   std::optional<fleet_transport::StepCommand> held_;     // the newest command not judged yet
+  bool loop_must_look_again_ = false;  // a command was started on a receiving thread
+  std::chrono::steady_clock::time_point loop_wakes_at_{};  // the end of the loop's last sleep
   std::map<uint64_t, KnownCoordinator> coordinators_;
   std::map<uint64_t, ClockOffset> clock_offsets_;  // per sending coordinator (hosts' clocks differ)
   uint64_t followed_ = 0;

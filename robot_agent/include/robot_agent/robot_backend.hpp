@@ -39,6 +39,9 @@ class RobotBackend {
   virtual BackendReport poll() = 0;
   // While moving: the expected time until arrival (so the agent knows when to look again).
   virtual std::optional<std::chrono::steady_clock::duration> time_to_arrival() const = 0;
+  // Whether start_move and poll return at once (no I/O that may block): the agent may then start
+  // a command on the thread that received it, one thread wake-up sooner.
+  virtual bool starts_moves_at_once() const { return false; }
 };
 
 }  // namespace robot_agent

@@ -32,6 +32,7 @@ class SimRobot : public RobotBackend {
   bool start_move(Cell target) override;
   BackendReport poll() override;
   std::optional<std::chrono::steady_clock::duration> time_to_arrival() const override;
+  bool starts_moves_at_once() const override { return true; }
   bool reporting_enabled() const;
   bool should_crash() const;
 
