@@ -81,14 +81,14 @@ int main(int argc, char** argv) {
       throw std::invalid_argument("--state-dir: cannot use '" + state_dir + "' (" +
                                      (error ? error.message() : std::strerror(errno)) + ")");
     }
+    coordinator::DiscoveryStateKeeper state(std::filesystem::current_path());  // one server per state
     spdlog::info("state kept in {}", std::filesystem::current_path().string());
+    state.restore_cut_short_files();  // a previous ctsfleet-discovery may have died with its server
     spdlog::warn("a discovery server is open (Fast DDS 2.9.1 cannot secure one): use it for open fleets only");
     config.on_event = [](const std::string& event) { spdlog::info("{}", event); };
     // Fast DDS 2.9.1's server can abort on an assertion of its own when many programs join at
     // once; it then starts again from its state file (its last complete copy, if the crash cut
     // the file short), and the programs find it again.
-    coordinator::DiscoveryStateKeeper state(std::filesystem::current_path());
-    state.restore_cut_short_files();  // a previous ctsfleet-discovery may have died with its server
     coordinator::SupervisorHooks hooks;
     hooks.every_second = [&] { state.keep_complete_copies(); };
     hooks.before_restart = [&] { state.restore_cut_short_files(); };

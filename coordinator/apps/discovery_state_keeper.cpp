@@ -3,7 +3,14 @@
 #include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
 
+#include <fcntl.h>
+#include <sys/file.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
 #include <fstream>
+#include <stdexcept>
 #include <system_error>
 #include <vector>
 
@@ -53,7 +60,21 @@ bool is_complete_json(const fs::path& file) {
   return in && nlohmann::json::accept(in);
 }
 
-DiscoveryStateKeeper::DiscoveryStateKeeper(fs::path dir) : dir_(std::move(dir)) {}
+DiscoveryStateKeeper::DiscoveryStateKeeper(fs::path dir) : dir_(std::move(dir)) {
+  const fs::path lock_file = dir_ / "lock";
+  lock_fd_ = open(lock_file.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  if (lock_fd_ < 0) {
+    throw std::invalid_argument("--state-dir: cannot create " + lock_file.string() + " (" + std::strerror(errno) + ")");
+  }
+  if (flock(lock_fd_, LOCK_EX | LOCK_NB) != 0) {
+    close(lock_fd_);
+    throw std::invalid_argument("--state-dir: '" + dir_.string() +
+                                "' is in use by another ctsfleet-discovery (two servers on one state overwrite "
+                                "each other's): give each server its own --state-dir and --server-id");
+  }
+}
+
+DiscoveryStateKeeper::~DiscoveryStateKeeper() { close(lock_fd_); }
 
 void DiscoveryStateKeeper::keep_complete_copies() {
   for (const fs::path& file : state_files(dir_)) {

@@ -16,8 +16,13 @@ namespace coordinator {
 
 class DiscoveryStateKeeper {
  public:
-  // `dir`: where the server writes its state files (server-<prefix>.json).
+  // `dir`: where the server writes its state files (server-<prefix>.json). The keeper locks it
+  // while it lives: two servers on one state would overwrite each other's; the second is refused
+  // (std::invalid_argument naming --state-dir).
   explicit DiscoveryStateKeeper(std::filesystem::path dir);
+  ~DiscoveryStateKeeper();
+  DiscoveryStateKeeper(const DiscoveryStateKeeper&) = delete;
+  DiscoveryStateKeeper& operator=(const DiscoveryStateKeeper&) = delete;
 
   // Copies a state file aside once it is complete again after a change. Cheap when nothing
   // changed; call it every second or so while the server runs.
@@ -33,6 +38,7 @@ class DiscoveryStateKeeper {
     std::uintmax_t size = 0;
   };
   std::filesystem::path dir_;
+  int lock_fd_ = -1;
   std::map<std::string, Seen> kept_;  // by file name: the version last copied aside
 };
 

@@ -5,6 +5,8 @@
 
 #include <fstream>
 #include <iterator>
+#include <memory>
+#include <stdexcept>
 
 namespace {
 
@@ -67,6 +69,18 @@ TEST_F(DiscoveryStateKeeperTest, WithoutACompleteCopyTheFileCutShortStays) {
   EXPECT_FALSE(fs::exists(coordinator::complete_copy_of(state_file())));
   EXPECT_EQ(keeper.restore_cut_short_files(), 0);
   EXPECT_EQ(read(state_file()), "{\"participants\": {");
+}
+
+TEST_F(DiscoveryStateKeeperTest, OneStateDirectoryServesOneServerAtATime) {
+  auto first = std::make_unique<coordinator::DiscoveryStateKeeper>(dir_);
+  try {
+    coordinator::DiscoveryStateKeeper second(dir_);
+    FAIL() << "a second keeper of the same directory was allowed";
+  } catch (const std::invalid_argument& error) {
+    EXPECT_NE(std::string(error.what()).find("in use by another ctsfleet-discovery"), std::string::npos) << error.what();
+  }
+  first.reset();
+  EXPECT_NO_THROW(coordinator::DiscoveryStateKeeper again(dir_));
 }
 
 }  // namespace

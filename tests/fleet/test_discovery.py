@@ -103,7 +103,16 @@ class DiscoveryTest(unittest.TestCase):
             self.fleet.agent(f"robot{index}", cell)
 
     def test_mission_through_a_discovery_server(self):
-        self.fleet.discovery_server()
+        server = self.fleet.discovery_server()
+        # A second server on the same state (a copied command line with only the port changed)
+        # would overwrite the first one's: refused, and the first one goes on.
+        port = int(self.fleet.server.rsplit(":", 1)[1])
+        result = run([f"{BIN}/ctsfleet-discovery", "--domain", str(self.fleet.domain), "--listen",
+                      f"127.0.0.1:{port - 1}", "--dds-config-dir", DDS_DIR,
+                      "--state-dir", os.path.join(self.fleet.dir, "discovery-state")])
+        self.assertEqual(result.returncode, 2, result.stdout + result.stderr)
+        self.assertIn("in use by another ctsfleet-discovery", result.stderr)
+        self.assertIsNone(server.poll(), read(self.fleet.log("discovery")))
         self.fleet.monitor()
         self.agents()
         self.fleet.coordinator()
