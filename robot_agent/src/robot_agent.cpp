@@ -200,7 +200,7 @@ void RobotAgent::step(fleet_transport::Transport& transport, bool reporting) {
 
 void RobotAgent::step_locked(fleet_transport::Transport& transport, bool reporting) {
   BackendReport report = backend_.poll();
-  // in_fault_ is written only here, so this thread may read it without the lock.
+  // in_fault_ is written only here (under step_mutex_), so it may be read here without mutex_.
   bool publish_now = (was_moving_ && !report.moving) || report.fault != in_fault_;  // report changes at once
   if (report.fault != in_fault_) {
     // The coordinator takes a faulted robot out and replans; nothing of the old plan may move it.

@@ -40,7 +40,6 @@ class RobotAgent {
   // The coordinator followed now (0: none yet).
   uint64_t followed_coordinator() const;
   // One iteration of the agent's loop: advance the backend, start commands, publish state when due.
-  // Returns false when the agent must stop (crash fault).
   void step(fleet_transport::Transport& transport, bool reporting);
   // With a backend that starts moves at once (the sim): from now on, an accepted command is
   // started, and the state that acknowledges it published, on the thread that received it (DDS's)
