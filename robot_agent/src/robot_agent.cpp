@@ -50,7 +50,7 @@ void RobotAgent::on_command(const StepCommand& command) {
     consider(command);
     accepted = pending_.has_value();
   }
-  if (accepted) start_here_if_allowed();
+  if (accepted) start_accepted_command();
 }
 
 void RobotAgent::start_commands_where_they_arrive(fleet_transport::Transport& transport,
@@ -60,9 +60,14 @@ void RobotAgent::start_commands_where_they_arrive(fleet_transport::Transport& tr
   start_here_transport_.store(&transport);
 }
 
-void RobotAgent::start_here_if_allowed() {
+void RobotAgent::start_accepted_command() {
   fleet_transport::Transport* transport = start_here_transport_.load();
-  if (transport == nullptr) return;
+  if (transport == nullptr) {
+    command_arrived_.notify_one();  // the loop starts it
+    return;
+  }
+  // Waking the loop as well would cost every agent a second thread wake-up per command, in the
+  // burst of a plan's first commands where 100 agents share two cores with the coordinator.
   std::unique_lock<std::mutex> stepping(step_mutex_, std::try_to_lock);
   if (!stepping.owns_lock()) return;  // the loop is stepping: it finds the command when it looks next
   step_locked(*transport, start_here_reporting_());
@@ -90,7 +95,7 @@ void RobotAgent::on_coordinator_status(const fleet_transport::CoordinatorStatus&
       accepted = pending_.has_value();
     }
   }
-  if (accepted) start_here_if_allowed();
+  if (accepted) start_accepted_command();
 }
 
 uint64_t RobotAgent::followed_coordinator() const {
@@ -175,7 +180,6 @@ void RobotAgent::consider(const StepCommand& command) {
   epoch_ = command.plan_epoch;
   accepted_index_ = command.action_index;
   pending_ = command;  // a newer command (or epoch) supersedes one not yet started
-  command_arrived_.notify_one();
 }
 
 void RobotAgent::wait_for_command(std::chrono::steady_clock::duration timeout) {

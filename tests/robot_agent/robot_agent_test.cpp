@@ -110,6 +110,31 @@ TEST_F(AgentFixture, ACommandIsStartedAndAcknowledgedOnTheThreadThatReceivedIt) 
   EXPECT_EQ(transport.last_state.status, fleet_transport::RobotStatus::kArrived);
 }
 
+// A move longer than the loop's sleep: the command starts on the receiving thread and the loop
+// sleeps on (one thread woken per command, not two).
+TEST(AgentStartingCommands, ACommandStartedWhereItArrivesLeavesTheSleepingLoopAsleep) {
+  SimRobot robot({2, 2}, SimSettings{10.0, 0.0});
+  RobotAgent agent(AgentSettings{"r1"}, robot);
+  FakeTransport transport;
+  agent.start_commands_where_they_arrive(transport, [] { return true; });
+  agent.on_coordinator_status(status_of(kCoordinator, 1, 7));
+  std::atomic<bool> loop_asleep{false};
+  std::chrono::steady_clock::duration slept{};
+  std::thread loop([&] {
+    const auto before = std::chrono::steady_clock::now();
+    loop_asleep = true;
+    agent.wait_for_command(std::chrono::seconds(3));
+    slept = std::chrono::steady_clock::now() - before;
+  });
+  while (!loop_asleep) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));  // well inside its wait by now
+  agent.on_command(move(7, 0, 3, 2, fleet_transport::wall_clock_ms() + 60000));
+  EXPECT_TRUE(robot.poll().moving);
+  EXPECT_EQ(transport.last_state.status, fleet_transport::RobotStatus::kMoving);
+  loop.join();
+  EXPECT_GE(slept, std::chrono::milliseconds(2900));  // its whole sleep: not woken by the command
+}
+
 TEST_F(AgentFixture, ACommandHeldForItsEpochStartsWhenTheStatusArrives) {
   agent.start_commands_where_they_arrive(transport, [] { return true; });
   agent.on_coordinator_status(status_of(kCoordinator, 1, 6));
