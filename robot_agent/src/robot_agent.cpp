@@ -69,7 +69,12 @@ void RobotAgent::start_accepted_command() {
   // Waking the loop as well would cost every agent a second thread wake-up per command, in the
   // burst of a plan's first commands where 100 agents share two cores with the coordinator.
   std::unique_lock<std::mutex> stepping(step_mutex_, std::try_to_lock);
-  if (!stepping.owns_lock()) return;  // the loop is stepping: it finds the command when it looks next
+  if (!stepping.owns_lock()) {
+    // Another thread is stepping and may have looked for a command already: the loop starts this
+    // one, woken in case it sleeps. Rare, so this wake-up costs nothing measurable.
+    command_arrived_.notify_one();
+    return;
+  }
   step_locked(*transport, start_here_reporting_());
   // The loop chose how long to sleep before this move began. It must look again, at the latest
   // when the move ends (to report the arrival at once): woken if it would sleep past that (a

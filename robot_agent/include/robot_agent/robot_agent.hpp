@@ -62,8 +62,8 @@ class RobotAgent {
   // Under step_mutex_.
   void step_locked(fleet_transport::Transport& transport, bool reporting);
   // After a command was accepted (not under mutex_): starts it on this thread if
-  // start_commands_where_they_arrive allows it and the agent's loop is not stepping (the loop then
-  // starts it when it looks next, which it does before it sleeps); otherwise wakes the loop.
+  // start_commands_where_they_arrive allows it and no other thread is stepping; otherwise wakes
+  // the loop to start it.
   void start_accepted_command();
   // Both under mutex_. consider() leaves an accepted command in pending_ and wakes nobody.
   void consider(const fleet_transport::StepCommand& command);
