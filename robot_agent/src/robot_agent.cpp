@@ -62,16 +62,12 @@ void RobotAgent::start_commands_where_they_arrive(fleet_transport::Transport& tr
 
 void RobotAgent::start_accepted_command() {
   fleet_transport::Transport* transport = start_here_transport_.load();
-  if (transport == nullptr) {
-    command_arrived_.notify_one();  // the loop starts it
-    return;
-  }
-  // Waking the loop as well would cost every agent a second thread wake-up per command, in the
-  // burst of a plan's first commands where 100 agents share two cores with the coordinator.
-  std::unique_lock<std::mutex> stepping(step_mutex_, std::try_to_lock);
-  if (!stepping.owns_lock()) {
-    // Another thread is stepping and may have looked for a command already: the loop starts this
-    // one, woken in case it sleeps. Rare, so this wake-up costs nothing measurable.
+  std::unique_lock<std::mutex> stepping(step_mutex_, std::defer_lock);
+  if (transport == nullptr || !stepping.try_lock()) {
+    // The loop starts it: a backend that may block, or another thread stepping, which may have
+    // looked for a command already (rare). Otherwise the loop is left asleep: waking it too
+    // would cost every agent a second thread wake-up per command, in the burst of a plan's
+    // first commands where 100 agents share two cores with the coordinator.
     command_arrived_.notify_one();
     return;
   }
