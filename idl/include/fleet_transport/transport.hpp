@@ -4,8 +4,7 @@
 // (missed deadlines are acted on by the coordinator's silence timeout); announcements and fleet status
 // reliable transient-local keep-last 1 (coordinator and fleet status: one instance per
 // coordinator); liveliness
-// automatic with the configured lease (Fast DDS state readers ask for none: a lease there costs a
-// timer update per state); commands with exclusive ownership (strength = the sending
+// automatic with the configured lease; commands with exclusive ownership (strength = the sending
 // coordinator's term), so a robot hears one coordinator's commands. Step commands, robot states
 // and announcements travel in the robot's own partition, robot/<id>; readers of every robot use
 // robot/*, and drop a state or announcement whose id is not its partition's.
