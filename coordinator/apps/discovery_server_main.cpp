@@ -68,6 +68,7 @@ int main(int argc, char** argv) {
                  "folder with the loopback DDS XML files (default: the shipped config/dds)")
       ->check(CLI::ExistingDirectory);
   return program.main(argc, argv, [&] {
+    fleet_transport::check_listen_address(config.listen);  // before anything is written
     if (config.loopback_config_dir.empty()) config.loopback_config_dir = ctsfleet::data_path("config/dds").string();
     config.loopback_config_dir = std::filesystem::absolute(config.loopback_config_dir).string();
     if (state_dir.empty()) {

@@ -9,6 +9,7 @@
 
 #include "fastdds_participant.hpp"
 #include "fleet_transport/discovery_server.hpp"
+#include "network_settings.hpp"
 
 namespace fleet_transport {
 
@@ -55,6 +56,8 @@ class ParticipantEvents : public DomainParticipantListener {
 };
 
 }  // namespace
+
+void check_listen_address(const std::string& listen) { parse_host_port(listen, "--listen"); }
 
 struct DiscoveryServer::Impl {
   ParticipantEvents events;  // first: the listener outlives the participant

@@ -449,7 +449,7 @@ class FastDdsTransport : public Transport {
     wire.leaving(true);
     DataWriter* w = robot_writers(robot_id).announcement;
     w->write(&wire);
-    w->dispose(&wire, w->lookup_instance(&wire));
+    w->dispose(&wire, HANDLE_NIL);  // the key is taken from the sample (2.9 has no lookup_instance)
   }
 
   void publish_state(const RobotState& s) override {

@@ -71,8 +71,8 @@ def children_of(pid):
     return children
 
 
-def run(args, timeout=60):
-    return subprocess.run(args, capture_output=True, text=True, timeout=timeout)
+def run(args, timeout=60, cwd=None):
+    return subprocess.run(args, capture_output=True, text=True, timeout=timeout, cwd=cwd)
 
 
 class DiscoveryTest(unittest.TestCase):
@@ -207,10 +207,15 @@ class DiscoveryTest(unittest.TestCase):
                       self.fleet.fleet_ca])
         self.assertEqual(result.returncode, 2, result.stdout + result.stderr)
         self.assertIn("Fast DDS 2.9.1", result.stderr)
-        for args in (["--listen", "127.0.0.1"], ["--listen", "999.0.0.1:5"], ["--server-id", "256"],
-                     ["--max-crashes", "-1"], ["--max-crashes", "many"],
+        for args in (["--listen", "127.0.0.1"], ["--listen", "999.0.0.1:5"], ["--listen", "127.0.0.1:80000"],
+                     ["--server-id", "256"], ["--max-crashes", "-1"], ["--max-crashes", "many"],
                      ["--listen", "192.0.2.1:65161"]):  # the last: not an address of this host
-            result = run([f"{BIN}/ctsfleet-discovery", "--domain", domain, "--dds-config-dir", DDS_DIR, *args])
+            workdir = os.path.join(self.fleet.dir, "bad-discovery-options", "_".join(args))
+            os.makedirs(workdir, exist_ok=True)
+            result = run([f"{BIN}/ctsfleet-discovery", "--domain", domain, "--dds-config-dir", DDS_DIR, *args],
+                         cwd=workdir)
+            if result.returncode == 2:  # a bad value is refused before a state directory is made
+                self.assertEqual(os.listdir(workdir), [], f"{args}: left behind")
             self.assertIn(result.returncode, (1, 2), f"{args}: {result.stdout}{result.stderr}")
             self.assertTrue("--listen" in result.stderr or "server-id" in result.stderr or "max-crashes" in
                             result.stderr or "cannot start discovery server" in result.stderr, f"{args}: {result.stderr}")

@@ -227,6 +227,9 @@ class SecurityTest(unittest.TestCase):
             result = run(args)
             self.assertEqual(result.returncode, 2, f"{args}: {result.stdout}{result.stderr}")
             self.assertIn(expected, result.stderr, args)
+            # Named as the user typed it: a bare "fleet-ca" in the advice is a command not found.
+            self.assertRegex(result.stderr, r"^ctsfleet-ca: error: ", args)
+            self.assertNotRegex(result.stderr, r"(^|[^-\w])fleet-ca ", args)
         self.assertEqual(run([tool, "add-robot", ca, "robot1"]).returncode, 0)
         again = run([tool, "add-robot", ca, "robot1"])
         self.assertEqual(again.returncode, 2)

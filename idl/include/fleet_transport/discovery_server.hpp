@@ -21,6 +21,10 @@ struct DiscoveryServerConfig {
   std::function<void(const std::string& event)> on_event;
 };
 
+// std::invalid_argument naming --listen when `listen` is not an IPv4 HOST:PORT: checked before a
+// server's state directory is made.
+void check_listen_address(const std::string& listen);
+
 class DiscoveryServer {
  public:
   // Throws std::invalid_argument on a bad address or id, std::runtime_error when the
