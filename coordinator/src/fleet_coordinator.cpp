@@ -321,6 +321,7 @@ void FleetCoordinator::handle_state(RobotRecord& robot, const fleet_transport::R
   if (!accept_incarnation(robot, state, now)) return;
   if (robot.has_state && state.seq_number <= robot.last.seq_number) return;  // stale, within one incarnation
   robot.last_heard = now;
+  robot.last_state_received = std::max(robot.last_state_received, received);
   if (state.status == RobotStatus::kFault) {
     // A robot in fault (a toio cube lifted, disconnected, between cells...) is out until it reports
     // a cell again; its last good cell and the cell it was moving to stay blocked meanwhile.
@@ -964,7 +965,9 @@ void FleetCoordinator::follow(fleet_transport::Transport& transport, Clock::time
   if (active->mission) adopt_tasks(*active->mission);
   for (const fleet_transport::TaskVisit& visit : active->progress.done_visits) progress_.mark(visit);
   mirrored_roles_.clear();
+  mirrored_robots_.clear();
   for (const fleet_transport::Assignment& row : active->progress.assignments) {
+    mirrored_robots_.insert(row.robot_id);
     if (row.role >= 0 && row.role < mission_.agent_count()) mirrored_roles_[row.robot_id] = row.role;
   }
   epoch_ = std::max(epoch_, active->status.plan_epoch);
@@ -976,8 +979,54 @@ void FleetCoordinator::follow(fleet_transport::Transport& transport, Clock::time
     transport.set_command_strength(next_term);
     command_strength_ = next_term;
   }
+  // The active coordinator is silent: dead, or cut off from this host. It may still drive robots
+  // this standby cannot hear (a network split with robots on both sides), and a plan that takes
+  // them for walls at their last cells would drive robots into them. So it takes over only once it
+  // has heard, since the active one fell silent, every robot that one drove, and has heard them
+  // for two status periods: when a split heals, the robots' states may come back a little before
+  // the active one's status, which must not read as its death.
   const double silent_s = seconds_between(active->heard, now);
-  if (silent_s > config_.lease_s + 0.5) take_over(transport, *active, now);
+  const Clock::duration status_gap = seconds(2 * kStatusPeriodS);
+  if (now - active->heard <= status_gap) {
+    logged_unheard_robots_ = false;
+    every_robot_heard_since_.reset();
+    return;
+  }
+  // "Since" leaves the same gap: a robot's last state from before a split may arrive after the
+  // active one's last status (sent up to a period before the split).
+  const std::vector<std::string> unheard = robots_unheard_since(active->heard + status_gap);
+  if (!unheard.empty()) every_robot_heard_since_.reset();
+  if (unheard.empty() && !every_robot_heard_since_) every_robot_heard_since_ = now;
+  if (silent_s <= config_.lease_s + 0.5) return;
+  if (every_robot_heard_since_ && now - *every_robot_heard_since_ >= status_gap) {
+    take_over(transport, *active, now);
+    return;
+  }
+  if (!unheard.empty() && !logged_unheard_robots_) {
+    logged_unheard_robots_ = true;
+    constexpr size_t kNamed = 8;
+    std::string names;
+    for (size_t i = 0; i < std::min(unheard.size(), kNamed); ++i) names += (i == 0 ? "" : ", ") + unheard[i];
+    if (unheard.size() > kNamed) names += fmt::format(" and {} more", unheard.size() - kNamed);
+    spdlog::warn("standby: coordinator {} (term {}) silent for {:.2f} s, but so {} {}: this host may be cut off "
+                 "from part of the fleet, which that coordinator may still drive; taking over once every robot "
+                 "is heard",
+                 hex(active->status.coordinator), active->status.term, silent_s, unheard.size() == 1 ? "is" : "are",
+                 names);
+  }
+}
+
+std::vector<std::string> FleetCoordinator::robots_unheard_since(Clock::time_point since) const {
+  std::set<std::string> drivable = mirrored_robots_;
+  for (const auto& [id, robot] : robots_) {
+    if (robot.active && robot.has_state) drivable.insert(id);  // joined after the last progress heard
+  }
+  std::vector<std::string> unheard;
+  for (const std::string& id : drivable) {
+    const RobotRecord* robot = robots_.find(id);
+    if (robot == nullptr || !robot->has_state || robot->last_state_received <= since) unheard.push_back(id);
+  }
+  return unheard;
 }
 
 void FleetCoordinator::take_over(fleet_transport::Transport& transport, const OtherCoordinator& old,

@@ -412,6 +412,63 @@ TEST(FleetCoordinator, AStandbyNeverCommandsWhileTheActiveOneIsHeard) {
   EXPECT_FALSE(standby.summary().took_over);
 }
 
+// A network split: the standby's host is cut off from the active coordinator and from some of
+// the robots it drives. Those robots may still be driven, so the standby must not plan around
+// them as walls: it waits, without a command, until it hears every one of them again.
+TEST(FleetCoordinator, AStandbyCutOffFromPartOfTheFleetTakesOverOnlyOnceItHearsEveryRobot) {
+  planner_core::Instance mission = planner_core::load_instance(CTSFLEET_CONFIG_DIR "/default/mission-8.yaml");
+  std::vector<FakeRobot> robots = robots_on_their_starts(mission);
+  fleet_transport::CoordinatorStatus active;
+  active.coordinator = 0xAC;
+  active.term = 3;
+  active.mission_id = mission_fingerprint(mission);
+  active.plan_epoch = 2;
+  fleet_transport::FleetStatus progress;
+  progress.coordinator = 0xAC;
+  progress.plan_epoch = 2;
+  for (int r = 0; r < mission.agent_count(); ++r) progress.assignments.push_back({"robot" + std::to_string(r), r, 0, 0});
+  FleetCoordinator standby(config_for(mission.agent_count()), std::move(mission), {true, nullptr});  // lease 0.05 s
+  FakeTransport wire;
+  for (FakeRobot& robot : robots) standby.on_announcement({robot.id, "sim", "", "test", false});
+  const auto hear = [&](size_t from, size_t to) {
+    for (size_t r = from; r < to; ++r) standby.on_state(robots[r].state(-1, -1, fleet_transport::RobotStatus::kIdle));
+  };
+  // Steps for `seconds`, calling `each` before every step, or until the standby has taken over
+  // when `until_it_takes_over`.
+  const auto steps_for = [&](double seconds, const std::function<void()>& each, bool until_it_takes_over = false) {
+    const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+    while (std::chrono::steady_clock::now() < until && !(until_it_takes_over && standby.summary().took_over)) {
+      each();
+      if (!standby.step(wire)) return;
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+  };
+  steps_for(0.3, [&] {  // the split has not happened: all heard
+    standby.on_coordinator_status(active);
+    standby.on_fleet_status(progress);
+    hear(0, robots.size());
+  });
+  steps_for(1.0, [] {});  // this host hears nobody: the active one's lease and a half passes twice
+  EXPECT_FALSE(standby.summary().took_over);
+  // The split heals: the robots' states come back 0.1 s before the active one's status.
+  steps_for(0.1, [&] { hear(0, robots.size()); });
+  steps_for(1.0, [&] {
+    standby.on_coordinator_status(active);
+    standby.on_fleet_status(progress);
+    hear(0, robots.size());
+  });
+  EXPECT_FALSE(standby.summary().took_over);
+  steps_for(1.0, [] {});  // cut off again
+  steps_for(1.0, [&] { hear(0, 4); });  // half the robots are on this side of the split
+  EXPECT_FALSE(standby.summary().took_over);
+  EXPECT_TRUE(wire.commands.empty());
+  EXPECT_EQ(wire.last_coordinator_status.role, fleet_transport::CoordinatorRole::kStandby);
+  // The split heals toward the robots, not the active one: it is gone.
+  steps_for(5.0, [&] { hear(0, robots.size()); }, true);
+  EXPECT_TRUE(standby.summary().took_over);
+  EXPECT_EQ(standby.summary().term, 4u);
+}
+
 TEST(PlanExecution, AllowsOnlyThePlannedCellAndTheTargetInFlight) {
   const auto graph = std::make_shared<const planner_core::Graph>(3, 1, std::vector<std::string>{"..."});
   const planner_core::Solution plan = {{graph->vertex_at({0, 0})}, {graph->vertex_at({1, 0})}, {graph->vertex_at({2, 0})}};

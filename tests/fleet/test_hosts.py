@@ -20,6 +20,7 @@ TESTS = [
     "test_fastdds_discovery_server_mission_over_three_hosts",
     "test_host_cut_off_for_three_leases_heals",
     "test_host_that_never_comes_back",
+    "test_split_at_the_standbys_host_then_at_the_active_ones",
 ]
 HOSTS = ("c", "a", "b")  # coordinator host, then the two robot hosts
 
@@ -94,24 +95,26 @@ class HostsTest(unittest.TestCase):
             args += ["--discovery-server", server]
         return args
 
-    def start_fleet(self, dds="cyclone", peers=False, server=None, config=CONFIG):
+    def start_fleet(self, dds="cyclone", peers=False, server=None, config=CONFIG, monitor_host="c", step="0.05",
+                    coordinator_args=()):
         domain = str(self.fleet.domain)
         if server:
             self.fleet.start("discovery", [*self.lan.run_in("c"), f"{BIN}/ctsfleet-discovery", "--domain", domain,
                                            "--listen", server, "--state-dir",
                                            os.path.join(self.fleet.dir, "discovery-state")])
             wait_for(lambda: "listening on" in read(self.fleet.log("discovery")), 30, "the discovery server")
-        self.fleet.start("monitor", [*self.lan.run_in("c"), f"{BIN}/ctsfleet-monitor", "--domain", domain,
-                                     *self.network(dds, "c", peers, server)])
+        self.fleet.start("monitor", [*self.lan.run_in(monitor_host), f"{BIN}/ctsfleet-monitor", "--domain", domain,
+                                     *self.network(dds, monitor_host, peers, server)])
         started = time.time()
         for index, cell in enumerate(role_starts()):
             host = "a" if index < 4 else "b"
             robot = f"robot{index}"
             self.fleet.start(robot, [*self.lan.run_in(host), f"{BIN}/ctsfleet-agent", "--id", robot, "--start",
-                                     f"{cell[0]},{cell[1]}", "--domain", domain, "--step", "0.05",
+                                     f"{cell[0]},{cell[1]}", "--domain", domain, "--step", step,
                                      *self.network(dds, host, peers, server)])
         self.fleet.start("coordinator", [*self.lan.run_in("c"), f"{BIN}/ctsfleet-coordinator", "--config", config,
-                                         "--domain", domain, *self.network(dds, "c", peers, server)])
+                                         "--domain", domain, *self.network(dds, "c", peers, server),
+                                         *coordinator_args])
         log = self.fleet.log("coordinator")
         wait_for(lambda: "first command of term" in read(log), 120, "the first command")
         print(f"{dds}{' peers' if peers else ''}{' server' if server else ''}: first command "
@@ -182,6 +185,43 @@ class HostsTest(unittest.TestCase):
         self.fleet.wait_exit("monitor", 60)
         verdict = read(self.fleet.log("monitor"))
         self.assertIn("overlaps 0", verdict, verdict)
+
+    def test_split_at_the_standbys_host_then_at_the_active_ones(self):
+        """A standby on host a, with four of the robots. First host a is cut off for 3 s: the standby
+        hears neither the active coordinator nor host b's robots, which that coordinator still
+        drives, so it must not take over (a plan taking those robots for walls at their last cells
+        would drive robots into them). Then the active coordinator's host c is cut off for good
+        but for a moment: the standby hears every robot, takes over, and when c comes back the old
+        coordinator stands down. The mission completes, and the monitor (host b) sees no overlap."""
+        domain = str(self.fleet.domain)
+        log = self.start_fleet("cyclone", monitor_host="b", step="0.1",
+                               coordinator_args=["--journal", os.path.join(self.fleet.dir, "active.journal")])
+        standby_log = self.fleet.log("standby")
+        self.fleet.start("standby", [*self.lan.run_in("a"), f"{BIN}/ctsfleet-coordinator", "--config", CONFIG,
+                                     "--domain", domain, *self.network("cyclone", "a"), "--standby"])
+        wait_for(lambda: "standby: follows coordinator" in read(standby_log), 60, "the standby following")
+        wait_for(lambda: any(int(done) >= 2 for done in re.findall(r"tasks (\d+)/16", read(log))), 120,
+                 "the mission under way (two tasks done)")
+        self.lan.port("a", up=False)
+        wait_for(lambda: "may be cut off from part of the fleet" in read(standby_log), 30,
+                 "the standby holding back")
+        time.sleep(1.5)  # the cut lasts three leases in all
+        self.lan.port("a", up=True)
+        wait_for(lambda: "joined" in read(log).split("taken out")[-1], 60, "host a's robots back")
+        self.assertNotIn("taking over as term", read(standby_log))
+        self.assertEqual(self.fleet.processes["standby"].poll(), None, read(standby_log)[-3000:])
+        self.lan.port("c", up=False)
+        wait_for(lambda: "taking over as term 2" in read(standby_log), 30, "the standby taking over")
+        self.lan.port("c", up=True)
+        self.assertEqual(self.fleet.wait_exit("coordinator", 60), 5, read(log)[-3000:])  # stood down
+        self.assertIn("higher term (2 > 1)", read(log))
+        self.assertEqual(self.fleet.wait_exit("standby", 240), 0, read(standby_log)[-3000:])
+        self.assertIn("mission completed: tasks 16/16", read(standby_log))
+        self.fleet.processes["monitor"].send_signal(2)
+        self.assertEqual(self.fleet.wait_exit("monitor", 60), 0, read(self.fleet.log("monitor")))
+        verdict = read(self.fleet.log("monitor"))
+        self.assertIn("overlaps 0", verdict, verdict)
+        self.assertIn("robots 8", verdict, verdict)
 
 
 if __name__ == "__main__":

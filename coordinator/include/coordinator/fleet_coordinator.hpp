@@ -10,7 +10,8 @@
 // (FleetStatus) on every change: an active coordinator that
 // hears a higher-ranked active one stands down (fleet_transport::outranks). A standby mirrors the
 // active one's progress from its status and takes over, with the next term, when that status falls
-// silent. With a MissionJournal, every epoch, role binding and task visit is committed to it before
+// silent while every robot the active one drove is still heard (a standby cut off from part of the
+// fleet would drive robots into ones it cannot see). With a MissionJournal, every epoch, role binding and task visit is committed to it before
 // it counts, and a restarted coordinator resumes the unfinished run it finds there.
 #pragma once
 
@@ -138,6 +139,9 @@ class FleetCoordinator {
   // Standby: the active coordinator followed, or nullptr.
   const OtherCoordinator* followed() const;
   void follow(fleet_transport::Transport& transport, Clock::time_point now);
+  // Standby: the robots the followed coordinator drove, or this one knows, that it has not heard
+  // since `since` (when that coordinator was last heard).
+  std::vector<std::string> robots_unheard_since(Clock::time_point since) const;
   void take_over(fleet_transport::Transport& transport, const OtherCoordinator& old, Clock::time_point now);
   void bind_role(int role, RobotRecord& robot);
   void unbind_role(int role);
@@ -197,6 +201,9 @@ class FleetCoordinator {
   std::map<uint64_t, OtherCoordinator> others_;
   uint64_t mirrored_ = 0;                          // standby: the coordinator whose progress it mirrors
   std::map<std::string, int> mirrored_roles_;      // standby: robot -> role, from that coordinator
+  std::set<std::string> mirrored_robots_;          // standby: every robot that coordinator drives
+  bool logged_unheard_robots_ = false;             // standby: said why it does not take over yet
+  std::optional<Clock::time_point> every_robot_heard_since_;  // standby: with the active one silent
   std::map<int, std::string> resumed_bindings_;    // from the journal: role -> robot, for the first binding
   bool progress_changed_ = false;
   bool logged_no_active_ = false;

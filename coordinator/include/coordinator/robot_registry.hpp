@@ -24,7 +24,8 @@ struct RobotRecord {
   bool refused = false;
   bool has_state = false;
   fleet_transport::RobotState last;
-  Clock::time_point last_heard;
+  Clock::time_point last_heard;        // for its silence (moved on when the coordinator stood still)
+  Clock::time_point last_state_received{};  // when the transport handed over its latest state
   int role = -1;          // mission role, -1 for an extra robot
   int plan_agent = -1;    // agent in the current plan, -1 when not in it
   // A robot taken out for not acknowledging a command rejoins only once that command has expired
