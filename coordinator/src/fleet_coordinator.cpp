@@ -970,6 +970,8 @@ void FleetCoordinator::follow(fleet_transport::Transport& transport, Clock::time
     mirrored_robots_.insert(row.robot_id);
     if (row.role >= 0 && row.role < mission_.agent_count()) mirrored_roles_[row.robot_id] = row.role;
   }
+  std::erase_if(mirrored_since_, [&](const auto& entry) { return mirrored_robots_.count(entry.first) == 0; });
+  for (const std::string& id : mirrored_robots_) mirrored_since_.emplace(id, now);
   epoch_ = std::max(epoch_, active->status.plan_epoch);
   summary_.tasks_done = progress_.tasks_done();
   // The command writers get the strength of the term a takeover would have now, so that changing
@@ -988,10 +990,16 @@ void FleetCoordinator::follow(fleet_transport::Transport& transport, Clock::time
   const double silent_s = seconds_between(active->heard, now);
   const Clock::duration status_gap = seconds(2 * kStatusPeriodS);
   if (now - active->heard <= status_gap) {
+    if (active_fell_silent_) {  // heard again after a silence; so are the robots, a moment apart
+      for (auto& [id, since] : mirrored_since_) since = now;
+    }
+    active_fell_silent_ = false;
     logged_unheard_robots_ = false;
     every_robot_heard_since_.reset();
+    warn_of_driven_robots_not_heard(now);
     return;
   }
+  active_fell_silent_ = true;
   // "Since" leaves the same gap: a robot's last state from before a split may arrive after the
   // active one's last status (sent up to a period before the split).
   const std::vector<std::string> unheard = robots_unheard_since(active->heard + status_gap);
@@ -1013,6 +1021,21 @@ void FleetCoordinator::follow(fleet_transport::Transport& transport, Clock::time
                  "is heard",
                  hex(active->status.coordinator), active->status.term, silent_s, unheard.size() == 1 ? "is" : "are",
                  names);
+  }
+}
+
+void FleetCoordinator::warn_of_driven_robots_not_heard(Clock::time_point now) {
+  const Clock::duration silence = seconds(config_.silence_timeout_s);
+  for (const auto& [id, since] : mirrored_since_) {
+    const RobotRecord* robot = robots_.find(id);
+    const bool heard = robot != nullptr && robot->has_state && now - robot->last_state_received <= silence;
+    if (heard) {
+      warned_not_heard_.erase(id);
+    } else if (now - since > silence && warned_not_heard_.insert(id).second) {
+      spdlog::warn("standby: robot {}, which coordinator {} drives, is not heard here: this standby could not take "
+                   "over while it is not (check this host's network)",
+                   id, hex(mirrored_));
+    }
   }
 }
 

@@ -2,12 +2,15 @@
 // at once (or, in one test, one robot that stops answering). Checks that the mission completes,
 // that no two robots ever stand on one cell, and that each task visit is counted.
 #include <gtest/gtest.h>
+#include <spdlog/sinks/ostream_sink.h>
+#include <spdlog/spdlog.h>
 
 #include <algorithm>
 #include <functional>
 #include <map>
 #include <optional>
 #include <set>
+#include <sstream>
 #include <thread>
 #include <filesystem>
 #include <fstream>
@@ -467,6 +470,45 @@ TEST(FleetCoordinator, AStandbyCutOffFromPartOfTheFleetTakesOverOnlyOnceItHearsE
   steps_for(5.0, [&] { hear(0, robots.size()); }, true);
   EXPECT_TRUE(standby.summary().took_over);
   EXPECT_EQ(standby.summary().term, 4u);
+}
+
+// Before any failure: a robot the active coordinator drives that the standby never hears would
+// keep it from taking over, so the standby says so while there is time to mend the network.
+TEST(FleetCoordinator, AStandbySaysWhichDrivenRobotItDoesNotHear) {
+  planner_core::Instance mission = planner_core::load_instance(CTSFLEET_CONFIG_DIR "/default/mission-8.yaml");
+  std::vector<FakeRobot> robots = robots_on_their_starts(mission);
+  fleet_transport::CoordinatorStatus active;
+  active.coordinator = 0xAC;
+  active.term = 1;
+  active.mission_id = mission_fingerprint(mission);
+  fleet_transport::FleetStatus progress;
+  progress.coordinator = 0xAC;
+  for (int r = 0; r < mission.agent_count(); ++r) progress.assignments.push_back({"robot" + std::to_string(r), r, 0, 0});
+  FleetCoordinator standby(config_for(mission.agent_count()), std::move(mission), {true, nullptr});  // silence 0.3 s
+  for (FakeRobot& robot : robots) standby.on_announcement({robot.id, "sim", "", "test", false});
+  std::ostringstream log;
+  const auto previous = spdlog::default_logger();
+  spdlog::set_default_logger(
+      std::make_shared<spdlog::logger>("test", std::make_shared<spdlog::sinks::ostream_sink_mt>(log)));
+  FakeTransport wire;
+  const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(1);
+  while (std::chrono::steady_clock::now() < until) {
+    standby.on_coordinator_status(active);
+    standby.on_fleet_status(progress);
+    for (size_t r = 0; r + 1 < robots.size(); ++r) {  // robot7 is on a segment this host cannot reach
+      standby.on_state(robots[r].state(-1, -1, fleet_transport::RobotStatus::kIdle));
+    }
+    ASSERT_TRUE(standby.step(wire));
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  spdlog::set_default_logger(previous);
+  const std::string text = log.str();
+  EXPECT_NE(text.find("standby: robot robot7, which coordinator 00000000000000ac drives, is not heard here"),
+            std::string::npos)
+      << text;
+  EXPECT_EQ(text.find("standby: robot robot6, which"), std::string::npos) << text;
+  EXPECT_EQ(text.find("which coordinator 00000000000000ac drives"), text.rfind("which coordinator")) << "said once";
+  EXPECT_TRUE(wire.commands.empty());
 }
 
 TEST(PlanExecution, AllowsOnlyThePlannedCellAndTheTargetInFlight) {

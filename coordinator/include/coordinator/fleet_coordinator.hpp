@@ -142,6 +142,9 @@ class FleetCoordinator {
   // Standby: the robots the followed coordinator drove, or this one knows, that it has not heard
   // since `since` (when that coordinator was last heard).
   std::vector<std::string> robots_unheard_since(Clock::time_point since) const;
+  // Standby: says once (per episode) of each robot the followed coordinator drives that this host
+  // has not heard for a silence timeout: it would keep this standby from taking over.
+  void warn_of_driven_robots_not_heard(Clock::time_point now);
   void take_over(fleet_transport::Transport& transport, const OtherCoordinator& old, Clock::time_point now);
   void bind_role(int role, RobotRecord& robot);
   void unbind_role(int role);
@@ -202,8 +205,11 @@ class FleetCoordinator {
   uint64_t mirrored_ = 0;                          // standby: the coordinator whose progress it mirrors
   std::map<std::string, int> mirrored_roles_;      // standby: robot -> role, from that coordinator
   std::set<std::string> mirrored_robots_;          // standby: every robot that coordinator drives
+  std::map<std::string, Clock::time_point> mirrored_since_;  // standby: when each was first among them
+  std::set<std::string> warned_not_heard_;         // standby: driven robots it said it does not hear
   bool logged_unheard_robots_ = false;             // standby: said why it does not take over yet
   std::optional<Clock::time_point> every_robot_heard_since_;  // standby: with the active one silent
+  bool active_fell_silent_ = false;                // standby: for two status periods or more
   std::map<int, std::string> resumed_bindings_;    // from the journal: role -> robot, for the first binding
   bool progress_changed_ = false;
   bool logged_no_active_ = false;
