@@ -214,6 +214,10 @@ def named_cases():
         Case("ctsfleet-coordinator", ["-c", os.path.join(ROOT, "config/fleet.yaml"), "--domain", "230"],
              "coordinator hearing no robot says what an agent needs", timeout=8, expect=lambda code: code == 130,
              stderr_contains="no robot heard after 5 s on cyclone domain 230"),
+        Case("ctsfleet-agent", ["--id", "lonely", "--domain", "229", "--iface", "lo"],
+             "agent hearing no coordinator says where it listens", timeout=13, expect=lambda code: code == 0,
+             stderr_contains="lonely: no coordinator heard after 10 s on cyclone domain 229 (interface lo, multicast "
+                             "discovery): a coordinator must run with --dds cyclone --domain 229 --iface"),
         refuse("ctsfleet-bench", ["-j", "100000", INSTANCE], "bench -j 100000"),
         refuse("ctsfleet-bench", ["--experiment", "dense", "--out-dir", "/proc/no/such"], "bench: unwritable out-dir"),
         refuse("ctsfleet-bench", ["--experiment", "dense", "--out-dir", "/proc/1", "--sample", "1", "-t", "0.1"],

@@ -23,6 +23,34 @@ void exit_if_shutdown_hangs(double seconds, int exit_code) {
   }).detach();
 }
 
+std::string describe_network(const TransportConfig& config) {
+  std::string where;
+  if (!config.discovery_servers.empty()) {
+    where = "discovery server " + config.discovery_servers;
+  } else if (!config.network_interface.empty()) {
+    where = "interface " + config.network_interface +
+            (config.peers.empty() ? ", multicast discovery" : ", unicast to " + config.peers);
+  } else {
+    where = "loopback, DDS config " +
+            (config.loopback_config_dir.empty() ? std::string("the middleware's default") : config.loopback_config_dir);
+  }
+  if (config.security.enabled()) where += ", DDS Security";
+  return std::string(to_string(config.vendor)) + " domain " + std::to_string(config.domain_id) + " (" + where + ")";
+}
+
+std::string options_to_join(const TransportConfig& config) {
+  std::string options = "--dds " + std::string(to_string(config.vendor)) + " --domain " + std::to_string(config.domain_id);
+  if (!config.network_interface.empty()) {
+    options += " --iface <its interface on this network>";
+    if (!config.peers.empty()) options += " --peers " + config.peers;
+  } else if (!config.loopback_config_dir.empty()) {
+    options += " --dds-config-dir " + config.loopback_config_dir;
+  }
+  if (!config.discovery_servers.empty()) options += " --discovery-server '" + config.discovery_servers + "'";
+  if (config.security.enabled()) options += " --security <its fleet directory>";
+  return options;
+}
+
 std::unique_ptr<Transport> make_transport(const TransportConfig& config, Handlers handlers) {
   check_network(config.network_interface, config.peers);
   check_discovery_servers(config.vendor, config.discovery_servers, config.security.enabled());

@@ -179,7 +179,19 @@ int main(int argc, char** argv) {
       // Announce again every second: a coordinator that starts later or restarts learns of us even
       // when the middleware's late-joiner delivery is slow (seen with Fast DDS).
       auto next_announcement = std::chrono::steady_clock::now() + std::chrono::seconds(1);
+      // An agent that never hears a coordinator says where it listens, once: a wrong domain, a
+      // network without multicast or a firewall otherwise looks like a fleet that has not started.
+      const auto hint_at = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+      bool hinted = false;
       while (!g_stop.load()) {
+        if (!hinted && agent.followed_coordinator() == 0 && std::chrono::steady_clock::now() >= hint_at) {
+          hinted = true;
+          spdlog::warn("{}: no coordinator heard after 10 s on {}: a coordinator must run with {}{}", settings.robot_id,
+                       fleet_transport::describe_network(config), fleet_transport::options_to_join(config),
+                       config.network_interface.empty() || !config.peers.empty()
+                           ? ""
+                           : ", on a network that carries multicast between the hosts (or give both --peers)");
+        }
         if (std::chrono::steady_clock::now() >= next_announcement && reporting()) {
           transport->announce(agent.announcement());
           next_announcement += std::chrono::seconds(1);

@@ -88,6 +88,14 @@ void check_network(const std::string& network_interface, const std::string& peer
 // IPv4 HOST:PORT separated by ';', the vendor is Fast DDS and the participant is not `secure`.
 void check_discovery_servers(Vendor vendor, const std::string& servers, bool secure);
 
+// Where this participant looks for the others, for a log line: "cyclone domain 0 (loopback, DDS
+// config DIR)", "... (interface eth0, multicast discovery)", "... (interface eth0, unicast to
+// PEERS)", "fastdds domain 0 (discovery server HOST:PORT)", with ", DDS Security" when it is on.
+std::string describe_network(const TransportConfig& config);
+// The options another program of the fleet needs to find this one ("--dds cyclone --domain 0
+// --dds-config-dir DIR", "... --iface <its interface on this network> --peers PEERS", ...).
+std::string options_to_join(const TransportConfig& config);
+
 enum class GoneReason { kGoodbye, kLivelinessLost };
 
 // Handlers run on the middleware's threads: keep them short and thread-safe. Unset ones are not
