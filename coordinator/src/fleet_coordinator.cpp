@@ -259,7 +259,8 @@ void FleetCoordinator::handle(const Event& event) {
   switch (event.kind) {
     case Event::Kind::kAnnouncement: handle_announcement(robot, event.announcement); return;
     case Event::Kind::kGone:
-      lose(robot, event.reason == fleet_transport::GoneReason::kGoodbye ? "said goodbye" : "liveliness lost");
+      robot.said_goodbye = event.reason == fleet_transport::GoneReason::kGoodbye;
+      lose(robot, robot.said_goodbye ? "said goodbye" : "liveliness lost");
       return;
     case Event::Kind::kState: handle_state(robot, event.state, event.received); return;
     case Event::Kind::kStatus:
@@ -272,6 +273,7 @@ void FleetCoordinator::handle(const Event& event) {
 
 void FleetCoordinator::handle_announcement(RobotRecord& robot, const fleet_transport::Announcement& announcement) {
   if (announcement.leaving) {
+    robot.said_goodbye = true;
     lose(robot, "said goodbye");
     return;
   }
@@ -322,6 +324,7 @@ void FleetCoordinator::handle_state(RobotRecord& robot, const fleet_transport::R
   if (robot.has_state && state.seq_number <= robot.last.seq_number) return;  // stale, within one incarnation
   robot.last_heard = now;
   robot.last_state_received = std::max(robot.last_state_received, received);
+  robot.said_goodbye = false;
   if (state.status == RobotStatus::kFault) {
     // A robot in fault (a toio cube lifted, disconnected, between cells...) is out until it reports
     // a cell again; its last good cell and the cell it was moving to stay blocked meanwhile.
@@ -1047,6 +1050,7 @@ std::vector<std::string> FleetCoordinator::robots_unheard_since(Clock::time_poin
   std::vector<std::string> unheard;
   for (const std::string& id : drivable) {
     const RobotRecord* robot = robots_.find(id);
+    if (robot != nullptr && robot->said_goodbye) continue;  // it left: nobody drives it any more
     if (robot == nullptr || !robot->has_state || robot->last_state_received <= since) unheard.push_back(id);
   }
   return unheard;

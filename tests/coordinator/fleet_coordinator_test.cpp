@@ -472,6 +472,41 @@ TEST(FleetCoordinator, AStandbyCutOffFromPartOfTheFleetTakesOverOnlyOnceItHearsE
   EXPECT_EQ(standby.summary().term, 4u);
 }
 
+// A robot that says goodbye while the active coordinator is silent has left: nobody drives it,
+// and the standby need not wait to hear it before it takes over.
+TEST(FleetCoordinator, AStandbyDoesNotWaitForARobotThatSaidGoodbye) {
+  planner_core::Instance mission = planner_core::load_instance(CTSFLEET_CONFIG_DIR "/default/mission-8.yaml");
+  std::vector<FakeRobot> robots = robots_on_their_starts(mission);
+  fleet_transport::CoordinatorStatus active;
+  active.coordinator = 0xAC;
+  active.term = 1;
+  active.mission_id = mission_fingerprint(mission);
+  fleet_transport::FleetStatus progress;
+  progress.coordinator = 0xAC;
+  for (int r = 0; r < mission.agent_count(); ++r) progress.assignments.push_back({"robot" + std::to_string(r), r, 0, 0});
+  FleetCoordinator standby(config_for(mission.agent_count()), std::move(mission), {true, nullptr});
+  for (FakeRobot& robot : robots) standby.on_announcement({robot.id, "sim", "", "test", false});
+  FakeTransport wire;
+  const auto steps_for = [&](double seconds, bool with_active, size_t robots_heard) {
+    const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+    while (std::chrono::steady_clock::now() < until && !standby.summary().took_over) {
+      if (with_active) {
+        standby.on_coordinator_status(active);
+        standby.on_fleet_status(progress);
+      }
+      for (size_t r = 0; r < robots_heard; ++r) {
+        standby.on_state(robots[r].state(-1, -1, fleet_transport::RobotStatus::kIdle));
+      }
+      ASSERT_TRUE(standby.step(wire));
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+  };
+  steps_for(0.3, true, robots.size());
+  standby.on_robot_gone("robot7", fleet_transport::GoneReason::kGoodbye);  // the active one is gone too
+  steps_for(5.0, false, robots.size() - 1);
+  EXPECT_TRUE(standby.summary().took_over);
+}
+
 // Before any failure: a robot the active coordinator drives that the standby never hears would
 // keep it from taking over, so the standby says so while there is time to mend the network.
 TEST(FleetCoordinator, AStandbySaysWhichDrivenRobotItDoesNotHear) {

@@ -26,6 +26,7 @@ struct RobotRecord {
   fleet_transport::RobotState last;
   Clock::time_point last_heard;        // for its silence (moved on when the coordinator stood still)
   Clock::time_point last_state_received{};  // when the transport handed over its latest state
+  bool said_goodbye = false;  // since its latest state: it left, and no coordinator drives it
   int role = -1;          // mission role, -1 for an extra robot
   int plan_agent = -1;    // agent in the current plan, -1 when not in it
   // A robot taken out for not acknowledging a command rejoins only once that command has expired
