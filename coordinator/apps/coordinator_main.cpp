@@ -101,12 +101,9 @@ int main(int argc, char** argv) {
       const auto now = std::chrono::steady_clock::now();
       if (!hinted && announcements.load() == 0 && now - started > std::chrono::seconds(5)) {
         hinted = true;
-        spdlog::warn("no robot heard after 5 s on {}: an agent must run with {}{}",
+        spdlog::warn("no robot heard after 5 s on {}: an agent must run with {}",
                      fleet_transport::describe_network(transport_config),
-                     fleet_transport::options_to_join(transport_config),
-                     transport_config.network_interface.empty() || !transport_config.peers.empty()
-                         ? ""
-                         : ", on a network that carries multicast between the hosts (or give both --peers)");
+                     fleet_transport::options_to_join(transport_config));
       }
       if (now >= next_progress) {
         if (tty) {

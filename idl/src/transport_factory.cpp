@@ -48,6 +48,9 @@ std::string options_to_join(const TransportConfig& config) {
   }
   if (!config.discovery_servers.empty()) options += " --discovery-server '" + config.discovery_servers + "'";
   if (config.security.enabled()) options += " --security <its fleet directory>";
+  if (!config.network_interface.empty() && config.peers.empty() && config.discovery_servers.empty()) {
+    options += ", on a network that carries multicast between the hosts (or give both --peers)";
+  }
   return options;
 }
 

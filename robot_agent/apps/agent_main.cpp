@@ -186,11 +186,8 @@ int main(int argc, char** argv) {
       while (!g_stop.load()) {
         if (!hinted && agent.followed_coordinator() == 0 && std::chrono::steady_clock::now() >= hint_at) {
           hinted = true;
-          spdlog::warn("{}: no coordinator heard after 10 s on {}: a coordinator must run with {}{}", settings.robot_id,
-                       fleet_transport::describe_network(config), fleet_transport::options_to_join(config),
-                       config.network_interface.empty() || !config.peers.empty()
-                           ? ""
-                           : ", on a network that carries multicast between the hosts (or give both --peers)");
+          spdlog::warn("{}: no coordinator heard after 10 s on {}: a coordinator must run with {}", settings.robot_id,
+                       fleet_transport::describe_network(config), fleet_transport::options_to_join(config));
         }
         if (std::chrono::steady_clock::now() >= next_announcement && reporting()) {
           transport->announce(agent.announcement());

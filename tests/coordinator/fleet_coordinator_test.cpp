@@ -415,21 +415,33 @@ TEST(FleetCoordinator, AStandbyNeverCommandsWhileTheActiveOneIsHeard) {
   EXPECT_FALSE(standby.summary().took_over);
 }
 
+// What an active coordinator 0xAC of `mission` publishes: its status (term, epoch) and its
+// progress, driving robot r in role r.
+struct ActiveCoordinator {
+  fleet_transport::CoordinatorStatus status;
+  fleet_transport::FleetStatus progress;
+};
+ActiveCoordinator active_coordinator(const planner_core::Instance& mission, uint32_t term, int epoch) {
+  ActiveCoordinator active;
+  active.status.coordinator = 0xAC;
+  active.status.term = term;
+  active.status.mission_id = mission_fingerprint(mission);
+  active.status.plan_epoch = epoch;
+  active.progress.coordinator = 0xAC;
+  active.progress.plan_epoch = epoch;
+  for (int r = 0; r < mission.agent_count(); ++r) {
+    active.progress.assignments.push_back({"robot" + std::to_string(r), r, 0, 0});
+  }
+  return active;
+}
+
 // A network split: the standby's host is cut off from the active coordinator and from some of
 // the robots it drives. Those robots may still be driven, so the standby must not plan around
 // them as walls: it waits, without a command, until it hears every one of them again.
 TEST(FleetCoordinator, AStandbyCutOffFromPartOfTheFleetTakesOverOnlyOnceItHearsEveryRobot) {
   planner_core::Instance mission = planner_core::load_instance(CTSFLEET_CONFIG_DIR "/default/mission-8.yaml");
   std::vector<FakeRobot> robots = robots_on_their_starts(mission);
-  fleet_transport::CoordinatorStatus active;
-  active.coordinator = 0xAC;
-  active.term = 3;
-  active.mission_id = mission_fingerprint(mission);
-  active.plan_epoch = 2;
-  fleet_transport::FleetStatus progress;
-  progress.coordinator = 0xAC;
-  progress.plan_epoch = 2;
-  for (int r = 0; r < mission.agent_count(); ++r) progress.assignments.push_back({"robot" + std::to_string(r), r, 0, 0});
+  const auto [active, progress] = active_coordinator(mission, 3, 2);
   FleetCoordinator standby(config_for(mission.agent_count()), std::move(mission), {true, nullptr});  // lease 0.05 s
   FakeTransport wire;
   for (FakeRobot& robot : robots) standby.on_announcement({robot.id, "sim", "", "test", false});
@@ -477,13 +489,7 @@ TEST(FleetCoordinator, AStandbyCutOffFromPartOfTheFleetTakesOverOnlyOnceItHearsE
 TEST(FleetCoordinator, AStandbyDoesNotWaitForARobotThatSaidGoodbye) {
   planner_core::Instance mission = planner_core::load_instance(CTSFLEET_CONFIG_DIR "/default/mission-8.yaml");
   std::vector<FakeRobot> robots = robots_on_their_starts(mission);
-  fleet_transport::CoordinatorStatus active;
-  active.coordinator = 0xAC;
-  active.term = 1;
-  active.mission_id = mission_fingerprint(mission);
-  fleet_transport::FleetStatus progress;
-  progress.coordinator = 0xAC;
-  for (int r = 0; r < mission.agent_count(); ++r) progress.assignments.push_back({"robot" + std::to_string(r), r, 0, 0});
+  const auto [active, progress] = active_coordinator(mission, 1, 0);
   FleetCoordinator standby(config_for(mission.agent_count()), std::move(mission), {true, nullptr});
   for (FakeRobot& robot : robots) standby.on_announcement({robot.id, "sim", "", "test", false});
   FakeTransport wire;
@@ -512,13 +518,7 @@ TEST(FleetCoordinator, AStandbyDoesNotWaitForARobotThatSaidGoodbye) {
 TEST(FleetCoordinator, AStandbySaysWhichDrivenRobotItDoesNotHear) {
   planner_core::Instance mission = planner_core::load_instance(CTSFLEET_CONFIG_DIR "/default/mission-8.yaml");
   std::vector<FakeRobot> robots = robots_on_their_starts(mission);
-  fleet_transport::CoordinatorStatus active;
-  active.coordinator = 0xAC;
-  active.term = 1;
-  active.mission_id = mission_fingerprint(mission);
-  fleet_transport::FleetStatus progress;
-  progress.coordinator = 0xAC;
-  for (int r = 0; r < mission.agent_count(); ++r) progress.assignments.push_back({"robot" + std::to_string(r), r, 0, 0});
+  const auto [active, progress] = active_coordinator(mission, 1, 0);
   FleetCoordinator standby(config_for(mission.agent_count()), std::move(mission), {true, nullptr});  // silence 0.3 s
   for (FakeRobot& robot : robots) standby.on_announcement({robot.id, "sim", "", "test", false});
   std::ostringstream log;

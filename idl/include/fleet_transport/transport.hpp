@@ -93,7 +93,8 @@ void check_discovery_servers(Vendor vendor, const std::string& servers, bool sec
 // PEERS)", "fastdds domain 0 (discovery server HOST:PORT)", with ", DDS Security" when it is on.
 std::string describe_network(const TransportConfig& config);
 // The options another program of the fleet needs to find this one ("--dds cyclone --domain 0
-// --dds-config-dir DIR", "... --iface <its interface on this network> --peers PEERS", ...).
+// --dds-config-dir DIR", "... --iface <its interface on this network> --peers PEERS", ...), and
+// with multicast discovery, that the network must carry it.
 std::string options_to_join(const TransportConfig& config);
 
 enum class GoneReason { kGoodbye, kLivelinessLost };
