@@ -194,7 +194,7 @@ class HostsTest(unittest.TestCase):
         but for a moment: the standby hears every robot, takes over, and when c comes back the old
         coordinator stands down. The mission completes, and the monitor (host b) sees no overlap."""
         domain = str(self.fleet.domain)
-        log = self.start_fleet("cyclone", monitor_host="b", step="0.1",
+        log = self.start_fleet("cyclone", monitor_host="b", step="0.05",
                                coordinator_args=["--journal", os.path.join(self.fleet.dir, "active.journal")])
         standby_log = self.fleet.log("standby")
         self.fleet.start("standby", [*self.lan.run_in("a"), f"{BIN}/ctsfleet-coordinator", "--config", CONFIG,
@@ -213,6 +213,7 @@ class HostsTest(unittest.TestCase):
         self.assertEqual(self.fleet.processes["standby"].poll(), None, read(standby_log)[-3000:])
         self.lan.port("c", up=False)
         wait_for(lambda: "taking over as term 2" in read(standby_log), 30, "the standby taking over")
+        print("standby took over with " + re.search(r"(\d+ of 16) tasks done", read(standby_log)).group(1) + " tasks done")
         self.lan.port("c", up=True)
         self.assertEqual(self.fleet.wait_exit("coordinator", 60), 5, read(log)[-3000:])  # stood down
         self.assertIn("higher term (2 > 1)", read(log))
