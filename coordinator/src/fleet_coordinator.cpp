@@ -968,13 +968,13 @@ void FleetCoordinator::follow(fleet_transport::Transport& transport, Clock::time
   if (active->mission) adopt_tasks(*active->mission);
   for (const fleet_transport::TaskVisit& visit : active->progress.done_visits) progress_.mark(visit);
   mirrored_roles_.clear();
-  mirrored_robots_.clear();
+  std::set<std::string> driven;
   for (const fleet_transport::Assignment& row : active->progress.assignments) {
-    mirrored_robots_.insert(row.robot_id);
+    driven.insert(row.robot_id);
     if (row.role >= 0 && row.role < mission_.agent_count()) mirrored_roles_[row.robot_id] = row.role;
   }
-  std::erase_if(mirrored_since_, [&](const auto& entry) { return mirrored_robots_.count(entry.first) == 0; });
-  for (const std::string& id : mirrored_robots_) mirrored_since_.emplace(id, now);
+  std::erase_if(mirrored_since_, [&](const auto& entry) { return driven.count(entry.first) == 0; });
+  for (const std::string& id : driven) mirrored_since_.emplace(id, now);
   epoch_ = std::max(epoch_, active->status.plan_epoch);
   summary_.tasks_done = progress_.tasks_done();
   // The command writers get the strength of the term a takeover would have now, so that changing
@@ -1028,6 +1028,8 @@ void FleetCoordinator::follow(fleet_transport::Transport& transport, Clock::time
 }
 
 void FleetCoordinator::warn_of_driven_robots_not_heard(Clock::time_point now) {
+  if (now < next_not_heard_check_) return;  // a standby steps every few ms; robots report ten times a second
+  next_not_heard_check_ = now + seconds(kStatusPeriodS);
   const Clock::duration silence = seconds(config_.silence_timeout_s);
   for (const auto& [id, since] : mirrored_since_) {
     const RobotRecord* robot = robots_.find(id);
@@ -1043,7 +1045,8 @@ void FleetCoordinator::warn_of_driven_robots_not_heard(Clock::time_point now) {
 }
 
 std::vector<std::string> FleetCoordinator::robots_unheard_since(Clock::time_point since) const {
-  std::set<std::string> drivable = mirrored_robots_;
+  std::set<std::string> drivable;
+  for (const auto& [id, since] : mirrored_since_) drivable.insert(id);
   for (const auto& [id, robot] : robots_) {
     if (robot.active && robot.has_state) drivable.insert(id);  // joined after the last progress heard
   }

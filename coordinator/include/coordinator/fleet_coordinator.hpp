@@ -204,9 +204,10 @@ class FleetCoordinator {
   std::map<uint64_t, OtherCoordinator> others_;
   uint64_t mirrored_ = 0;                          // standby: the coordinator whose progress it mirrors
   std::map<std::string, int> mirrored_roles_;      // standby: robot -> role, from that coordinator
-  std::set<std::string> mirrored_robots_;          // standby: every robot that coordinator drives
-  std::map<std::string, Clock::time_point> mirrored_since_;  // standby: when each was first among them
+  // Standby: every robot that coordinator drives, and when it was first among them.
+  std::map<std::string, Clock::time_point> mirrored_since_;
   std::set<std::string> warned_not_heard_;         // standby: driven robots it said it does not hear
+  Clock::time_point next_not_heard_check_{};
   bool logged_unheard_robots_ = false;             // standby: said why it does not take over yet
   std::optional<Clock::time_point> every_robot_heard_since_;  // standby: with the active one silent
   bool active_fell_silent_ = false;                // standby: for two status periods or more
