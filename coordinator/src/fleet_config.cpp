@@ -79,12 +79,18 @@ FleetConfig load_fleet_config(const std::string& path) {
     check_range(r, robots, "robots.wait_timeout_s", config.wait_timeout_s, 0, 1e6, true);
   }
   if (const YAML::Node planner = root["planner"]) {
-    r.only_keys(planner, {"solver", "time_limit_s", "replan_solver", "replan_time_limit_s", "pibt_swap"}, "planner");
+    r.only_keys(planner, {"solver", "time_limit_s", "replan_solver", "replan_time_limit_s", "pibt_swap", "seed", "iterations"},
+                "planner");
     r.read(planner, "solver", "planner", config.solver);
     r.read(planner, "time_limit_s", "planner", config.plan_time_s);
     r.read(planner, "replan_solver", "planner", config.replan_solver);
     r.read(planner, "replan_time_limit_s", "planner", config.replan_time_s);
     r.read(planner, "pibt_swap", "planner", config.pibt_swap);
+    r.read(planner, "seed", "planner", config.seed);
+    r.read(planner, "iterations", "planner", config.iterations);
+    check_range(r, planner, "planner.seed", static_cast<double>(config.seed), 0, 4294967295.0, false);
+    check_range(r, planner, "planner.iterations", static_cast<double>(config.iterations), 0,
+                static_cast<double>(planner_core::kMaxIterations), false);
     check_range(r, planner, "planner.time_limit_s", config.plan_time_s, 0, planner_core::kMaxTimeLimitS, true);
     check_range(r, planner, "planner.replan_time_limit_s", config.replan_time_s, 0, planner_core::kMaxTimeLimitS, true);
     const auto known = planner_core::solver_names();
@@ -162,6 +168,7 @@ planner_core::SolverConfig FleetConfig::solver_config(bool first_plan) const {
   config.solver = first_plan ? solver : replan_solver;
   config.forbid_rotations = true;
   config.pibt.swap = pibt_swap;
+  config.seed = static_cast<uint32_t>(seed);
   return config;
 }
 

@@ -524,7 +524,8 @@ bool FleetCoordinator::replan(fleet_transport::Transport& transport) {
   planner_core::SolveResult result;
   const Clock::time_point solve_started = Clock::now();
   try {
-    result = planner_core::make_solver(solver_config)->solve(instance, {planner_core::Deadline::in_seconds(limit_s, interrupt_), {}});
+    const auto deadline = planner_core::Deadline::for_limits(limit_s, config_.iterations, interrupt_);
+    result = planner_core::make_solver(solver_config)->solve(instance, {deadline, {}});
   } catch (const std::exception& e) {  // a solver bug must not end the mission
     return failed(std::string("the solver threw: ") + e.what());
   }
@@ -556,8 +557,8 @@ bool FleetCoordinator::replan(fleet_transport::Transport& transport) {
   }
   int visits = 0;
   for (const auto& task : instance.tasks) visits += static_cast<int>(task.agents.size());
-  spdlog::info("plan epoch {}: {} robots, {} task visits, flowtime {}, makespan {}", epoch_, instance.agent_count(),
-               visits, report.flowtime, report.makespan);
+  spdlog::info("plan epoch {}: {} robots, {} task visits, flowtime {}, makespan {} ({}, seed {})", epoch_,
+               instance.agent_count(), visits, report.flowtime, report.makespan, solver_config.solver, solver_config.seed);
   for (int a = 0; a < plan_->agent_count(); ++a) steps_planned_ += static_cast<int64_t>(plan_->moves(a).size());
   this->report("replan", "",
                fmt::format("epoch {}: {} robots, {} task visits, flowtime {}, planned in {:.0f} ms", epoch_,

@@ -99,6 +99,8 @@ int main(int argc, char** argv) {
   app.add_flag("--no-fallback{false}", config.complete_fallback,
                "CTS solvers: no complete search when their own method runs out (the --experiment runs never use it)");
   add_solver_part_options(app, config);
+  int64_t iterations = 0;
+  add_iterations_option(app, iterations);
   return program.main(argc, argv, [&] {
     if (!experiment.empty()) {
       if (std::string unwritable = ctsfleet::writable_folder()(experiment_settings.out_dir); !unwritable.empty()) {
@@ -109,6 +111,7 @@ int main(int argc, char** argv) {
       experiment_settings.seconds = app.count("--time") ? seconds : (full ? 60 : 10);
       experiment_settings.threads = threads;
       experiment_settings.seed = config.seed;
+      experiment_settings.iterations = iterations;
       if (full) {
         experiment_settings.dense_per_setting = experiment_settings.sparse_per_setting = 0;
         experiment_settings.scale_per_setting = 0;
@@ -120,6 +123,7 @@ int main(int argc, char** argv) {
         mapf_scale.out_dir = experiment_settings.out_dir;
         mapf_scale.seconds = experiment_settings.seconds;
         mapf_scale.seed = config.seed;
+        mapf_scale.iterations = iterations;
         if (app.count("--solver")) mapf_scale.solvers = solvers;
         return ctsfleet_bench::run_mapf_scale(mapf_scale);
       }
@@ -137,7 +141,7 @@ int main(int argc, char** argv) {
       config.solver = solver;
       std::fprintf(stderr, "%s: %zu instances, %.1f s each, %d threads\n", solver.c_str(), files.size(), seconds,
                    threads);
-      const auto rows = run_benchmark(files, config, seconds, threads, [&](const BenchmarkRow&, int done) {
+      const auto rows = run_benchmark(files, config, seconds, iterations, threads, [&](const BenchmarkRow&, int done) {
         draw_progress(done, static_cast<int>(files.size()));
       });
       for (const BenchmarkRow& row : rows) {

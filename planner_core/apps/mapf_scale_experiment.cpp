@@ -164,7 +164,8 @@ int run_mapf_scale(const MapfScaleSettings& settings) {
       std::ostringstream limit;
       limit << settings.seconds;
       const Run run = run_child({solve.string(), "-i", instance.string(), "--solver", solver, "-t", limit.str(),
-                                 "--swap", "--seed", std::to_string(settings.seed), "-o", scratch.string(), "--json"});
+                                 "--swap", "--seed", std::to_string(settings.seed), "--iterations",
+                                 std::to_string(settings.iterations), "-o", scratch.string(), "--json"});
       const bool solved = number(run, "solved") == 1;
       const double over = 100.0 * (run.wall_s - settings.seconds) / settings.seconds;
       // How the gap to the lower bound closes: the best plan's ratio every 10 s before the limit.

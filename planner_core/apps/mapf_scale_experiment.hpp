@@ -5,6 +5,7 @@
 // peak memory.
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -16,6 +17,7 @@ struct MapfScaleSettings {
   std::vector<std::string> solvers = {"lacam-star"};
   double seconds = 10;
   unsigned seed = 0;
+  int64_t iterations = 0;  // ctsfleet-solve --iterations (0 = the time limit alone)
 };
 
 // Returns the process exit code (2 when the suite or ctsfleet-solve cannot be found).

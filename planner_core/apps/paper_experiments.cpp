@@ -47,7 +47,7 @@ SolverRun run_solver(const std::vector<std::string>& files, const std::string& s
   config.complete_fallback = false;  // the paper's algorithms as published, side by side with its figures
   std::fprintf(stderr, "%s: %zu instances x %.0f s\n", solver.c_str(), files.size(), seconds);
   SolverRun run{solver, {}};
-  for (BenchmarkRow& row : run_benchmark(files, config, seconds, settings.threads, [&](const BenchmarkRow&, int done) {
+  for (BenchmarkRow& row : run_benchmark(files, config, seconds, settings.iterations, settings.threads, [&](const BenchmarkRow&, int done) {
          std::fprintf(stderr, "\r  %d/%zu", done, files.size());
        })) {
     csv << to_csv(row, solver) << "\n";

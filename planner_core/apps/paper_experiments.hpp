@@ -3,6 +3,7 @@
 // (time to first solution), and the plots. Writes markdown, CSV and SVG into an output folder.
 #pragma once
 
+#include <cstdint>
 #include <string>
 
 namespace ctsfleet_bench {
@@ -16,6 +17,7 @@ struct ExperimentSettings {
   int scale_per_setting = 10;
   int threads = 2;
   unsigned seed = 0;
+  int64_t iterations = 0;  // > 0: a work budget per run (ctsfleet-solve --iterations): tables reproduce exactly
 };
 
 // `which` is dense, sparse, scale or all; returns the process exit code.

@@ -59,6 +59,7 @@ int main(int argc, char** argv) {
   std::string instance_path, out_path = "solution.txt", svg_path, map;
   int scen_agents = 0;
   double seconds = 10;
+  int64_t iterations = 0;
   bool verbose = false, json = false;
   SolverConfig config;
   app.add_option("-i,--instance", instance_path, "instance: CTS-MAPF .yaml or MovingAI .scen")
@@ -87,6 +88,7 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--max-sequences", config.max_sequences, "anytime: stop after this many joint sequences (0 = none)")
       ->check(ctsfleet::count_in(0, 1'000'000'000));
+  add_iterations_option(app, iterations);
   app.add_flag("--no-fallback{false}", config.complete_fallback,
                "CTS solvers: no complete search when their own method runs out (to study a method alone)");
   add_solver_part_options(app, config);
@@ -100,6 +102,7 @@ int main(int argc, char** argv) {
     SolveOptions options{Deadline::in_seconds(seconds, &ctsfleet::stop_requested()), {}, Clock::now()};
     const Instance instance = load_instance(instance_path, scen_agents, map);
     options.deadline = options.deadline.within(options.deadline.seconds_left() - output_reserve_s(instance, seconds));
+    if (iterations > 0) options.deadline = options.deadline.with_work_budget(iterations * kWorkPerIteration);
     if (verbose) {
       options.on_solution = [](const SolveResult& r) {
         const Improvement& last = r.improvements.back();
@@ -108,6 +111,9 @@ int main(int argc, char** argv) {
       };
     }
     const SolveResult result = make_solver(config)->solve(instance, options);
+    // With --iterations the plan is the same on every run unless the clock (or Ctrl-C) ended the
+    // solve first: the clock never goes back, so a deadline not reached now was never reached.
+    const bool reproducible = iterations > 0 && options.deadline.seconds_left() > 0;
 
     SolutionFile file;
     const auto put = [&](const std::string& key, const auto& value) {
@@ -120,6 +126,8 @@ int main(int argc, char** argv) {
     put("agents", instance.agent_count());
     put("tasks", instance.task_count());
     put("seed", config.seed);
+    put("solver_version", ctsfleet::version_text());
+    if (iterations > 0) put("iterations", iterations);
     put("solved", result.solved ? 1 : 0);
     if (result.solved) {
       const ValidationReport report = validate(instance, result.solution, ValidationOptions{config.forbid_rotations});
@@ -159,7 +167,9 @@ int main(int argc, char** argv) {
         improvements.push_back({{"time_ms", improvement.time_ms}, {"flowtime", improvement.flowtime}});
       }
       const nlohmann::json summary = {
-          {"solver", config.solver}, {"solved", result.solved}, {"agents", instance.agent_count()},
+          {"solver", config.solver}, {"seed", config.seed}, {"solver_version", ctsfleet::version_text()},
+          {"iterations", iterations}, {"work", options.deadline.work_done()},
+          {"reproducible", reproducible}, {"solved", result.solved}, {"agents", instance.agent_count()},
           {"tasks", instance.task_count()}, {"flowtime", result.flowtime}, {"makespan", result.makespan},
           {"lower_bound", result.lower_bound}, {"ratio", ratio}, {"comp_time_ms", result.comp_time_ms},
           {"first_ms", result.first_solution_ms}, {"preprocessing_ms", result.preprocessing_ms},
@@ -177,6 +187,14 @@ int main(int argc, char** argv) {
                   result.sequences_tried, result.lock_releases, result.lns_iterations, out_path.c_str());
     }
     if (!result.solved) std::fprintf(stderr, "not solved: %s\n", result.failure_reason.c_str());
+    if (!result.solved && reproducible && options.deadline.work_done() >= options.deadline.work_at) {
+      std::fprintf(stderr, "the budget of --iterations %lld ran out first (raise it for a plan)\n",
+                   static_cast<long long>(iterations));
+    }
+    if (iterations > 0 && !reproducible) {
+      std::fprintf(stderr, "warning: the time limit (-t %g) ended the solve before its %lld iterations: another run "
+                           "may give another plan (raise -t)\n", seconds, static_cast<long long>(iterations));
+    }
     return result.solved ? 0 : 1;
   });
 }

@@ -7,6 +7,15 @@
 
 namespace planner_core {
 
+// --iterations: a work budget after which the final plan is the same on every run and machine.
+inline void add_iterations_option(CLI::App& app, int64_t& iterations) {
+  app.add_option("--iterations", iterations,
+                 "end the solve after N iterations of search (one = " + std::to_string(kWorkPerIteration) +
+                     " agent states expanded, about 1 ms here): the same final plan on every run and machine, if "
+                     "the time limit (-t, then a safety stop) does not come first (0 = until the time limit)")
+      ->check(ctsfleet::count_in(0, kMaxIterations));
+}
+
 inline void add_solver_part_options(CLI::App& app, SolverConfig& config) {
   app.add_flag("--no-scatter{false}", config.scatter,
                "lacam-star: no second search guided by paths spread over the map (to study LaCAM* alone)");

@@ -31,14 +31,14 @@ Setting setting_of(const std::string& file) {
   return {stem, 0, 0};
 }
 
-BenchmarkRow run_one(const std::string& file, const SolverConfig& config, double seconds) {
+BenchmarkRow run_one(const std::string& file, const SolverConfig& config, double seconds, int64_t iterations) {
   BenchmarkRow row;
   row.file = file;
   const Setting setting = setting_of(file);
   row.map = setting.map;
   try {
     // As ctsfleet-solve: the limit and the times count from before the instance is read.
-    const SolveOptions options{Deadline::in_seconds(seconds), {}, Clock::now()};
+    const SolveOptions options{Deadline::for_limits(seconds, iterations), {}, Clock::now()};
     const Instance instance = load_instance(file);
     row.map = instance.graph->name;
     row.agents = instance.agent_count();
@@ -79,7 +79,7 @@ std::vector<std::string> sample_per_setting(std::vector<std::string> files, int 
 }
 
 std::vector<BenchmarkRow> run_benchmark(const std::vector<std::string>& files, const SolverConfig& config,
-                                        double seconds, int threads,
+                                        double seconds, int64_t iterations, int threads,
                                         const std::function<void(const BenchmarkRow&, int done)>& on_row) {
   std::vector<BenchmarkRow> rows(files.size());
   std::atomic<size_t> next{0};
@@ -87,7 +87,7 @@ std::vector<BenchmarkRow> run_benchmark(const std::vector<std::string>& files, c
   int done = 0;
   const auto worker = [&] {
     for (size_t i = next++; i < files.size(); i = next++) {
-      rows[i] = run_one(files[i], config, seconds);
+      rows[i] = run_one(files[i], config, seconds, iterations);
       const std::lock_guard<std::mutex> lock(report);
       ++done;
       if (on_row) on_row(rows[i], done);

@@ -25,7 +25,7 @@ SolveResult CtsPibt::solve(const Instance& instance, const SolveOptions& options
     const std::optional<JointSequence> sequence = sequencer.next();
     if (!sequence) break;
     ++result.sequences_tried;
-    const Clock::time_point sequence_started = Clock::now();
+    const int64_t work_before_sequence = options.deadline.work_done();
     pibt.reset(*sequence);
     const ExtendedPibt::Outcome outcome = pibt.run(options.deadline);
     if (outcome == ExtendedPibt::Outcome::kStepLimit) ++result.pibt_failures;
@@ -33,9 +33,9 @@ SolveResult CtsPibt::solve(const Instance& instance, const SolveOptions& options
       keep_if_better(result, instance, pibt.plan(), sequence->orders, sequence->index, started, options,
                      "Extended-PIBT");
     } else if (anytime_ && !result.solved && config_.complete_fallback) {
-      // The anytime loop gives the complete search as much time as the failed sequence took.
-      const double spent_s = std::chrono::duration<double>(Clock::now() - sequence_started).count();
-      if (complete.search(options.deadline.within(std::max(0.05, spent_s)), options, result) ==
+      // The anytime loop gives the complete search as much work as the failed sequence took.
+      const int64_t spent = options.deadline.work_done() - work_before_sequence;
+      if (complete.search(options.deadline.within_work(std::max(Deadline::work_of(0.05), spent)), options, result) ==
           CompleteSearch::Outcome::kNoPlanExists) {
         no_plan_exists = true;
         break;

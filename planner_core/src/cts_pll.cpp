@@ -10,7 +10,8 @@ namespace planner_core {
 
 namespace {
 
-// The least time the complete search gets after a joint sequence failed.
+// The least work the complete search gets after a joint sequence failed (in seconds at
+// kWorkPerSecond).
 constexpr double kMinCompleteSliceS = 0.05;
 
 }  // namespace
@@ -30,7 +31,7 @@ SolveResult CtsPll::solve(const Instance& instance, const SolveOptions& options)
   LnsRefiner lns(instance, dist, lns_config, rng);
   const Deadline& deadline = options.deadline;
 
-  const double total_s = std::chrono::duration<double>(deadline.at - started).count();
+  const double total_s = deadline.budget_s;
   // v3's LNS: by default each feasible sequence gets up to a quarter of the limit (less when its
   // LNS stalls), and after the first two the better refined plan gets the rest (docs/RESULTS.md
   // section 7: half each did worse on dense mazes, the whole limit on the first sequence worse on
@@ -63,13 +64,17 @@ SolveResult CtsPll::solve(const Instance& instance, const SolveOptions& options)
     const std::optional<JointSequence> sequence = sequencer.next();
     if (!sequence) break;
     ++result.sequences_tried;
-    const Clock::time_point sequence_started = Clock::now();
-    // The complete search from a lock (CTS-LaCAM over every agent), for as long as this sequence
+    // Work, not time: what this sequence has taken so far decides the complete search's share
+    // (the same share on every run).
+    const int64_t work_before_sequence = deadline.work_done();
+    const auto work_share = [&] {
+      return deadline.within_work(
+          std::max(Deadline::work_of(kMinCompleteSliceS), deadline.work_done() - work_before_sequence));
+    };
+    // The complete search from a lock (CTS-LaCAM over every agent), for as much as this sequence
     // has taken so far.
     const auto search_from_lock = [&](const LockSet& lock) {
-      const double spent_s = std::chrono::duration<double>(Clock::now() - sequence_started).count();
-      return complete_by_search(pibt, *sequence, lock, dist, rng, config_.forbid_rotations,
-                                deadline.within(std::max(kMinCompleteSliceS, spent_s)));
+      return complete_by_search(pibt, *sequence, lock, dist, rng, config_.forbid_rotations, work_share());
     };
 
     // Extended-PIBT, releasing locks until the plan is feasible (Algorithm 2, lines 4-7).
@@ -77,7 +82,7 @@ SolveResult CtsPll::solve(const Instance& instance, const SolveOptions& options)
     if (config_.pibt.scatter) {
       scatter = std::make_unique<Scatter>(*instance.graph, dist, instance.starts, instance.goals, kScatterMargin,
                                           config_.seed + sequence->index, waypoints_of(instance, *sequence));
-      scatter->build(deadline.within(deadline.seconds_left() * kScatterTimeShare));
+      scatter->build(deadline.within_work(Deadline::work_of(total_s * kScatterTimeShare)));
     }
     pibt.set_guide(scatter.get());
     bool feasible = false;
@@ -142,20 +147,18 @@ SolveResult CtsPll::solve(const Instance& instance, const SolveOptions& options)
     if (feasible) {
       Solution plan = completed_plan ? std::move(*completed_plan) : pibt.plan();
       keep_if_better(result, instance, plan, sequence->orders, sequence->index, started, options, "CTS-PLL");
-      if (variant_ == Variant::kV3) refine_by_lns(plan, sequence->orders, sequence->index, deadline.within(lns_per_sequence_s));
+      if (variant_ == Variant::kV3) refine_by_lns(plan, sequence->orders, sequence->index, deadline.slice(lns_per_sequence_s));
     } else if (config_.complete_fallback && variant_ != Variant::kV1) {
       // This sequence defeated Extended-PIBT and the releases: the complete search gets as much
-      // time as they took (it goes on where it stopped the next time).
-      const double spent_s = std::chrono::duration<double>(Clock::now() - sequence_started).count();
-      const CompleteSearch::Outcome outcome =
-          complete.search(deadline.within(std::max(kMinCompleteSliceS, spent_s)), options, result);
+      // work as they took (it goes on where it stopped the next time).
+      const CompleteSearch::Outcome outcome = complete.search(work_share(), options, result);
       if (outcome == CompleteSearch::Outcome::kNoPlanExists) {
         no_plan_exists = true;
         break;
       }
       if (outcome == CompleteSearch::Outcome::kFound && variant_ == Variant::kV3) {
         refine_by_lns(result.solution, result.orders, result.improvements.back().sequence_index,
-                      deadline.within(lns_per_sequence_s));
+                      deadline.slice(lns_per_sequence_s));
       }
     }
     if (variant_ == Variant::kV1) break;

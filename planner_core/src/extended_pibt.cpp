@@ -186,6 +186,7 @@ ExtendedPibt::Outcome ExtendedPibt::run(const Deadline& deadline) {
   best_progress_ = -1;
   best_progress_step_ = start_length - 1;
   while (static_cast<int>(plan_.size()) - start_length < step_limit_) {
+    deadline.spend(instance_.agent_count());
     if (step()) return Outcome::kSolved;
     const int time = static_cast<int>(plan_.size()) - 1;
     if (config_.stall_window > 0 && time - best_progress_step_ >= config_.stall_window) return Outcome::kStalled;

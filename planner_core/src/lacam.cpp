@@ -10,6 +10,7 @@
 #include <numeric>
 #include <memory>
 #include <queue>
+#include <tuple>
 #include <unordered_set>
 #include <utility>
 
@@ -21,6 +22,9 @@ namespace planner_core {
 namespace {
 
 constexpr int kNobody = -1;
+// Work (deadline.hpp) of one high-level iteration beyond its agents' moves: a node's allocations
+// and bookkeeping, which dominate with the few agents of a lock release (measured with perf).
+constexpr int kWorkPerNode = 16;
 
 struct ConfigHash {
   size_t operator()(const Config& config) const {
@@ -45,6 +49,7 @@ struct HighLevelNode {
   std::vector<int> order;  // agents by decreasing priority
   std::deque<Constraint> constraints;
   std::vector<HighLevelNode*> neighbours;  // LaCAM*: known successors, for rewiring
+  int64_t id = 0;  // the order of creation: breaks ties where an address would (reproducibility)
 };
 
 // The explored nodes are kept by their configuration without a second copy of it (40 KB a node
@@ -122,6 +127,7 @@ class LacamSearch::State {
     // With many agents an iteration is long enough to look at the clock every time.
     const int64_t clock_mask = n_ >= 256 ? 0 : 63;
     while (!open_.empty()) {
+      deadline.spend(n_ + kWorkPerNode);
       if ((++iterations_ & clock_mask) == 0 && deadline.expired()) break;
       if (goal_node_ && goal_node_->g < reported_cost_) break;
       HighLevelNode* node = open_.back();
@@ -244,6 +250,7 @@ class LacamSearch::State {
     auto node = std::make_unique<HighLevelNode>();
     node->config = config;
     node->parent = parent;
+    node->id = static_cast<int64_t>(nodes_.size());
     node->priority.resize(n_);
     grew_.assign(n_, 0);
     for (int i = 0; i < n_; ++i) {
@@ -440,15 +447,15 @@ class LacamSearch::State {
   // LaCAM*: every node's cost from the start over every link recorded so far (Dijkstra), once,
   // when the first solution is found.
   void settle_costs() {
-    using Entry = std::pair<int64_t, HighLevelNode*>;
+    using Entry = std::tuple<int64_t, int64_t, HighLevelNode*>;  // g, id, node
     std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
     for (const std::unique_ptr<HighLevelNode>& node : nodes_) node->g = INT64_MAX;
     HighLevelNode* start = nodes_.front().get();
     start->g = 0;
     start->parent = nullptr;
-    queue.push({0, start});
+    queue.push({0, start->id, start});
     while (!queue.empty()) {
-      const auto [g, node] = queue.top();
+      const auto [g, id, node] = queue.top();
       queue.pop();
       if (g > node->g) continue;
       for (HighLevelNode* next : node->neighbours) {
@@ -456,7 +463,7 @@ class LacamSearch::State {
         if (through < next->g) {
           next->g = through;
           next->parent = node;
-          queue.push({through, next});
+          queue.push({through, next->id, next});
         }
       }
     }

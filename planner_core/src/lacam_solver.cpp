@@ -27,7 +27,7 @@ constexpr double kMaxSearchSliceS = 4.0;
 // follows these paths finds a far cheaper plan (docs/RESULTS.md, section 6).
 std::unique_ptr<Scatter> spread_out(const Instance& instance, DistTable& dist, uint32_t seed, const Deadline& deadline) {
   auto scatter = std::make_unique<Scatter>(*instance.graph, dist, instance.starts, instance.goals, kScatterMargin, seed);
-  scatter->build(deadline.within(deadline.seconds_left() * kScatterTimeShare));
+  scatter->build(deadline.slice(deadline.budget_left_s() * kScatterTimeShare));
   return scatter;
 }
 
@@ -97,7 +97,7 @@ SolveResult LacamSolver::solve(const Instance& instance, const SolveOptions& opt
       LacamConfig guided = lacam_config;
       guided.guide = scatter.get();
       search = std::make_unique<LacamSearch>(*instance.graph, dist, guided, rng, instance.starts, instance.goals);
-      found = search->run(deadline.within(deadline.seconds_left() * kScatterTimeShare));
+      found = search->run(deadline.slice(deadline.budget_left_s() * kScatterTimeShare));
       if (found.solved) keep_if_better(result, instance, found.solution, no_tasks, 0, started, options, "LaCAM along scatter");
       search_done = found.exhausted;
     }
@@ -129,19 +129,23 @@ void refine_until_deadline(const Instance& instance, DistTable& dist, LacamSearc
   // writing the refiner's plan back (each O(agents x makespan), up to a second at 10,000 agents on
   // a loaded machine). The longest such stretch measured so far is held back from every slice, so
   // that the solver returns close to its deadline rather than one stretch after it.
+  // With a work budget the shares are counted in work and nothing is held back (the same plan on
+  // every run).
   double unclocked_s = 0;
+  const bool clocked = !deadline.shares_in_work;
   const auto slice = [&](double seconds) {
-    return deadline.within(std::min(seconds, deadline.seconds_left() - unclocked_s));
+    return deadline.slice(std::min(seconds, deadline.budget_left_s() - unclocked_s));
   };
   const auto measure_overrun = [&](const Deadline& slice_deadline) {
+    if (!clocked) return;
     unclocked_s = std::max(unclocked_s, std::chrono::duration<double>(Clock::now() - slice_deadline.at).count());
   };
   const auto keep_timed = [&](const Solution& plan, const std::string& by) {
     const Clock::time_point begin = Clock::now();
     keep_if_better(result, instance, plan, orders, sequence_index, options.started, options, by);
-    unclocked_s = std::max(unclocked_s, std::chrono::duration<double>(Clock::now() - begin).count());
+    if (clocked) unclocked_s = std::max(unclocked_s, std::chrono::duration<double>(Clock::now() - begin).count());
   };
-  while (deadline.seconds_left() > unclocked_s && result.flowtime > result.lower_bound) {
+  while (deadline.budget_left_s() > unclocked_s && result.flowtime > result.lower_bound) {
     if (!search_done) {
       const Deadline search_deadline = slice(search_slice_s);
       const LacamResult found = search.run(search_deadline);
@@ -154,7 +158,7 @@ void refine_until_deadline(const Instance& instance, DistTable& dist, LacamSearc
       measure_overrun(search_deadline);
       search_slice_s = std::clamp(search_slice_s * (cheaper ? 2.0 : 0.5), kMinSearchSliceS, kMaxSearchSliceS);
       if (search_done && optimal_when_exhausted) break;
-      if (deadline.seconds_left() <= unclocked_s) break;
+      if (deadline.budget_left_s() <= unclocked_s) break;
     }
     if (plain_mapf && config.recursive_lacam_rate > 0 &&
         std::uniform_real_distribution<double>(0, 1)(rng) < config.recursive_lacam_rate) {

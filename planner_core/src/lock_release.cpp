@@ -167,9 +167,7 @@ std::optional<Solution> release_lock(const ExtendedPibt& pibt, const LockSet& lo
     }
   }
   if (goals == starts) return std::nullopt;  // nothing would move: no release
-  Deadline local = Deadline::in_seconds(config.lacam_budget_s, deadline.interrupt);
-  local.at = std::min(local.at, deadline.at);
-  const LacamResult found = lacam.solve(starts, goals, blocked, local);
+  const LacamResult found = lacam.solve(starts, goals, blocked, deadline.within_work(Deadline::work_of(config.lacam_budget_s)));
   if (!found.solved) return std::nullopt;
 
   Solution spliced(plan.begin(), plan.begin() + lock.lock_time + 1);

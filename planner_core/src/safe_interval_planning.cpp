@@ -141,6 +141,7 @@ Path SafeIntervalPlanner::plan(DistTable& dist, const PathTable& table, Vertex s
       return path;
     }
     if (++expansions > limits.max_expansions) break;
+    limits.deadline.spend(1);
     if ((expansions & 1023) == 0 && limits.deadline.expired()) break;
     // The last moment we can leave this cell: the step after our interval closes.
     const int leave_by = here.last == PathTable::kForever ? PathTable::kForever : here.last + 1;

@@ -145,6 +145,7 @@ bool Scatter::plan_leg(Path& path, Vertex target, const Deadline& deadline) {
       std::reverse(path.begin() + static_cast<std::ptrdiff_t>(leg_begin), path.end());
       return true;
     }
+    deadline.spend(1);
     if ((++popped & 255) == 0 && deadline.expired()) return false;
     for (Vertex u : graph_.neighbours(node.v)) {
       if (closed_stamp_[u] == stamp_ || u == start) continue;

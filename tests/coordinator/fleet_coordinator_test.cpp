@@ -794,6 +794,57 @@ TEST(FleetCoordinator, ARestartFromTheJournalKeepsTheTasksAddedAtRuntime) {
   std::filesystem::remove(path + "-shm");
 }
 
+// The same journal, seed and robot states give the same plan: a restarted coordinator (or a
+// standby taking over) plans what the one before it would have, so an operator can tell why.
+// With a work budget this holds for the anytime solver too.
+TEST(FleetCoordinator, TheSameJournalSeedAndRobotStatesGiveTheSamePlan) {
+  const auto plan_after_restart = [](const std::string& tag) {
+    planner_core::Instance mission = planner_core::load_instance(CTSFLEET_CONFIG_DIR "/default/mission-8.yaml");
+    std::vector<FakeRobot> robots = robots_on_their_starts(mission);
+    const int mission_tasks = mission.task_count();
+    const std::string path = (std::filesystem::temp_directory_path() /
+                              ("ctsfleet-same-plan-" + tag + "-" + std::to_string(::getpid()) + ".journal")).string();
+    std::filesystem::remove(path);
+    {
+      MissionJournal journal(path, mission_fingerprint(mission), "test");
+      journal.claim(1, 0x11, 1);
+      journal.record_task_added(mission_tasks, 28, 2, 5, "a");
+      journal.record_task_added(mission_tasks + 1, 4, 2, 1, "b");
+    }
+    fleet_transport::FleetPlan plan;
+    {
+      MissionJournal journal(path, mission_fingerprint(mission), "test");
+      FleetConfig config = config_for(mission.agent_count());
+      config.solver = config.replan_solver = "cts-pll-v3";
+      config.seed = 11;
+      config.iterations = 150;
+      config.plan_time_s = config.replan_time_s = 60;  // a safety stop: the budget ends the solve
+      FleetCoordinator restarted(config, std::move(mission), {false, &journal});
+      run(restarted, robots, {}, [&](FleetCoordinator&, FakeTransport& wire, int) {
+        if (wire.last_plan.plan_epoch < 1) return true;
+        plan = wire.last_plan;
+        return false;
+      });
+    }
+    for (const char* suffix : {"", "-wal", "-shm"}) std::filesystem::remove(path + suffix);
+    return plan;
+  };
+  const fleet_transport::FleetPlan first = plan_after_restart("a");
+  const fleet_transport::FleetPlan second = plan_after_restart("b");
+  ASSERT_EQ(first.robots.size(), 8u);
+  ASSERT_EQ(second.robots.size(), first.robots.size());
+  EXPECT_EQ(second.flowtime, first.flowtime);
+  for (size_t r = 0; r < first.robots.size(); ++r) {
+    EXPECT_EQ(second.robots[r].robot_id, first.robots[r].robot_id);
+    EXPECT_EQ(second.robots[r].role, first.robots[r].role);
+    ASSERT_EQ(second.robots[r].path.size(), first.robots[r].path.size()) << first.robots[r].robot_id;
+    for (size_t k = 0; k < first.robots[r].path.size(); ++k) {
+      EXPECT_EQ(second.robots[r].path[k].x, first.robots[r].path[k].x);
+      EXPECT_EQ(second.robots[r].path[k].y, first.robots[r].path[k].y);
+    }
+  }
+}
+
 TEST(FleetCoordinator, ATaskNoRobotCanReachIsRefused) {
   using namespace runtime_tasks;
   // Two robots above a wall; the free pocket below it is reachable from nowhere.

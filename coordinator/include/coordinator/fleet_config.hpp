@@ -27,6 +27,11 @@ struct FleetConfig {
   // Replanning after a robot leaves or joins favours speed: the first feasible plan.
   std::string replan_solver = "cts-pll-v2";
   double replan_time_s = 1.0;
+  // The same seed (and journal, and robot states) gives the same plan; with `iterations` (a work
+  // budget, as ctsfleet-solve --iterations) so does an anytime solver, unless the time limit ends
+  // it first.
+  int64_t seed = 0;
+  int64_t iterations = 0;
   bool pibt_swap = true;         // Extended-PIBT's swap operation (helps in one-cell aisles)
   std::string dds_vendor = "cyclone";
   int domain_id = 0;

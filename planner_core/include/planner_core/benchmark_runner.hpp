@@ -40,10 +40,11 @@ struct BenchmarkSummary {
 // Keeps at most `per_setting` files of each (map, N, M) setting, in name order (0 = all).
 std::vector<std::string> sample_per_setting(std::vector<std::string> files, int per_setting);
 
-// Runs `config` with `seconds` per instance on `threads` threads. `on_row` is called (from the
-// worker threads, serialised) after each instance.
+// Runs `config` with `seconds` per instance (and `iterations`, as ctsfleet-solve --iterations,
+// when > 0) on `threads` threads. `on_row` is called (from the worker threads, serialised) after
+// each instance.
 std::vector<BenchmarkRow> run_benchmark(const std::vector<std::string>& files, const SolverConfig& config,
-                                        double seconds, int threads,
+                                        double seconds, int64_t iterations, int threads,
                                         const std::function<void(const BenchmarkRow&, int done)>& on_row = {});
 
 std::vector<BenchmarkSummary> summarise(const std::vector<BenchmarkRow>& rows);

@@ -15,7 +15,9 @@
 namespace planner_core {
 
 struct LockReleaseConfig {
-  double lacam_budget_s = 0.2;  // time for one local LaCAM search
+  // Work for one local LaCAM search, in seconds at kWorkPerSecond (deadline.hpp): the same
+  // search on every run, whatever the machine's speed or load.
+  double lacam_budget_s = 0.2;
   bool next_target_goals = false;  // targets = next task/goal of each lock agent instead of a random permutation
   int max_releases = 25;  // per joint sequence; then CTS-PLL-v2/v3 move on to the next sequence
   // When a release fails (LaCAM finds nothing, or nothing would move), it is tried again with
