@@ -2,6 +2,7 @@
 // state and the last fleet status. For tests of the coordinator and the agent without DDS.
 #pragma once
 
+#include <chrono>
 #include <vector>
 
 #include "fleet_transport/transport.hpp"
@@ -17,6 +18,7 @@ class FakeTransport : public fleet_transport::Transport {
   void open_commands_for(const std::string&) override {}
   void publish_coordinator_status(const fleet_transport::CoordinatorStatus& status) override {
     last_coordinator_status = status;
+    heartbeat_times.push_back(std::chrono::steady_clock::now());
   }
   void publish_fleet_status(const fleet_transport::FleetStatus& status) override {
     last_status = status;
@@ -37,6 +39,7 @@ class FakeTransport : public fleet_transport::Transport {
   fleet_transport::FleetPlan last_plan;
   std::vector<fleet_transport::FleetEvent> events;
   std::vector<fleet_transport::TaskReply> replies;
+  std::vector<std::chrono::steady_clock::time_point> heartbeat_times;  // of each CoordinatorStatus
   int statuses = 0;
   int strength = 0;
 };

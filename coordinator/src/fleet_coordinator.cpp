@@ -181,6 +181,7 @@ Vertex FleetCoordinator::mission_vertex(int x, int y) const { return mission_.gr
 
 void FleetCoordinator::request_replan(const std::string& why) {
   if (!driving()) return;
+  ++replan_requests_;  // a plan under way no longer fits
   spdlog::info("replanning: {}", why);
   if (!replan_requested_) {
     replan_requested_at_ = Clock::now();
@@ -482,7 +483,43 @@ void FleetCoordinator::bind_roles(const std::vector<RobotRecord*>& robots) {
   }
 }
 
-bool FleetCoordinator::replan(fleet_transport::Transport& transport) {
+FleetCoordinator::PlanningInputs FleetCoordinator::planning_inputs() const {
+  PlanningInputs inputs;
+  for (const auto& [cell, robot_id] : blocked_) inputs.blocked.insert(cell);
+  for (const auto& [id, cell] : unknown_cells_) inputs.blocked.insert(cell);
+  for (const RobotRecord* robot : robots_.ready_robots()) {
+    inputs.members.push_back({robot->id, {robot->last.cell_x, robot->last.cell_y}, robot->role});
+    inputs.incarnations.push_back(robot->incarnation);
+  }
+  inputs.replan_requests = replan_requests_;
+  inputs.tasks = mission_.task_count();
+  inputs.tasks_done = progress_.tasks_done();
+  return inputs;
+}
+
+std::string FleetCoordinator::what_changed_since(const PlanningInputs& then) const {
+  const PlanningInputs now = planning_inputs();
+  if (now.replan_requests != then.replan_requests) return "a replan was asked for meanwhile";
+  if (now.members.size() != then.members.size()) {
+    return fmt::format("{} robots ready, {} planned for", now.members.size(), then.members.size());
+  }
+  for (size_t k = 0; k < now.members.size(); ++k) {
+    const PlanMember& was = then.members[k];
+    const PlanMember& is = now.members[k];
+    if (is.robot_id != was.robot_id) return "robot " + is.robot_id + " is ready, " + was.robot_id + " was";
+    if (!(is.cell == was.cell)) {
+      return "robot " + is.robot_id + " moved from " + planner_core::to_string(was.cell) + " to " +
+             planner_core::to_string(is.cell);
+    }
+    if (is.role != was.role) return "robot " + is.robot_id + " changed role";
+    if (now.incarnations[k] != then.incarnations[k]) return "robot " + is.robot_id + " restarted";
+  }
+  if (now.blocked != then.blocked) return "the cells to keep clear changed";
+  if (now.tasks != then.tasks || now.tasks_done != then.tasks_done) return "the tasks changed";
+  return "";
+}
+
+void FleetCoordinator::start_planning() {
   // Extra robots take over the roles (and remaining tasks) of robots that left.
   std::vector<RobotRecord*> extras;
   for (RobotRecord* robot : robots_.ready_robots()) {
@@ -491,29 +528,23 @@ bool FleetCoordinator::replan(fleet_transport::Transport& transport) {
   if (!extras.empty() && progress_.any_role_free()) bind_roles(extras);
 
   // Plan from where the robots stand, around lost robots and robots that cannot be commanded.
-  std::set<Vertex> blocked;
-  for (const auto& [cell, robot_id] : blocked_) blocked.insert(cell);
-  for (const auto& [id, cell] : unknown_cells_) blocked.insert(cell);
-  std::vector<PlanMember> members;
-  for (auto& [id, robot] : robots_) robot.plan_agent = -1;
-  for (RobotRecord* robot : robots_.ready_robots()) {
-    members.push_back({robot->id, {robot->last.cell_x, robot->last.cell_y}, robot->role});
-  }
-  PlanInstance built = build_plan_instance(mission_, progress_, members, blocked);
-  for (const std::string& note : built.notes) spdlog::error("{}", note);
-  const planner_core::Instance& instance = built.instance;
-  for (int a = 0; a < instance.agent_count(); ++a) {
-    RobotRecord& robot = robots_[built.robots[a]];
-    robot.plan_agent = a;
-    robot.finished_plan = false;
-  }
-
+  planned_from_ = planning_inputs();
+  PlanningRequest request;
+  request.built = build_plan_instance(mission_, progress_, planned_from_.members, planned_from_.blocked);
+  for (const std::string& note : request.built.notes) spdlog::error("{}", note);
   // The mission's first plan gets the full solver and budget; a resumed or taken-over mission is a
   // replan (robots wait meanwhile), so it gets the fast one.
   const bool first_plan = plans_made_ == 0 && epoch_ == 0 && !summary_.took_over;
-  const planner_core::SolverConfig solver_config = config_.solver_config(first_plan);
+  request.solver = config_.solver_config(first_plan);
   // After a failure the robots hold (no new moves) and the next try gets a longer limit, up to 8x.
-  const double limit_s = config_.plan_limit_s(first_plan) * plan_limit_factor_;
+  request.time_limit_s = config_.plan_limit_s(first_plan) * plan_limit_factor_;
+  request.iterations = config_.iterations;
+  planning_first_plan_ = first_plan;
+  planning_.start(std::move(request));
+}
+
+bool FleetCoordinator::finish_planning(PlanningOutcome outcome, fleet_transport::Transport& transport) {
+  const bool first_plan = planning_first_plan_;
   const auto failed = [&](const std::string& why) {
     plan_limit_factor_ = std::min(8.0, plan_limit_factor_ * 2);
     report("plan_failed", "", why);
@@ -521,23 +552,25 @@ bool FleetCoordinator::replan(fleet_transport::Transport& transport) {
                   config_.plan_limit_s(first_plan) * plan_limit_factor_);
     return false;
   };
-  planner_core::SolveResult result;
-  const Clock::time_point solve_started = Clock::now();
-  try {
-    const auto deadline = planner_core::Deadline::for_limits(limit_s, config_.iterations, interrupt_);
-    result = planner_core::make_solver(solver_config)->solve(instance, {deadline, {}});
-  } catch (const std::exception& e) {  // a solver bug must not end the mission
-    return failed(std::string("the solver threw: ") + e.what());
-  }
-  last_planning_ms_ = 1000 * seconds_between(solve_started, Clock::now());
-  if (!result.solved) return failed(result.failure_reason);
-  const planner_core::ValidationReport report =
-      planner_core::validate(instance, result.solution, planner_core::ValidationOptions{true});
-  if (!report.ok()) {
-    spdlog::critical("the plan failed validation; it is not sent:\n{}", report.summary());
+  last_planning_ms_ = outcome.planning_ms;
+  if (!outcome.error.empty()) return failed(outcome.error);
+  if (!outcome.result.solved) return failed(outcome.result.failure_reason);
+  if (!outcome.report.ok()) {
+    spdlog::critical("the plan failed validation; it is not sent:\n{}", outcome.report.summary());
     return failed("invalid plan");
   }
   plan_limit_factor_ = 1;
+  const PlanInstance& built = outcome.built;
+  const planner_core::Instance& instance = built.instance;
+  const planner_core::SolveResult& result = outcome.result;
+  const planner_core::ValidationReport& report = outcome.report;
+  const planner_core::SolverConfig solver_config = config_.solver_config(first_plan);
+  for (auto& [id, robot] : robots_) robot.plan_agent = -1;
+  for (int a = 0; a < instance.agent_count(); ++a) {
+    RobotRecord& robot = robots_[built.robots[a]];
+    robot.plan_agent = a;
+    robot.finished_plan = false;
+  }
   ++epoch_;
   if (plans_made_ > 0) ++summary_.replans;
   if (plans_made_ == 0) {
@@ -712,6 +745,7 @@ bool FleetCoordinator::step(fleet_transport::Transport& transport) {
     }
   }
   const Clock::time_point now = Clock::now();
+  if (interrupt_ != nullptr && interrupt_->load()) planning_.cancel();
   if (role_ == fleet_transport::CoordinatorRole::kActive) {
     if (const OtherCoordinator* other = stronger_active(now)) {
       stand_down(*other, transport);
@@ -825,8 +859,19 @@ bool FleetCoordinator::step(fleet_transport::Transport& transport) {
         spdlog::warn("replanning waits for moves still in flight");
         settle_deadline_ = now + seconds(config_.replan_settle_s);
       }
-      if (!moves_in_flight && now >= retry_plan_at_) {
-        if (!replan(transport)) retry_plan_at_ = now + seconds(1.0);
+      // The plan is made on the worker while this loop goes on; it is used only if the fleet is
+      // still as it was planned from (robots, cells, roles, incarnations, walls, tasks).
+      if (std::optional<PlanningOutcome> outcome = planning_.poll()) {
+        if (outcome->cancelled) {
+          spdlog::info("planning was interrupted");
+        } else if (const std::string change = what_changed_since(planned_from_); !change.empty()) {
+          ++summary_.plans_discarded;
+          spdlog::info("the fleet changed while planning ({}): the plan is dropped and made again", change);
+        } else if (!finish_planning(std::move(*outcome), transport)) {
+          retry_plan_at_ = now + seconds(1.0);
+        }
+      } else if (planning_.idle() && !moves_in_flight && now >= retry_plan_at_) {
+        start_planning();
       }
       break;
     }

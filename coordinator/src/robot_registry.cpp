@@ -44,6 +44,14 @@ std::vector<RobotRecord*> RobotRegistry::ready_robots() {
   return ready;
 }
 
+std::vector<const RobotRecord*> RobotRegistry::ready_robots() const {
+  std::vector<const RobotRecord*> ready;
+  for (const auto& [id, robot] : robots_) {
+    if (robot.active && robot.has_state) ready.push_back(&robot);
+  }
+  return ready;
+}
+
 std::vector<RobotRecord*> RobotRegistry::silent_robots(Clock::time_point now, double timeout_s) {
   std::vector<RobotRecord*> silent;
   for (auto& [id, robot] : robots_) {

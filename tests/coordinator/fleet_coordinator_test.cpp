@@ -845,6 +845,59 @@ TEST(FleetCoordinator, TheSameJournalSeedAndRobotStatesGiveTheSamePlan) {
   }
 }
 
+// Planning runs beside the loop: during a 2 s plan the heartbeat keeps its 0.25 s period (a
+// standby would otherwise take the coordinator for dead), and states are still taken in.
+TEST(FleetCoordinator, TheHeartbeatGoesOnWhileAPlanIsMade) {
+  planner_core::Instance mission = planner_core::load_instance(CTSFLEET_CONFIG_DIR "/default/mission-8.yaml");
+  std::vector<FakeRobot> robots = robots_on_their_starts(mission);
+  FleetConfig config = config_for(mission.agent_count());
+  config.solver = "cts-pll-v3";  // anytime: uses its whole limit
+  config.plan_time_s = 2.0;
+  FleetCoordinator coordinator(config, std::move(mission));
+  std::vector<std::chrono::steady_clock::time_point> beats;
+  run(coordinator, robots, {}, [&](FleetCoordinator&, FakeTransport& wire, int) {
+    if (wire.last_plan.plan_epoch < 1) return true;
+    beats = wire.heartbeat_times;
+    return false;
+  });
+  ASSERT_GE(beats.size(), 2u) << "no plan was made";
+  double longest_gap_s = 0;
+  for (size_t k = 1; k < beats.size(); ++k) {
+    longest_gap_s = std::max(longest_gap_s, std::chrono::duration<double>(beats[k] - beats[k - 1]).count());
+  }
+  const double planning_s = std::chrono::duration<double>(beats.back() - beats.front()).count();
+  EXPECT_GE(planning_s, 1.5) << "the plan took its whole limit";
+  // 0.25 s nominal; the bound leaves room for a loaded test machine, far below the 2 s plan.
+  EXPECT_LT(longest_gap_s, 0.75) << beats.size() << " heartbeats over " << planning_s << " s";
+}
+
+// A robot that dies while the plan is made: the plan, made with it, is dropped and made again
+// without it; the others finish, and nobody collides (run() checks every step).
+TEST(FleetCoordinator, APlanMadeForAFleetThatChangedMeanwhileIsDroppedAndMadeAgain) {
+  planner_core::Instance mission = planner_core::load_instance(CTSFLEET_CONFIG_DIR "/default/mission-8.yaml");
+  std::vector<FakeRobot> robots = robots_on_their_starts(mission);
+  FleetConfig config = config_for(mission.agent_count());
+  config.solver = "cts-pll-v3";
+  config.plan_time_s = 1.5;
+  FleetCoordinator coordinator(config, std::move(mission));
+  const auto started = std::chrono::steady_clock::now();
+  run(coordinator, robots, {}, [&](FleetCoordinator&, FakeTransport&, int) {
+    // Robot 3 falls silent during the first plan (its silence timeout is 0.3 s).
+    if (std::chrono::steady_clock::now() - started > std::chrono::milliseconds(300)) robots[3].silent = true;
+    return true;
+  });
+  const MissionSummary& summary = coordinator.summary();
+  EXPECT_GE(summary.plans_discarded, 1);
+  EXPECT_EQ(summary.robots_lost, 1);
+  EXPECT_EQ(robots[3].moves, 0) << "the plan made with robot 3 was never sent";
+  EXPECT_FALSE(summary.completed);  // robot 3's role has work no one else does
+  for (int r = 0; r < 8; ++r) {
+    if (r != 3) {
+      EXPECT_GT(robots[r].moves, 0) << "robot " << r;
+    }
+  }
+}
+
 TEST(FleetCoordinator, ATaskNoRobotCanReachIsRefused) {
   using namespace runtime_tasks;
   // Two robots above a wall; the free pocket below it is reachable from nowhere.

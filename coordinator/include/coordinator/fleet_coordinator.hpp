@@ -30,7 +30,9 @@
 #include "coordinator/fleet_config.hpp"
 #include "coordinator/mission_journal.hpp"
 #include "coordinator/mission_progress.hpp"
+#include "coordinator/plan_builder.hpp"
 #include "coordinator/plan_execution.hpp"
+#include "coordinator/planning_worker.hpp"
 #include "coordinator/robot_registry.hpp"
 #include "coordinator/task_assignment.hpp"
 #include "fleet_transport/transport.hpp"
@@ -53,6 +55,7 @@ struct MissionSummary {
   double sum_of_finish_s = 0;     // sum over robots of the time each finished its last plan
   int64_t commands_sent = 0;
   int64_t states_received = 0;
+  int plans_discarded = 0;        // plans dropped because the fleet changed while they were made
   std::vector<double> replan_latencies_s;  // from a loss/join to the first command of the new plan
   std::vector<double> round_trips_ms;      // command sent -> the robot's state acknowledging it
   uint32_t term = 0;                       // this coordinator's term when it ended
@@ -159,7 +162,23 @@ class FleetCoordinator {
   // Takes out the robots that have not acknowledged their move for command_timeout_s.
   void take_out_robots_deaf_to_commands(Clock::time_point now);
   void bind_roles(const std::vector<RobotRecord*>& robots);
-  bool replan(fleet_transport::Transport& transport);
+  // What a plan is made from; a plan is used only while these are unchanged.
+  struct PlanningInputs {
+    std::vector<PlanMember> members;      // the ready robots, where they stand, their roles
+    std::vector<uint64_t> incarnations;   // of the same robots
+    std::set<planner_core::Vertex> blocked;
+    int64_t replan_requests = 0;          // replans asked for (a loss, a join, a task) so far
+    int tasks = 0;
+    int tasks_done = 0;
+  };
+  PlanningInputs planning_inputs() const;
+  // "" when the fleet is as `then`; else what changed, for the log.
+  std::string what_changed_since(const PlanningInputs& then) const;
+  // Hands a plan from where the robots stand to the worker; the loop goes on meanwhile.
+  void start_planning();
+  // Uses a finished plan (validated, and made from the fleet as it still is): a new epoch, sent.
+  // False when planning failed (the robots hold; the caller retries).
+  bool finish_planning(PlanningOutcome outcome, fleet_transport::Transport& transport);
   void update_progress();
   // Sends every command that is due. With `resend_only`, only the repeats of moves already sent
   // and not yet done: while a replan waits for moves in flight, a command that was lost must
@@ -241,6 +260,10 @@ class FleetCoordinator {
   double plan_limit_factor_ = 1;
   const std::atomic<bool>* interrupt_ = nullptr;  // grows after each failed planning attempt, back to 1 on success
   std::unique_ptr<PlanExecution> plan_;  // the plan being executed
+  PlanningWorker planning_;              // makes the next plan on a thread of its own
+  PlanningInputs planned_from_;          // what the plan under way is made from
+  bool planning_first_plan_ = false;     // the plan under way is the mission's first
+  int64_t replan_requests_ = 0;
   MissionSummary summary_;
 
   std::map<std::string, fleet_transport::TaskReply> replies_;  // request id -> the answer given

@@ -17,6 +17,7 @@ struct PlanMember {
   std::string robot_id;
   planner_core::Cell cell;
   int role = -1;
+  bool operator==(const PlanMember&) const = default;
 };
 
 struct PlanInstance {

@@ -58,6 +58,7 @@ class RobotRegistry {
   int active_count() const;
   // Active robots that have reported a cell, in id order.
   std::vector<RobotRecord*> ready_robots();
+  std::vector<const RobotRecord*> ready_robots() const;
   // Active robots not heard for more than `timeout_s` at `now`.
   std::vector<RobotRecord*> silent_robots(Clock::time_point now, double timeout_s);
   // The coordinator itself stood still until `now` (its loop or its middleware blocked), so it
