@@ -590,8 +590,9 @@ bool FleetCoordinator::finish_planning(PlanningOutcome outcome, fleet_transport:
   }
   int visits = 0;
   for (const auto& task : instance.tasks) visits += static_cast<int>(task.agents.size());
-  spdlog::info("plan epoch {}: {} robots, {} task visits, flowtime {}, makespan {} ({}, seed {})", epoch_,
-               instance.agent_count(), visits, report.flowtime, report.makespan, solver_config.solver, solver_config.seed);
+  spdlog::info("plan epoch {}: {} robots, {} task visits, flowtime {}, makespan {} ({}, seed {}, planned in {:.0f} ms)",
+               epoch_, instance.agent_count(), visits, report.flowtime, report.makespan, solver_config.solver,
+               solver_config.seed, last_planning_ms_);
   for (int a = 0; a < plan_->agent_count(); ++a) steps_planned_ += static_cast<int64_t>(plan_->moves(a).size());
   this->report("replan", "",
                fmt::format("epoch {}: {} robots, {} task visits, flowtime {}, planned in {:.0f} ms", epoch_,

@@ -26,6 +26,7 @@ TESTS = [
     "test_two_missions_in_a_row_with_the_same_agents",
     "test_test_drive_cannot_move_a_robot_the_coordinator_drives",
     "test_bad_journals_are_refused_clearly",
+    "test_a_slow_replan_never_makes_the_standby_take_over",
 ]
 
 
@@ -202,6 +203,43 @@ class FailoverTest(unittest.TestCase):
         text = read(log)
         self.assertEqual(code, 0, text[-3000:])
         self.assertEqual(summary_of(text)["off_plan"], 0)
+        self.assert_safe()
+
+    def test_a_slow_replan_never_makes_the_standby_take_over(self):
+        # Both coordinators replan with the anytime solver for 6 s (it uses its whole limit); the
+        # active one plans beside its loop, so its heartbeat goes on and the standby stays a standby.
+        with open(CONFIG) as f:
+            config = yaml.safe_load(f)
+        config["mission"] = os.path.abspath(MISSION)
+        config["dds"]["config_dir"] = os.path.abspath(DDS_DIR)
+        config["planner"].update({"replan_solver": "cts-pll-v3", "replan_time_limit_s": 6.0})
+        config["timing"]["replacement_timeout_s"] = 5
+        slow = os.path.join(self.fleet.dir, "slow-replan.yaml")
+        with open(slow, "w") as f:
+            yaml.safe_dump(config, f)
+        self.fleet.monitor()
+        self.fleet.agents()
+        self.fleet.agent("robot8", (1, 1))  # an extra robot: takes the lost role, so the mission can end
+        self.coordinator("active", config=slow)
+        wait_for(lambda: "plan epoch" in read(self.fleet.log("active")), 120, "the active coordinator's first plan")
+        self.coordinator("standby", ["--standby"], config=slow)
+        wait_for(lambda: "standby: follows coordinator" in read(self.fleet.log("standby")), 60,
+                 "the standby following the active one")
+        self.wait_tasks("active", 2)
+        text = read(self.fleet.log("active"))
+        victim = re.search(r"robot (robot\d+) takes role 3", text).group(1)
+        self.fleet.processes[victim].send_signal(signal.SIGKILL)
+        code = self.fleet.wait_exit("active", 240)
+        text = read(self.fleet.log("active"))
+        self.assertIn(code, (0, 3), text[-3000:])
+        replans = [int(ms) for ms in re.findall(r"plan epoch \d+: .* planned in (\d+) ms", text)][1:]
+        self.assertTrue(replans and max(replans) >= 5000, f"no slow replan happened: {replans}")
+        summary = summary_of(text)
+        self.assertFalse(summary["stood_down"], summary)
+        standby = read(self.fleet.log("standby"))
+        self.assertNotIn("taking over", standby, standby[-3000:])
+        print(f"slow replan: replans of {replans} ms; the standby never took over; "
+              f"{summary['tasks_done']}/{summary['tasks_total']} tasks")
         self.assert_safe()
 
     def test_bad_journals_are_refused_clearly(self):
