@@ -187,6 +187,14 @@ int main(int argc, char** argv) {
                 "duplicate ids %zu, coordinators active together %zu\n",
                 incarnations.size(), visits.size(), static_cast<long long>(states), static_cast<long long>(cell_visits),
                 overlaps, static_cast<long long>(gaps), duplicates.size(), coordinators.alarms());
+    // For each id claimed twice, how far each of its processes went: a refused one stays on 1 cell.
+    for (const auto& [robot_id, pair] : duplicates) {
+      for (const uint64_t incarnation : {pair.first, pair.second}) {
+        const auto path = visits.find(robot_id + "#" + std::to_string(incarnation));
+        std::printf("monitor: duplicate %s: process %016llx on %zu cells\n", robot_id.c_str(),
+                    static_cast<unsigned long long>(incarnation), path == visits.end() ? size_t{0} : path->second.size());
+      }
+    }
     std::fflush(stdout);
     int verdict = overlaps == 0 && duplicates.empty() && coordinators.alarms() == 0 ? 0 : 1;
     if (incarnations.empty()) {

@@ -321,7 +321,7 @@ void FleetCoordinator::handle_state(RobotRecord& robot, const fleet_transport::R
     return;
   }
   const Clock::time_point now = Clock::now();
-  if (!accept_incarnation(robot, state, now)) return;
+  if (!accept_incarnation(robot, state, received)) return;
   if (robot.has_state && state.seq_number <= robot.last.seq_number) return;  // stale, within one incarnation
   robot.last_heard = now;
   robot.last_state_received = std::max(robot.last_state_received, received);
@@ -380,36 +380,66 @@ void FleetCoordinator::handle_state(RobotRecord& robot, const fleet_transport::R
 // takes over at once. While the accepted one is still heard, it is a second process claiming the
 // same id: refused, and reported once.
 bool FleetCoordinator::accept_incarnation(RobotRecord& robot, const fleet_transport::RobotState& state,
-                                          Clock::time_point now) {
+                                          Clock::time_point received) {
   constexpr double kQuietS = 1.0;  // ten missed periodic states
   if (state.incarnation == robot.incarnation) return true;
   if (!robot.has_state) {  // the first state heard from this id
     robot.incarnation = state.incarnation;
+    refused_processes_.forget(robot.id, state.incarnation);
     return true;
   }
-  if (robot.active && seconds_between(robot.last_heard, now) <= kQuietS) {
+  // Which process drives the id is decided on when each one's states arrived (stamped by the
+  // transport as they came), which stays true however long this loop was busy: the driven process
+  // keeps the id for as long as it is heard.
+  const double driven_quiet_s = seconds_between(robot.last_state_received, received);
+  if (robot.active && driven_quiet_s <= kQuietS) {
     if (robot.refused_incarnations.insert(state.incarnation).second) {
       spdlog::error("duplicate robot id {}: a second process (incarnation {:016x}) at ({},{}) is refused while "
-                    "incarnation {:016x} at ({},{}) is driven",
+                    "incarnation {:016x} at ({},{}) is driven; it is told so and kept clear of where it is heard",
                     robot.id, state.incarnation, state.cell_x, state.cell_y, robot.incarnation, robot.last.cell_x,
                     robot.last.cell_y);
-      // It stands somewhere all the same: keep its cell clear, like a robot never enrolled.
-      const Vertex cell = mission_vertex(state.cell_x, state.cell_y);
-      if (cell != planner_core::kNoVertex) {
-        unknown_cells_[robot.id + " (duplicate)"] = cell;
-        request_replan("a duplicate of robot " + robot.id + " stands on (" + std::to_string(state.cell_x) + "," +
-                       std::to_string(state.cell_y) + ")");
-      }
+      report("duplicate", robot.id,
+             fmt::format("a second process (incarnation {:016x}) claims this id at ({},{}): refused",
+                         state.incarnation, state.cell_x, state.cell_y));
+    }
+    // It stands somewhere all the same: its cell is kept clear, wherever it is heard.
+    const Cell cell{state.cell_x, state.cell_y};
+    if (refused_processes_.heard(robot.id, state.incarnation, cell, mission_vertex(cell.x, cell.y), received)) {
+      request_replan("a duplicate of robot " + robot.id + " stands on " + planner_core::to_string(cell));
     }
     return false;
   }
-  spdlog::warn("robot {} restarted: incarnation {:016x} replaces {:016x}", robot.id, state.incarnation,
-               robot.incarnation);
+  spdlog::warn("robot {} restarted: incarnation {:016x} replaces {:016x} (not heard for {:.1f} s)", robot.id,
+               state.incarnation, robot.incarnation, driven_quiet_s);
   if (robot.active) lose(robot, "restarted");
   robot.incarnation = state.incarnation;
   robot.refused_incarnations.erase(state.incarnation);
+  refused_processes_.forget(robot.id, state.incarnation);
   robot.has_state = false;  // its sequence numbers start again
   return true;
+}
+
+void FleetCoordinator::tell_refused_processes(fleet_transport::Transport& transport, Clock::time_point now) {
+  for (const RefusedProcess& gone : refused_processes_.forget_silent(now, config_.silence_timeout_s)) {
+    spdlog::info("the refused second process of robot {} (incarnation {:016x}) is no longer heard", gone.robot_id,
+                 gone.incarnation);
+  }
+  if (role_ != fleet_transport::CoordinatorRole::kActive || !driving()) return;
+  constexpr double kRefusalEveryS = 2.0;
+  for (const RefusedProcess& process : refused_processes_.refusals_due(now, kRefusalEveryS)) {
+    fleet_transport::StepCommand refusal;
+    refusal.robot_id = process.robot_id;
+    refusal.plan_epoch = epoch_;
+    refusal.action_index = -1;
+    refusal.target_x = refusal.target_pose_x = process.cell.x;
+    refusal.target_y = refusal.target_pose_y = process.cell.y;
+    refusal.deadline_ms = fleet_transport::wall_clock_ms() + static_cast<int64_t>(1000 * config_.command_lifetime_s());
+    refusal.sent_ms = fleet_transport::wall_clock_ms();
+    refusal.coordinator = incarnation_;
+    refusal.robot_incarnation = process.incarnation;
+    refusal.refused = true;
+    transport.send_command(refusal);
+  }
 }
 
 void FleetCoordinator::bind_role(int role, RobotRecord& robot) {
@@ -487,6 +517,7 @@ FleetCoordinator::PlanningInputs FleetCoordinator::planning_inputs() const {
   PlanningInputs inputs;
   for (const auto& [cell, robot_id] : blocked_) inputs.blocked.insert(cell);
   for (const auto& [id, cell] : unknown_cells_) inputs.blocked.insert(cell);
+  for (planner_core::Vertex cell : refused_processes_.cells()) inputs.blocked.insert(cell);
   for (const RobotRecord* robot : robots_.ready_robots()) {
     inputs.members.push_back({robot->id, {robot->last.cell_x, robot->last.cell_y}, robot->role});
     inputs.incarnations.push_back(robot->incarnation);
@@ -635,8 +666,9 @@ void FleetCoordinator::dispatch(fleet_transport::Transport& transport, bool rese
     }
     const int64_t deadline_ms =
         fleet_transport::wall_clock_ms() + static_cast<int64_t>(1000 * config_.command_lifetime_s());
-    const auto command = plan_->due_command(a, now, resend_after_s, deadline_ms);
+    auto command = plan_->due_command(a, now, resend_after_s, deadline_ms);
     if (!command) continue;
+    command->robot_incarnation = robot.incarnation;  // only that process of the id obeys it
     transport.send_command(*command);
     ++summary_.commands_sent;
     if (!first_command_sent_) {
@@ -768,6 +800,7 @@ bool FleetCoordinator::step(fleet_transport::Transport& transport) {
     lose(*robot, "no state for " + std::to_string(config_.silence_timeout_s) + " s");
   }
   take_out_robots_deaf_to_commands(now);
+  tell_refused_processes(transport, now);
   summary_.tasks_done = progress_.tasks_done();
 
   switch (phase_) {

@@ -304,6 +304,8 @@ class CycloneTransport : public Transport {
     wire.deadline_ms = c.deadline_ms;
     wire.coordinator = c.coordinator;
     wire.sent_ms = c.sent_ms;
+    wire.robot_incarnation = c.robot_incarnation;
+    wire.refused = c.refused;
     check(dds_write(command_writer(c.robot_id), &wire), "write command");
   }
 
@@ -609,7 +611,8 @@ class CycloneTransport : public Transport {
       if (!info.valid_data) return;
       if (!self->commands_for_.empty() && self->commands_for_ != w.robot_id) return;
       self->handlers_.on_command({w.robot_id, w.plan_epoch, w.action_index, w.target_x, w.target_y, w.target_pose_x,
-                                  w.target_pose_y, w.deadline_ms, w.coordinator, w.sent_ms});
+                                  w.target_pose_y, w.deadline_ms, w.coordinator, w.sent_ms, w.robot_incarnation,
+                                  w.refused});
     });
   }
 

@@ -341,7 +341,8 @@ class FastDdsTransport : public Transport {
         const std::string id = w.robot_id().to_string();
         if (!commands_for_.empty() && commands_for_ != id) return;
         handlers_.on_command({id, w.plan_epoch(), w.action_index(), w.target_x(), w.target_y(), w.target_pose_x(),
-                              w.target_pose_y(), w.deadline_ms(), w.coordinator(), w.sent_ms()});
+                              w.target_pose_y(), w.deadline_ms(), w.coordinator(), w.sent_ms(), w.robot_incarnation(),
+                              w.refused()});
       }, command_subscriber);
     }
     if (handlers_.on_coordinator_status) {
@@ -483,6 +484,8 @@ class FastDdsTransport : public Transport {
     wire.deadline_ms(c.deadline_ms);
     wire.coordinator(c.coordinator);
     wire.sent_ms(c.sent_ms);
+    wire.robot_incarnation(c.robot_incarnation);
+    wire.refused(c.refused);
     command_writer(c.robot_id)->write(&wire);
   }
 

@@ -28,7 +28,7 @@ RobotAgent::RobotAgent(const AgentSettings& settings, RobotBackend& backend)
       backend_(backend),
       next_start_(backend.poll().cell),
       seq_(settings.first_seq_number > 0 ? settings.first_seq_number - 1 : 0),
-      incarnation_(new_incarnation()) {}
+      incarnation_(settings.incarnation != 0 ? settings.incarnation : new_incarnation()) {}
 
 fleet_transport::Announcement RobotAgent::announcement() const {
   return {settings_.robot_id, backend_.kind(), "grid-4,wait", settings_.version, false, incarnation_};
@@ -127,6 +127,16 @@ void RobotAgent::choose_coordinator() {
 }
 
 void RobotAgent::consider(const StepCommand& command) {
+  // One robot id, one body: a command is for one process (the one whose states the coordinator
+  // took). Another process with this id (an impostor, or this robot started twice) ignores it.
+  if (command.robot_incarnation != incarnation_) {
+    if (foreign_incarnations_.size() < 16 && foreign_incarnations_.insert(command.robot_incarnation).second) {
+      spdlog::error("{}: a command for another process with this robot id (incarnation {:016x}; this process is "
+                    "{:016x}) is ignored: two processes claim robot id {}",
+                    settings_.robot_id, command.robot_incarnation, incarnation_, settings_.robot_id);
+    }
+    return;
+  }
   // Checked first, so a late or replayed command can neither be held nor change the epoch.
   // The deadline is on the sender's clock: compared with ours through the offset learnt from its
   // send stamps, so a host whose clock is seconds off still takes the commands in time.
@@ -155,9 +165,30 @@ void RobotAgent::consider(const StepCommand& command) {
     reject(command, fmt::format("from coordinator {:016x}; this robot follows {:016x}", command.coordinator, followed_));
     return;
   }
+  if (command.refused) {
+    if (!refused_) {
+      spdlog::error("{}: refused by coordinator {:016x}: another process drives robot id {}; this process stands "
+                    "still at ({},{}) and obeys no command (stop it, or start it with an id of its own)",
+                    settings_.robot_id, command.coordinator, settings_.robot_id, next_start_.x, next_start_.y);
+    }
+    refused_ = true;
+    refused_epoch_ = std::max(refused_epoch_, command.plan_epoch);
+    pending_.reset();
+    return;
+  }
   if (command.plan_epoch > sender->second.status.plan_epoch) {
     held_ = command;  // an epoch its coordinator has not announced (yet): never jumped to
     return;
+  }
+  if (refused_) {
+    // Only a plan made after the refusal drives it again (this process then drives the id).
+    if (command.plan_epoch <= refused_epoch_) {
+      reject(command, "this process was refused in epoch " + std::to_string(refused_epoch_));
+      return;
+    }
+    spdlog::warn("{}: coordinator {:016x} drives this process again in epoch {} (its refusal is lifted)",
+                 settings_.robot_id, command.coordinator, command.plan_epoch);
+    refused_ = false;
   }
   if (command.plan_epoch < epoch_) {
     reject(command, "stale plan epoch (current epoch " + std::to_string(epoch_) + ")");

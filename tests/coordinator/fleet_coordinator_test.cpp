@@ -37,6 +37,8 @@ struct FakeRobot {
   int moves = 0;
   int teleport_after = -1;       // carried by hand to teleport_to after this many moves
   planner_core::Cell teleport_to{};
+  uint64_t incarnation = 0;      // its process's; it obeys only commands meant for it (0: any, as before)
+  bool refused = false;          // it was told it is refused (and obeys nothing more)
 
   fleet_transport::RobotState state(int epoch, int action, fleet_transport::RobotStatus status) {
     fleet_transport::RobotState s;
@@ -48,6 +50,7 @@ struct FakeRobot {
     s.status = status;
     s.seq_number = ++seq;
     s.coordinator = coordinator;
+    s.incarnation = incarnation;
     return s;
   }
 };
@@ -98,6 +101,12 @@ std::map<std::string, std::vector<planner_core::Cell>> run(
     for (const fleet_transport::StepCommand& command : commands) {
       for (FakeRobot& robot : robots) {
         if (robot.id != command.robot_id || robot.silent) continue;
+        if (robot.incarnation != 0 && command.robot_incarnation != robot.incarnation) continue;  // another body
+        if (command.refused) {
+          robot.refused = true;
+          continue;
+        }
+        if (robot.refused) continue;
         robot.cell = {command.target_x, command.target_y};
         robot.epoch = command.plan_epoch;
         robot.action = command.action_index;
@@ -896,6 +905,61 @@ TEST(FleetCoordinator, APlanMadeForAFleetThatChangedMeanwhileIsDroppedAndMadeAga
       EXPECT_GT(robots[r].moves, 0) << "robot " << r;
     }
   }
+}
+
+// One robot id, one body: a second process claiming robot2's id while robot2 is driven (here it
+// stands in the way, next to robot2's start) is refused and told so, gets no command, and is
+// planned around where it stands; robot2 itself finishes its role. run() checks that no two
+// bodies ever share a cell.
+TEST(FleetCoordinator, ASecondProcessWithADrivenRobotsIdIsRefusedToldAndPlannedAround) {
+  planner_core::Instance mission = planner_core::load_instance(CTSFLEET_CONFIG_DIR "/default/mission-8.yaml");
+  std::vector<FakeRobot> robots = robots_on_their_starts(mission);
+  for (size_t r = 0; r < robots.size(); ++r) robots[r].incarnation = 0x100 + r;
+  const planner_core::Instance copy = mission;
+  // A free cell next to robot2's start that is nobody's start.
+  planner_core::Cell beside{};
+  for (planner_core::Vertex v : copy.graph->neighbours(copy.starts[2])) {
+    if (std::find(copy.starts.begin(), copy.starts.end(), v) == copy.starts.end()) beside = copy.graph->cell_of(v);
+  }
+  FleetCoordinator coordinator(config_for(mission.agent_count()), std::move(mission));
+  bool impostor_started = false;
+  std::vector<fleet_transport::StepCommand> sent;
+  run(coordinator, robots,
+      [&](std::vector<FakeRobot>& all) {
+        if (impostor_started || coordinator.summary().tasks_done < 2) return;
+        impostor_started = true;
+        FakeRobot impostor{"robot2", beside};
+        impostor.incarnation = 0xBAD;
+        all.push_back(impostor);
+      },
+      [&](FleetCoordinator& c, FakeTransport& wire, int iteration) {
+        sent.insert(sent.end(), wire.commands.begin(), wire.commands.end());
+        // The impostor keeps publishing where it stands, as a live process does.
+        if (impostor_started && iteration % 10 == 0) {
+          for (FakeRobot& robot : robots) {
+            if (robot.incarnation == 0xBAD) c.on_state(robot.state(-1, -1, fleet_transport::RobotStatus::kIdle));
+          }
+        }
+        return true;
+      });
+  ASSERT_TRUE(impostor_started);
+  const FakeRobot& impostor = robots.back();
+  EXPECT_TRUE(impostor.refused) << "the second process was never told it is refused";
+  EXPECT_EQ(impostor.moves, 0);
+  EXPECT_EQ(impostor.cell, beside);
+  int refusals = 0;
+  for (const fleet_transport::StepCommand& command : sent) {
+    if (command.robot_id != "robot2") continue;
+    if (command.refused) {
+      ++refusals;
+      EXPECT_EQ(command.robot_incarnation, 0xBADu);
+    } else {
+      EXPECT_EQ(command.robot_incarnation, 0x102u) << "a move for robot2 not meant for its driven process";
+    }
+  }
+  EXPECT_GE(refusals, 1);
+  EXPECT_TRUE(coordinator.summary().completed);
+  EXPECT_EQ(robots[2].cell, copy.graph->cell_of(copy.goals[2]));
 }
 
 TEST(FleetCoordinator, ATaskNoRobotCanReachIsRefused) {

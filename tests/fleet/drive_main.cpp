@@ -157,8 +157,9 @@ int main(int argc, char** argv) {
     std::optional<RobotState> seen;
     // Resend until the agent acknowledges (the first command may go out before discovery ends).
     while (!seen && std::chrono::steady_clock::now() - start < std::chrono::duration<double>(timeout_s)) {
+      // For the process whose states it hears (one robot id, one body).
       transport->send_command({robot, epoch, index, x, y, static_cast<double>(x), static_cast<double>(y), deadline_ms,
-                               status.coordinator, fleet_transport::wall_clock_ms()});
+                               status.coordinator, fleet_transport::wall_clock_ms(), ready->incarnation});
       seen = wait_for(latest, 1.0, [&](const RobotState& s) {
         return s.status == RobotStatus::kFault ||
                (s.plan_epoch == epoch && s.action_index == index && s.status == RobotStatus::kArrived &&

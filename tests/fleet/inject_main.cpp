@@ -54,7 +54,11 @@ int main(int argc, char** argv) {
   }
   std::atomic<uint64_t> coordinator{0};
   std::atomic<int> epoch{0};
+  std::atomic<uint64_t> victim_incarnation{0};  // a hostile sender reads it off the victim's states
   fleet_transport::Handlers handlers;
+  handlers.on_state = [&](const fleet_transport::RobotState& state) {
+    if (state.robot_id == victim && state.incarnation != 0) victim_incarnation = state.incarnation;
+  };
   handlers.on_coordinator_status = [&](const fleet_transport::CoordinatorStatus& status) {
     if (status.role != fleet_transport::CoordinatorRole::kActive) return;
     coordinator = status.coordinator;
@@ -103,11 +107,14 @@ int main(int argc, char** argv) {
   rival.plan_epoch = now_epoch;
   for (int round = 0; round < 3; ++round) {
     transport->publish_coordinator_status(rival);
-    transport->send_command({"ghost", 1, 0, 3, 3, 3, 3, later, real});               // unknown robot
-    transport->send_command({victim, 1000, 0, -5, -5, -5, -5, later, real});         // far-future epoch
-    transport->send_command({victim, now_epoch, 1, 30, 30, 30, 30, later, real});    // not a neighbour
-    transport->send_command({victim, 0, 99, 0, 0, 0, 0, later, real});               // stale epoch
-    transport->send_command({victim, now_epoch, 1, 0, 0, 0, 0, later, real ^ 1});    // a coordinator not followed
+    const uint64_t body = victim_incarnation.load();
+    transport->send_command({"ghost", 1, 0, 3, 3, 3, 3, later, real});                        // unknown robot
+    transport->send_command({victim, 1000, 0, -5, -5, -5, -5, later, real, 0, body});         // far-future epoch
+    transport->send_command({victim, now_epoch, 1, 30, 30, 30, 30, later, real, 0, body});    // not a neighbour
+    transport->send_command({victim, 0, 99, 0, 0, 0, 0, later, real, 0, body});               // stale epoch
+    transport->send_command({victim, now_epoch, 1, 0, 0, 0, 0, later, real ^ 1, 0, body});    // a coordinator not followed
+    transport->send_command({victim, now_epoch, 1, 0, 0, 0, 0, later, real, 0, body ^ 1});    // another process of the id
+    transport->send_command({victim, now_epoch, -1, 0, 0, 0, 0, later, real ^ 1, 0, body, true});  // a forged refusal
     fleet_transport::RobotState intruder;
     intruder.robot_id = "intruder";
     intruder.cell_x = -7;

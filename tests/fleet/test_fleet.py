@@ -36,6 +36,7 @@ TESTS = [
     "test_fastdds_hears_more_than_ten_robots",
     "test_restarted_robot_with_the_same_id_rejoins",
     "test_duplicate_id_is_refused_and_reported",
+    "test_impostor_started_first_one_body_moves_and_nobody_collides",
     "test_robot_moved_by_hand_is_taken_out_and_planned_around",
     "test_robot_deaf_to_commands_is_taken_out_and_rejoins",
     "test_fastdds_robot_deaf_to_commands_is_taken_out_and_rejoins",
@@ -334,6 +335,45 @@ class FleetTest(unittest.TestCase):
         self.assertIn("overlaps 0", monitor_text, monitor_text)
         self.assertIn("duplicate ids 1", monitor_text, monitor_text)
         self.assertEqual(monitor_code, 1, monitor_text)  # a duplicate id is an alarm
+        # The second process was told, stood still, and was never commanded.
+        duplicate = read(self.fleet.log("duplicate"))
+        self.assertIn("refused by coordinator", duplicate, duplicate[-3000:])
+        cells = [int(n) for n in re.findall(r"duplicate robot6: process [0-9a-f]+ on (\d+) cells", monitor_text)]
+        self.assertEqual(len(cells), 2, monitor_text)
+        self.assertEqual(min(cells), 1, monitor_text)  # the refused process never moved
+        self.assertGreater(max(cells), 1, monitor_text)  # the driven one did its work
+
+    def test_impostor_started_first_one_body_moves_and_nobody_collides(self):
+        # The attack as reported: a process claiming robot6 starts 3 s before the real robot6 (each
+        # on a free cell of its own), then the coordinator. Which process drives the id is the one
+        # heard first (without DDS Security nothing tells an impostor from the robot; with it, an
+        # impostor has no certificate for the id); the other is refused, told so, and never
+        # moves; no two bodies ever share a cell.
+        self.fleet.monitor()
+        starts = role_starts()
+        for index, cell in enumerate(starts):
+            if index != 6:
+                self.fleet.agent(f"robot{index}", cell)
+        self.fleet.start("impostor", [f"{BIN}/ctsfleet-agent", "--id", "robot6", "--start", "1,1", "--domain",
+                                      str(self.fleet.domain), "--step", STEP, "--dds-config-dir", DDS_DIR])
+        time.sleep(3)  # the attack's head start (part of the scenario, not a wait for anything)
+        self.fleet.agent("robot6", starts[6])
+        self.fleet.coordinator(config=self.fleet.config_with(quorum=8, replacement_timeout_s=5))
+        log = self.fleet.log("coordinator")
+        wait_for(lambda: "duplicate robot id robot6" in read(log), 60, "the coordinator refusing one robot6")
+        code = self.fleet.wait_exit("coordinator", 240)
+        text = read(log)
+        self.assertIn(code, (0, 3), text[-3000:])
+        self.assertNotIn("restarted: incarnation", text)  # the driven process kept the id while heard
+        refused = [name for name in ("impostor", "robot6") if "refused by coordinator" in read(self.fleet.log(name))]
+        self.assertEqual(len(refused), 1, text[-3000:])
+        for name in ("impostor", "robot6"):
+            self.fleet.processes[name].send_signal(signal.SIGTERM)
+        monitor_code, monitor_text = self.fleet.monitor_verdict()
+        self.assertIn("overlaps 0", monitor_text, monitor_text)
+        self.assertIn("duplicate ids 1", monitor_text, monitor_text)
+        cells = [int(n) for n in re.findall(r"duplicate robot6: process [0-9a-f]+ on (\d+) cells", monitor_text)]
+        self.assertEqual(sorted(cells)[0], 1, monitor_text)  # the refused process never moved
 
     def test_robot_moved_by_hand_is_taken_out_and_planned_around(self):
         # robot5 is carried to (1,1) after its 10th move, off its plan.

@@ -16,10 +16,12 @@ namespace {
 using testing_support::FakeTransport;
 
 constexpr uint64_t kCoordinator = 0xC0;
+constexpr uint64_t kThisProcess = 0xB0D1;  // the agents' incarnation in these tests
 
 fleet_transport::StepCommand move(int epoch, int index, int x, int y, int64_t deadline_ms,
                                   uint64_t coordinator = kCoordinator) {
-  return {"r1", epoch, index, x, y, static_cast<double>(x), static_cast<double>(y), deadline_ms, coordinator};
+  return {"r1", epoch, index, x, y, static_cast<double>(x), static_cast<double>(y), deadline_ms, coordinator, 0,
+          kThisProcess};
 }
 
 fleet_transport::CoordinatorStatus status_of(uint64_t coordinator, uint32_t term, int epoch, int64_t claimed_ms = 1000,
@@ -33,7 +35,7 @@ int64_t in_5_s() { return fleet_transport::wall_clock_ms() + 5000; }
 struct AgentFixture : ::testing::Test {
   SimSettings sim{0.01, 0.0};
   SimRobot robot{{2, 2}, sim};
-  AgentSettings settings{"r1"};
+  AgentSettings settings{"r1", 10, "0.1.0", 1, 2.0, kThisProcess};
   RobotAgent agent{settings, robot};
   FakeTransport transport;
 
@@ -114,7 +116,7 @@ TEST_F(AgentFixture, ACommandIsStartedAndAcknowledgedOnTheThreadThatReceivedIt) 
 // sleeps on (one thread woken per command, not two).
 TEST(AgentStartingCommands, ACommandStartedWhereItArrivesLeavesTheSleepingLoopAsleep) {
   SimRobot robot({2, 2}, SimSettings{10.0, 0.0});
-  RobotAgent agent(AgentSettings{"r1"}, robot);
+  RobotAgent agent(AgentSettings{"r1", 10, "0.1.0", 1, 2.0, kThisProcess}, robot);
   FakeTransport transport;
   agent.start_commands_where_they_arrive(transport, [] { return true; });
   agent.on_coordinator_status(status_of(kCoordinator, 1, 7));
@@ -153,7 +155,7 @@ struct BlockingBackend : SimRobot {
 
 TEST(AgentStartingCommands, ABackendThatMayBlockIsDrivenOnlyByTheAgentsLoop) {
   BlockingBackend robot({2, 2}, SimSettings{0.01, 0.0});
-  RobotAgent agent(AgentSettings{"r1"}, robot);
+  RobotAgent agent(AgentSettings{"r1", 10, "0.1.0", 1, 2.0, kThisProcess}, robot);
   FakeTransport transport;
   agent.start_commands_where_they_arrive(transport, [] { return true; });
   agent.on_coordinator_status(status_of(kCoordinator, 1, 7));
@@ -225,9 +227,13 @@ TEST_F(AgentFixture, IncarnationIsInEveryAnnouncementAndState) {
   agent.on_command(move(1, 0, 3, 2, fleet_transport::wall_clock_ms() + 5000));
   settle();
   EXPECT_EQ(transport.last_state.incarnation, agent.incarnation());
-  SimRobot other_robot({0, 0}, sim);
-  RobotAgent restarted(settings, other_robot);
-  EXPECT_NE(restarted.incarnation(), agent.incarnation());  // 64 random bits: equal once in 2^64
+  // Unless a test fixes it, every process start draws its own.
+  AgentSettings unfixed = settings;
+  unfixed.incarnation = 0;
+  SimRobot robot_a({0, 0}, sim), robot_b({0, 0}, sim);
+  RobotAgent first(unfixed, robot_a), restarted(unfixed, robot_b);
+  EXPECT_NE(first.incarnation(), 0u);
+  EXPECT_NE(restarted.incarnation(), first.incarnation());  // 64 random bits: equal once in 2^64
 }
 
 TEST_F(AgentFixture, AForgedFarFutureEpochIsNeverJumpedTo) {
@@ -310,10 +316,48 @@ TEST_F(AgentFixture, ACoordinatorThatEndedIsReplacedByTheNextMissionsAtOnce) {
   EXPECT_EQ(robot.poll().cell, (Cell{3, 3}));
 }
 
+// One robot id, one body: a command meant for another process with this id is never obeyed.
+TEST_F(AgentFixture, ACommandForAnotherProcessWithThisIdIsIgnored) {
+  agent.on_coordinator_status(status_of(kCoordinator, 1, 1));
+  fleet_transport::StepCommand other = move(1, 0, 3, 2, in_5_s());
+  other.robot_incarnation = kThisProcess ^ 1;
+  agent.on_command(other);
+  fleet_transport::StepCommand unaddressed = move(1, 0, 2, 3, in_5_s());
+  unaddressed.robot_incarnation = 0;
+  agent.on_command(unaddressed);
+  settle();
+  EXPECT_EQ(robot.poll().cell, (Cell{2, 2}));
+  agent.on_command(move(1, 0, 3, 2, in_5_s()));  // the same move, for this process
+  settle();
+  EXPECT_EQ(robot.poll().cell, (Cell{3, 2}));
+}
+
+// A refused process stands still and obeys nothing until its coordinator drives it again; a
+// refusal from a coordinator it does not follow changes nothing.
+TEST_F(AgentFixture, ARefusedProcessStandsStillUntilItIsDrivenAgain) {
+  agent.on_coordinator_status(status_of(kCoordinator, 1, 2));
+  fleet_transport::StepCommand forged = move(1, -1, 2, 2, in_5_s(), 0xBAD);
+  forged.refused = true;
+  agent.on_command(forged);
+  agent.on_command(move(1, 0, 3, 2, in_5_s()));
+  settle();
+  EXPECT_EQ(robot.poll().cell, (Cell{3, 2})) << "a forged refusal stopped the robot";
+
+  fleet_transport::StepCommand refusal = move(1, -1, 3, 2, in_5_s());
+  refusal.refused = true;
+  agent.on_command(refusal);
+  agent.on_command(move(1, 1, 4, 2, in_5_s()));  // refused: another command of the same plan is not obeyed
+  settle();
+  EXPECT_EQ(robot.poll().cell, (Cell{3, 2}));
+  agent.on_command(move(2, 0, 3, 3, in_5_s()));  // a new plan for this process: driven again
+  settle();
+  EXPECT_EQ(robot.poll().cell, (Cell{3, 3}));
+}
+
 TEST(AgentCoordinatorSilence, ASilentCoordinatorIsReplacedByAnyActiveOne) {
   SimSettings sim{0.01, 0.0};
   SimRobot robot{{2, 2}, sim};
-  AgentSettings settings{"r1"};
+  AgentSettings settings{"r1", 10, "0.1.0", 1, 2.0, kThisProcess};
   settings.coordinator_silence_s = 0.2;
   RobotAgent agent{settings, robot};
   agent.on_coordinator_status(status_of(kCoordinator, 5, 3));

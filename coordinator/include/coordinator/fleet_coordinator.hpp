@@ -33,6 +33,7 @@
 #include "coordinator/plan_builder.hpp"
 #include "coordinator/plan_execution.hpp"
 #include "coordinator/planning_worker.hpp"
+#include "coordinator/refused_processes.hpp"
 #include "coordinator/robot_registry.hpp"
 #include "coordinator/task_assignment.hpp"
 #include "fleet_transport/transport.hpp"
@@ -156,7 +157,12 @@ class FleetCoordinator {
   bool driving() const { return phase_ == Phase::kExecuting || phase_ == Phase::kSettling; }
   void handle_announcement(RobotRecord& robot, const fleet_transport::Announcement& announcement);
   void handle_state(RobotRecord& robot, const fleet_transport::RobotState& state, Clock::time_point received);
-  bool accept_incarnation(RobotRecord& robot, const fleet_transport::RobotState& state, Clock::time_point now);
+  // Whether `state` (arrived at `received`) comes from the process that drives robot's id: the
+  // first one heard keeps it while it is heard; another is refused (RefusedProcesses), unless the
+  // driven one has been quiet a while (a restart).
+  bool accept_incarnation(RobotRecord& robot, const fleet_transport::RobotState& state, Clock::time_point received);
+  // Forgets refused processes no longer heard; tells the others (again) that they are refused.
+  void tell_refused_processes(fleet_transport::Transport& transport, Clock::time_point now);
   // Takes a robot out; `kind` is the operators' event (lost, fault, off_plan, unresponsive).
   void lose(RobotRecord& robot, const std::string& why, const char* kind = "lost");
   // Takes out the robots that have not acknowledged their move for command_timeout_s.
@@ -243,6 +249,7 @@ class FleetCoordinator {
   std::map<planner_core::Vertex, std::string> blocked_;  // cells of lost robots (mission graph ids) -> robot
   std::set<std::string> warned_unknown_;
   std::map<std::string, planner_core::Vertex> unknown_cells_;  // robots heard but not announced
+  RefusedProcesses refused_processes_;  // second processes claiming a driven robot's id
 
   Phase phase_ = Phase::kWaiting;
   Clock::time_point started_, first_command_, settle_deadline_, next_status_, next_progress_, last_progress_,

@@ -48,6 +48,8 @@ struct StepCommand {
   int64_t deadline_ms = 0;    // the sender's wall clock
   uint64_t coordinator = 0;  // the sender's incarnation
   int64_t sent_ms = 0;       // the sender's wall clock when sent (0: unknown)
+  uint64_t robot_incarnation = 0;  // the robot process it is meant for; others with the same id ignore it
+  bool refused = false;            // that process is refused: it stands still and obeys nothing (see fleet.idl)
 };
 
 struct Assignment {

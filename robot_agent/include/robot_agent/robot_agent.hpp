@@ -10,6 +10,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <set>
 #include <string>
 
 #include "fleet_transport/transport.hpp"
@@ -25,6 +26,7 @@ struct AgentSettings {
   uint64_t first_seq_number = 1;  // of the first state (a test starts high to play a long-running robot)
   // A coordinator not heard for this long is no longer followed once another one is active.
   double coordinator_silence_s = 2.0;
+  uint64_t incarnation = 0;  // this process's; 0: a random one (tests fix it)
 };
 
 class RobotAgent {
@@ -93,6 +95,11 @@ class RobotAgent {
   int executing_index_ = -1;
   uint64_t executing_coordinator_ = 0;
   bool was_moving_ = false;
+  // Refused by the coordinator followed: another process drives this robot id. Stands still and
+  // obeys nothing until a plan made after the refusal drives it.
+  bool refused_ = false;
+  int refused_epoch_ = -1;  // the epoch of the latest refusal: only a later plan drives it again
+  std::set<uint64_t> foreign_incarnations_;  // other processes with this id whose commands were seen (logged once)
   bool in_fault_ = false;  // written by step() under mutex_: commands are refused meanwhile
   bool has_stood_on_a_cell_ = false;  // until then the robot has no cell to report
   int fault_epoch_ = -1;  // commands of this epoch or older were issued before a fault
