@@ -134,7 +134,7 @@ int main(int argc, char** argv) {
           {"seconds", s.seconds}, {"first_plan_makespan", s.first_plan_makespan},
           {"first_plan_flowtime", s.first_plan_flowtime}, {"sum_of_finish_s", s.sum_of_finish_s},
           {"replans", s.replans}, {"robots_lost", s.robots_lost}, {"robots_joined", s.robots_joined},
-          {"off_plan", s.off_plan},
+          {"off_plan", s.off_plan}, {"plans_discarded", s.plans_discarded}, {"journal_failed", s.journal_failed},
           {"commands", s.commands_sent}, {"states", s.states_received},
           {"replan_latencies_s", s.replan_latencies_s}, {"round_trips", round_trips.size()},
           {"round_trip_p50_ms", quantile(0.5)}, {"round_trip_p99_ms", quantile(0.99)},

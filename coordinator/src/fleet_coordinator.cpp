@@ -446,15 +446,34 @@ void FleetCoordinator::bind_role(int role, RobotRecord& robot) {
   robot.role = role;
   progress_.bind(role, robot.id);
   progress_changed_ = true;
-  if (options_.journal && role_ == fleet_transport::CoordinatorRole::kActive) {
-    options_.journal->record_binding(role, robot.id);
+  if (role_ == fleet_transport::CoordinatorRole::kActive) {
+    journal_write("role binding", [&](MissionJournal& journal) { journal.record_binding(role, robot.id); });
+  }
+}
+
+bool FleetCoordinator::journal_write(const char* what, const std::function<void(MissionJournal&)>& write) {
+  if (options_.journal == nullptr || summary_.journal_failed) return options_.journal == nullptr;
+  try {
+    write(*options_.journal);
+    return true;
+  } catch (const JournalError& e) {
+    // A full disk, a file gone: the mission goes on from memory; only a restart could not resume it.
+    summary_.journal_failed = true;
+    const std::string why = fmt::format("the journal could not record a {} ({}): the mission goes on from memory and is "
+                                        "no longer recorded; a restart of this coordinator would start it over (a "
+                                        "standby keeps following it)", what, e.what());
+    spdlog::critical("{}", why);
+    report("journal_failed", "", why);
+    return false;
   }
 }
 
 void FleetCoordinator::unbind_role(int role) {
   progress_.unbind(role);
   progress_changed_ = true;
-  if (options_.journal && role_ == fleet_transport::CoordinatorRole::kActive) options_.journal->record_binding(role, "");
+  if (role_ == fleet_transport::CoordinatorRole::kActive) {
+    journal_write("role binding", [&](MissionJournal& journal) { journal.record_binding(role, ""); });
+  }
 }
 
 void FleetCoordinator::bind_roles(const std::vector<RobotRecord*>& robots) {
@@ -609,7 +628,7 @@ bool FleetCoordinator::finish_planning(PlanningOutcome outcome, fleet_transport:
     summary_.first_plan_flowtime = report.flowtime;
   }
   ++plans_made_;
-  if (options_.journal) options_.journal->record_epoch(epoch_, term_);
+  journal_write("plan epoch", [&](MissionJournal& journal) { journal.record_epoch(epoch_, term_); });
   if (plan_) {
     for (int a = 0; a < plan_->agent_count(); ++a) steps_of_earlier_plans_ += plan_->agent(a).finished;
   }
@@ -949,15 +968,8 @@ void FleetCoordinator::list_pending() {
 // Task visits count once committed to the journal: a restart never redoes a visit it counted.
 void FleetCoordinator::credit_visits(int role, Vertex cell, const std::string& robot_id) {
   for (const fleet_transport::TaskVisit& visit : progress_.visits_due_at(role, cell)) {
-    if (options_.journal) {
-      try {
-        options_.journal->record_visit(visit, robot_id, epoch_);
-      } catch (const JournalError& e) {
-        spdlog::error("task {} for role {} not counted: the journal could not record it: {}", visit.task, visit.role,
-                      e.what());
-        continue;
-      }
-    }
+    // Committed to the journal before it counts; a journal that failed no longer stops it counting.
+    journal_write("task visit", [&](MissionJournal& journal) { journal.record_visit(visit, robot_id, epoch_); });
     progress_.mark(visit);
     progress_changed_ = true;
     if (progress_.task_done(visit.task)) {
@@ -1161,10 +1173,11 @@ void FleetCoordinator::take_over(fleet_transport::Transport& transport, const Ot
     spdlog::info("command strength set to {} in {:.0f} ms", term_, 1000 * seconds_between(before, Clock::now()));
   }
   if (options_.journal) {
-    options_.journal->claim(term_, incarnation_, claimed_ms_);
+    journal_write("claim", [&](MissionJournal& journal) { journal.claim(term_, incarnation_, claimed_ms_); });
     journal_added_tasks();
     for (const fleet_transport::TaskVisit& visit : progress_.done_visits()) {
-      options_.journal->record_visit(visit, progress_.robot_of(visit.role), epoch_);
+      journal_write("task visit",
+                    [&](MissionJournal& journal) { journal.record_visit(visit, progress_.robot_of(visit.role), epoch_); });
     }
   }
   // The old coordinator's bindings hold for the robots still here; the others are bound afresh.

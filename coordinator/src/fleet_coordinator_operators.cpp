@@ -184,17 +184,13 @@ TaskReply FleetCoordinator::add_task(const TaskRequest& request) {
   }
   const Tour& chosen = tours[placement.tour];
   const int task = mission_.task_count();
-  if (options_.journal) {
-    try {
-      options_.journal->record_task_added(task, request.x, request.y, chosen.role, request.request_id);
-    } catch (const JournalError& e) {
-      return refusal(request, std::string("the journal could not record it: ") + e.what());
-    }
-  }
+  const bool journaled = journal_write("task added", [&](MissionJournal& journal) {
+    journal.record_task_added(task, request.x, request.y, chosen.role, request.request_id);
+  });
   mission_.tasks.push_back({cell, {chosen.role}});
   mission_.index_tasks();
   progress_.add_task();
-  if (options_.journal) journaled_tasks_ = mission_.task_count();
+  if (options_.journal && journaled) journaled_tasks_ = mission_.task_count();
   summary_.tasks_total = progress_.tasks_to_do();
   mission_changed_ = true;
   progress_changed_ = true;
@@ -219,13 +215,7 @@ TaskReply FleetCoordinator::cancel_task(const TaskRequest& request) {
   }
   if (progress_.cancelled(task)) return refusal(request, "task " + std::to_string(task) + " is cancelled already");
   if (progress_.task_done(task)) return refusal(request, "task " + std::to_string(task) + " is done already");
-  if (options_.journal) {
-    try {
-      options_.journal->record_task_cancelled(task, request.request_id);
-    } catch (const JournalError& e) {
-      return refusal(request, std::string("the journal could not record it: ") + e.what());
-    }
-  }
+  journal_write("task cancelled", [&](MissionJournal& journal) { journal.record_task_cancelled(task, request.request_id); });
   progress_.cancel(task);
   summary_.tasks_total = progress_.tasks_to_do();
   mission_changed_ = true;
@@ -263,11 +253,15 @@ void FleetCoordinator::adopt_tasks(const fleet_transport::MissionInfo& info) {
 void FleetCoordinator::journal_added_tasks() {
   for (int t = journaled_tasks_; t < mission_.task_count(); ++t) {
     const planner_core::Cell at = mission_.graph->cell_of(mission_.tasks[t].at);
-    options_.journal->record_task_added(t, at.x, at.y, mission_.tasks[t].agents.front(), "mirrored");
+    journal_write("task added", [&](MissionJournal& journal) {
+      journal.record_task_added(t, at.x, at.y, mission_.tasks[t].agents.front(), "mirrored");
+    });
   }
   journaled_tasks_ = mission_.task_count();
   for (int t = 0; t < progress_.task_count(); ++t) {
-    if (progress_.cancelled(t)) options_.journal->record_task_cancelled(t, "mirrored");
+    if (progress_.cancelled(t)) {
+      journal_write("task cancelled", [&](MissionJournal& journal) { journal.record_task_cancelled(t, "mirrored"); });
+    }
   }
 }
 

@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <set>
+#include <string>
 #include <variant>
 
 namespace coordinator {
@@ -11,6 +13,12 @@ namespace coordinator {
 namespace {
 
 constexpr const char* kFormat = "ctsfleet-journal-1";
+// SQLite's application id of a ctsfleet journal ("CTSJ"): a database of another program is refused
+// before anything is written to it.
+constexpr int64_t kApplicationId = 0x43545346;
+// The tables of a journal: a file with others (or without `meta`) is no journal.
+const std::set<std::string> kJournalTables = {"meta",     "runs",    "claims",      "epochs",
+                                              "bindings", "visits",  "tasks_added", "tasks_cancelled"};
 
 // FNV-1a, 64 bits: stable across builds and machines, unlike std::hash.
 struct Fingerprint {
@@ -130,6 +138,7 @@ MissionJournal::MissionJournal(const std::string& path, const std::string& finge
     // Exclusive locking: the first write takes the lock and keeps it while this coordinator lives
     // (the operating system drops it if the process dies), so a second coordinator is refused.
     execute("PRAGMA locking_mode=EXCLUSIVE");
+    refuse_other_programs_databases();
     execute("PRAGMA journal_mode=WAL");
     execute("PRAGMA synchronous=FULL");
     execute("BEGIN IMMEDIATE");
@@ -162,6 +171,7 @@ MissionJournal::MissionJournal(const std::string& path, const std::string& finge
       Statement(*this, "INSERT INTO meta VALUES('format', ?1), ('mission', ?2), ('description', ?3)",
                 {std::string(kFormat), fingerprint, description})
           .run();
+      execute("PRAGMA application_id=" + std::to_string(kApplicationId));
     } else if (format != kFormat) {
       throw JournalError("--journal " + path + ": not a ctsfleet journal (format '" + format + "', expected '" +
                          kFormat + "')");
@@ -175,6 +185,7 @@ MissionJournal::MissionJournal(const std::string& path, const std::string& finge
     }
     read_resumable();
     execute("COMMIT");
+    checkpoint();
   } catch (...) {
     sqlite3_close(db_);
     db_ = nullptr;
@@ -183,6 +194,45 @@ MissionJournal::MissionJournal(const std::string& path, const std::string& finge
 }
 
 MissionJournal::~MissionJournal() { sqlite3_close(db_); }
+
+void MissionJournal::refuse_other_programs_databases() {
+  int64_t application_id = 0;
+  {
+    Statement id(*this, "PRAGMA application_id");
+    if (id.next()) application_id = id.number(0);
+  }
+  std::vector<std::string> tables;
+  {
+    Statement listed(*this, "SELECT name FROM sqlite_master WHERE type = 'table' ORDER BY name");
+    while (listed.next()) tables.push_back(listed.text(0));
+  }
+  if (application_id == kApplicationId) return;
+  // A new file, or a journal of a version before the application id (it has `meta`).
+  bool only_ours = true;
+  for (const std::string& table : tables) only_ours = only_ours && kJournalTables.count(table) > 0;
+  const bool has_meta = std::find(tables.begin(), tables.end(), "meta") != tables.end();
+  if (application_id == 0 && (tables.empty() || (only_ours && has_meta))) return;
+  std::string listing;
+  for (size_t k = 0; k < tables.size() && k < 8; ++k) listing += (k ? ", " : "") + tables[k];
+  if (tables.size() > 8) listing += ", ...";
+  char id[32];
+  std::snprintf(id, sizeof id, "0x%llx", static_cast<unsigned long long>(application_id));
+  throw JournalError("--journal " + path_ + ": not a ctsfleet journal but an SQLite database of another program "
+                     "(application id " + id + ", tables: " + (listing.empty() ? "none" : listing) +
+                     "); it is left as it is: give the journal a file of its own");
+}
+
+void MissionJournal::checkpoint() {
+  // Every record is copied into the main file at once: the file alone (copied without its -wal,
+  // or with a -wal cut short) holds the whole mission.
+  if (sqlite3_wal_checkpoint_v2(db_, nullptr, SQLITE_CHECKPOINT_FULL, nullptr, nullptr) != SQLITE_OK) {
+    fail("checkpoint");
+  }
+}
+
+void MissionJournal::limit_size_for_test(int64_t pages) { execute("PRAGMA max_page_count=" + std::to_string(pages)); }
+
+void MissionJournal::refuse_writes_for_test() { execute("PRAGMA query_only=1"); }
 
 void MissionJournal::read_resumable() {
   {
@@ -225,16 +275,22 @@ void MissionJournal::claim(uint32_t term, uint64_t coordinator, int64_t claimed_
   char id[17];
   std::snprintf(id, sizeof id, "%016llx", static_cast<unsigned long long>(coordinator));
   execute("BEGIN IMMEDIATE");
-  if (resumable_) {
-    run_ = resumable_->run;
-  } else if (run_ == 0) {
-    Statement(*this, "INSERT INTO runs(started_ms) VALUES(?1)", {claimed_ms}).run();
-    run_ = sqlite3_last_insert_rowid(db_);
+  try {
+    if (resumable_) {
+      run_ = resumable_->run;
+    } else if (run_ == 0) {
+      Statement(*this, "INSERT INTO runs(started_ms) VALUES(?1)", {claimed_ms}).run();
+      run_ = sqlite3_last_insert_rowid(db_);
+    }
+    Statement(*this, "INSERT INTO claims VALUES(?1, ?2, ?3, ?4)",
+              {run_, static_cast<int64_t>(term), std::string(id), claimed_ms})
+        .run();
+    execute("COMMIT");
+  } catch (...) {
+    sqlite3_exec(db_, "ROLLBACK", nullptr, nullptr, nullptr);
+    throw;
   }
-  Statement(*this, "INSERT INTO claims VALUES(?1, ?2, ?3, ?4)",
-            {run_, static_cast<int64_t>(term), std::string(id), claimed_ms})
-      .run();
-  execute("COMMIT");
+  checkpoint();
   highest_term_ = std::max(highest_term_, term);
 }
 
@@ -242,11 +298,13 @@ void MissionJournal::record_epoch(int epoch, uint32_t term) {
   Statement(*this, "INSERT INTO epochs VALUES(?1, ?2, ?3, ?4)",
             {run_, static_cast<int64_t>(epoch), static_cast<int64_t>(term), fleet_transport::wall_clock_ms()})
       .run();
+  checkpoint();
 }
 
 void MissionJournal::record_binding(int role, const std::string& robot_id) {
   Statement(*this, "INSERT OR REPLACE INTO bindings VALUES(?1, ?2, ?3)", {run_, static_cast<int64_t>(role), robot_id})
       .run();
+  checkpoint();
 }
 
 void MissionJournal::record_visit(const fleet_transport::TaskVisit& visit, const std::string& robot_id, int epoch) {
@@ -254,6 +312,7 @@ void MissionJournal::record_visit(const fleet_transport::TaskVisit& visit, const
             {run_, static_cast<int64_t>(visit.task), static_cast<int64_t>(visit.role), robot_id,
              static_cast<int64_t>(epoch), fleet_transport::wall_clock_ms()})
       .run();
+  checkpoint();
 }
 
 void MissionJournal::record_task_added(int task, int x, int y, int role, const std::string& request_id) {
@@ -261,12 +320,14 @@ void MissionJournal::record_task_added(int task, int x, int y, int role, const s
             {run_, static_cast<int64_t>(task), static_cast<int64_t>(x), static_cast<int64_t>(y),
              static_cast<int64_t>(role), request_id, fleet_transport::wall_clock_ms()})
       .run();
+  checkpoint();
 }
 
 void MissionJournal::record_task_cancelled(int task, const std::string& request_id) {
   Statement(*this, "INSERT OR IGNORE INTO tasks_cancelled VALUES(?1, ?2, ?3, ?4)",
             {run_, static_cast<int64_t>(task), request_id, fleet_transport::wall_clock_ms()})
       .run();
+  checkpoint();
 }
 
 void MissionJournal::finish(const std::string& outcome) {
@@ -274,6 +335,7 @@ void MissionJournal::finish(const std::string& outcome) {
   Statement(*this, "UPDATE runs SET ended_ms = ?1, outcome = ?2 WHERE run = ?3",
             {fleet_transport::wall_clock_ms(), outcome, run_})
       .run();
+  checkpoint();
   resumable_.reset();
 }
 

@@ -962,6 +962,39 @@ TEST(FleetCoordinator, ASecondProcessWithADrivenRobotsIdIsRefusedToldAndPlannedA
   EXPECT_EQ(robots[2].cell, copy.graph->cell_of(copy.goals[2]));
 }
 
+// The journal fails mid-mission (a full disk, a file system gone read-only): the coordinator
+// raises journal_failed once, keeps counting visits in memory and completes the mission; it never
+// exits for it.
+TEST(FleetCoordinator, AJournalThatFailsMidMissionRaisesAnAlarmAndTheMissionGoesOn) {
+  planner_core::Instance mission = planner_core::load_instance(CTSFLEET_CONFIG_DIR "/default/mission-8.yaml");
+  std::vector<FakeRobot> robots = robots_on_their_starts(mission);
+  const std::string path = (std::filesystem::temp_directory_path() /
+                            ("ctsfleet-journal-fails-" + std::to_string(::getpid()) + ".journal")).string();
+  std::filesystem::remove(path);
+  int journal_failed_events = 0;
+  {
+    MissionJournal journal(path, mission_fingerprint(mission), "test");
+    FleetCoordinator coordinator(config_for(mission.agent_count()), std::move(mission), {false, &journal});
+    bool failed = false;
+    run(coordinator, robots, {}, [&](FleetCoordinator& c, FakeTransport& wire, int) {
+      if (!failed && c.summary().tasks_done >= 3) {
+        journal.refuse_writes_for_test();
+        failed = true;
+      }
+      for (const fleet_transport::FleetEvent& event : wire.events) journal_failed_events += event.kind == "journal_failed";
+      wire.events.clear();
+      return true;
+    });
+    ASSERT_TRUE(failed);
+    const MissionSummary& summary = coordinator.summary();
+    EXPECT_TRUE(summary.journal_failed);
+    EXPECT_TRUE(summary.completed);
+    EXPECT_EQ(summary.tasks_done, summary.tasks_total);
+  }
+  EXPECT_EQ(journal_failed_events, 1);
+  for (const char* suffix : {"", "-wal", "-shm"}) std::filesystem::remove(path + suffix);
+}
+
 TEST(FleetCoordinator, ATaskNoRobotCanReachIsRefused) {
   using namespace runtime_tasks;
   // Two robots above a wall; the free pocket below it is reachable from nowhere.

@@ -5,6 +5,8 @@
 #include <filesystem>
 #include <fstream>
 
+#include <sqlite3.h>
+
 #include "coordinator/mission_journal.hpp"
 
 namespace coordinator {
@@ -95,6 +97,73 @@ TEST_F(JournalTest, AFileThatIsNoJournalIsRefusedAndLeftAlone) {
   std::ifstream in(path);
   std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   EXPECT_EQ(text, "robots: [1, 2, 3]\n");
+}
+
+std::string bytes_of(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+// Runs `sql` on a database of its own (another program's, or a journal behind the coordinator's back).
+void run_sql(const std::string& path, const std::string& sql) {
+  sqlite3* db = nullptr;
+  ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
+  char* error = nullptr;
+  const int code = sqlite3_exec(db, sql.c_str(), nullptr, nullptr, &error);
+  const std::string message = error ? error : "";
+  sqlite3_free(error);
+  sqlite3_close(db);
+  ASSERT_EQ(code, SQLITE_OK) << message;
+}
+
+TEST_F(JournalTest, AnSQLiteDatabaseOfAnotherProgramIsRefusedAndLeftAlone) {
+  run_sql(path, "CREATE TABLE users(name TEXT, email TEXT); INSERT INTO users VALUES('ada', 'ada@example.org');");
+  const std::string before = bytes_of(path);
+  const std::string error = error_of([&] { MissionJournal journal(path, "aaaa", "test mission"); });
+  EXPECT_NE(error.find("--journal " + path + ": not a ctsfleet journal but an SQLite database of another program"),
+            std::string::npos) << error;
+  EXPECT_NE(error.find("tables: users"), std::string::npos) << error;
+  EXPECT_EQ(bytes_of(path), before) << "the other program's file was changed";
+  EXPECT_FALSE(fs::exists(path + "-wal"));
+  // Another program's database that happens to have a `meta` table is no journal either.
+  const std::string other = (dir / "other.db").string();
+  run_sql(other, "PRAGMA application_id=1234; CREATE TABLE meta(key TEXT PRIMARY KEY, value TEXT NOT NULL);");
+  EXPECT_NE(error_of([&] { MissionJournal journal(other, "aaaa", "test mission"); }).find("application id 0x4d2"),
+            std::string::npos);
+}
+
+// The main file alone is the whole journal after every record: a copy made without its -wal (a
+// backup tool, a careless cp) resumes the mission where it was.
+TEST_F(JournalTest, TheMainFileAloneHoldsEveryRecord) {
+  const std::string copy = (dir / "copy.journal").string();
+  {
+    MissionJournal journal(path, "aaaa", "test mission");
+    journal.claim(1, 0x11, 1000);
+    journal.record_binding(0, "robot0");
+    journal.record_epoch(3, 1);
+    journal.record_visit({5, 0}, "robot0", 3);
+    fs::copy_file(path, copy);  // while the coordinator runs, without the -wal beside it
+  }
+  MissionJournal resumed(copy, "aaaa", "test mission");
+  ASSERT_TRUE(resumed.resumable().has_value());
+  EXPECT_EQ(resumed.resumable()->last_epoch, 3);
+  ASSERT_EQ(resumed.resumable()->visits.size(), 1u);
+  EXPECT_EQ(resumed.resumable()->visits[0], (fleet_transport::TaskVisit{5, 0}));
+  EXPECT_EQ(resumed.resumable()->bindings.at(0), "robot0");
+}
+
+// A disk that fills: the write fails with a JournalError naming the file, and the journal stays
+// usable for reading what it holds (the coordinator goes on from memory: fleet_coordinator_test).
+TEST_F(JournalTest, AFullDiskIsAnErrorNamingTheFile) {
+  MissionJournal journal(path, "aaaa", "test mission");
+  journal.claim(1, 0x11, 1000);
+  journal.limit_size_for_test(1);
+  std::string error;
+  for (int visit = 0; visit < 1000 && error.empty(); ++visit) {
+    error = error_of([&] { journal.record_visit({visit, 0}, "robot0-with-a-long-name-to-fill-pages", 1); });
+  }
+  EXPECT_NE(error.find("--journal " + path), std::string::npos) << error;
+  EXPECT_NE(error.find("full"), std::string::npos) << error;
 }
 
 TEST_F(JournalTest, AFolderThatCannotHoldTheFileIsNamed) {

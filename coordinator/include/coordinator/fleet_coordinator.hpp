@@ -56,6 +56,7 @@ struct MissionSummary {
   double sum_of_finish_s = 0;     // sum over robots of the time each finished its last plan
   int64_t commands_sent = 0;
   int64_t states_received = 0;
+  bool journal_failed = false;    // the journal stopped recording (the mission went on from memory)
   int plans_discarded = 0;        // plans dropped because the fleet changed while they were made
   std::vector<double> replan_latencies_s;  // from a loss/join to the first command of the new plan
   std::vector<double> round_trips_ms;      // command sent -> the robot's state acknowledging it
@@ -151,6 +152,9 @@ class FleetCoordinator {
   void warn_of_driven_robots_not_heard(Clock::time_point now);
   void take_over(fleet_transport::Transport& transport, const OtherCoordinator& old, Clock::time_point now);
   void bind_role(int role, RobotRecord& robot);
+  // Writes to the journal, if any. The first failure (a full disk...) raises journal_failed once;
+  // from then on the mission goes on from memory, unrecorded. False when it was not written.
+  bool journal_write(const char* what, const std::function<void(MissionJournal&)>& write);
   void unbind_role(int role);
   // Credits the visits `role` owes at `cell`, each committed to the journal first.
   void credit_visits(int role, planner_core::Vertex cell, const std::string& robot_id);

@@ -71,11 +71,18 @@ class MissionJournal {
   void record_task_cancelled(int task, const std::string& request_id);
   // The run ended: "completed", "timeout", "interrupted", "stood down"...
   void finish(const std::string& outcome);
+  // Tests: the file may grow to `pages` pages at most, as on a disk that fills.
+  void limit_size_for_test(int64_t pages);
+  // Tests: every write from now on fails (a file system gone read-only).
+  void refuse_writes_for_test();
 
  private:
   class Statement;
   void execute(const std::string& sql);
   void read_resumable();
+  // Throws JournalError, writing nothing, for an SQLite database that is not a ctsfleet journal.
+  void refuse_other_programs_databases();
+  void checkpoint();
   [[noreturn]] void fail(const std::string& what) const;
 
   std::string path_;
