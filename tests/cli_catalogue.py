@@ -33,6 +33,26 @@ open(EMPTY_FILE, "w").close()
 FIVE_CELL_MAP = os.path.join(WORK, "five-cells.map")
 with open(FIVE_CELL_MAP, "w") as f:
     f.write("type octile\nheight 1\nwidth 5\nmap\n.....\n")
+# A history whose mission's map rows are shorter than its width (it crashed --svg once).
+SHORT_ROWS_HISTORY = os.path.join(WORK, "short-rows.jsonl")
+with open(SHORT_ROWS_HISTORY, "w") as f:
+    f.write('{"format": "ctsfleet-history-1"}\n')
+    f.write('{"t": 1, "type": "mission", "msg": {"coordinator": 1, "mission_id": "m", "width": 40, "height": 3, '
+            '"map_rows": "..\\n..\\n..", "goals": [{"x": 0, "y": 0}], "tasks": [], "lifelong": false}}\n')
+    f.write('{"t": 2, "type": "state", "msg": {"robot_id": "a", "cell_x": 0, "cell_y": 0, "pose_x": 0, "pose_y": 0, '
+            '"pose_theta": 0, "plan_epoch": 1, "action_index": 0, "status": "idle", "battery_percent": -1, '
+            '"seq_number": 1, "stamp_ms": 1, "incarnation": 1, "coordinator": 1}}\n')
+MARKUP_ID = '<img src=x onerror=alert(1)>'
+# Special files given as input: each must be refused at once (a FIFO blocked its reader for ever).
+FIFO = os.path.join(WORK, "input-fifo.yaml")  # named as an instance: past the extension check
+if not os.path.exists(FIFO):
+    os.mkfifo(FIFO)
+ZERO_MAP_INSTANCE = os.path.join(WORK, "zero-map.yaml")
+with open(INSTANCE) as f, open(ZERO_MAP_INSTANCE, "w") as out:
+    out.write(re.sub(r"^map:.*$", "map: /dev/zero", f.read(), flags=re.M))
+HUGE_MAP = os.path.join(WORK, "huge.map")
+with open(HUGE_MAP, "w") as f:
+    f.write("type octile\nheight 5000\nwidth 5000\nmap\n")
 DOMAIN_BASE = 150  # catalogue runs use DDS domains 150..199, away from the other tests
 
 # A valid command line per program: it either finishes quickly or runs until SIGTERM.
@@ -259,6 +279,34 @@ def named_cases():
         refuse("ctsfleet-agent", ["--id", "r", "--step", "-1"], "agent --step -1"),
         refuse("ctsfleet-agent", ["--id", "r", "--start", "3"], "agent --start 3"),
         refuse("ctsfleet-agent", ["--id", "x" * 33], "agent: a 33-character id"),
+        Case("ctsfleet-agent", ["--id", MARKUP_ID], "agent: markup as its id", must_refuse=True,
+             stderr_contains="is not a robot id"),
+        refuse("ctsfleet-coordinator", ["-c", fleet_config("no-robots.yaml", expected="[]")],
+               "config robots.expected: [] (crashed the coordinator once)"),
+        refuse("ctsfleet-coordinator", ["-c", fleet_config("markup-id.yaml", expected=f"['{MARKUP_ID}']")],
+               "config robots.expected with markup as an id"),
+        refuse("ctsfleet-coordinator", ["-c", fleet_config("seed.yaml", seed="-1")], "config planner.seed: -1"),
+        refuse("ctsfleet-coordinator", ["-c", fleet_config("seed-big.yaml", seed="4294967296")],
+               "config planner.seed: 2^32"),
+        refuse("ctsfleet-task", ["add", "--at", "1,1", "--robot", MARKUP_ID, "--domain", "228"],
+               "task --robot with markup"),
+        refuse("ctsfleet-solve", ["-i", INSTANCE, "--iterations", "-1"], "solve --iterations -1"),
+        Case("ctsfleet-solve", ["-i", FIFO], "solve -i a FIFO", must_refuse=True, timeout=5, stderr_contains="FIFO"),
+        Case("ctsfleet-solve", ["-i", ZERO_MAP_INSTANCE], "solve: an instance whose map is /dev/zero",
+             must_refuse=True, timeout=5, stderr_contains="a device"),
+        Case("ctsfleet-solve", ["-i", os.path.join(ROOT, "benchmarks/mapf/maze-32-32-2-N50-0.scen"), "--map", FIFO],
+             "solve --map a FIFO", must_refuse=True, timeout=5),
+        Case("ctsfleet-gen", ["--map", HUGE_MAP, "-N", "1", "-M", "1", "-o", os.path.join(WORK, "g.yaml")],
+             "gen: a 5000x5000 map header", must_refuse=True, timeout=5, stderr_contains="4096"),
+        Case("ctsfleet-coordinator", ["-c", FIFO], "coordinator -c a FIFO", must_refuse=True, timeout=5),
+        Case("ctsfleet-coordinator", ["-c", os.path.join(ROOT, "config/fleet.yaml"), "--journal", FIFO,
+                                      "--domain", "227"], "coordinator --journal a FIFO", must_refuse=True, timeout=5),
+        Case("ctsfleet-dashboard", ["--replay", FIFO, "--port", "0"], "dashboard --replay a FIFO", must_refuse=True,
+             timeout=5),
+        Case("ctsfleet-dashboard", ["--plan", FIFO, "--instance", INSTANCE, "--port", "0"],
+             "dashboard --plan a FIFO", must_refuse=True, timeout=5),
+        refuse("ctsfleet-dashboard", ["--replay", SHORT_ROWS_HISTORY, "--svg", os.path.join(WORK, "short.svg")],
+               "dashboard --svg of a history whose map rows are short (crashed once)"),
         refuse("ctsfleet-sim", ["--domain", "-5"], "sim --domain -5"),
         refuse("ctsfleet-sim", ["--step", "-1"], "sim --step -1"),
         refuse("ctsfleet-toio-emulator", ["--bus", "unix:path=/x", "--mat", MAT, "--cube", "a@cell:99,99"],

@@ -70,8 +70,9 @@ int main(int argc, char** argv) {
       if (request.robot_id.empty() && !any_robot) {
         throw planner_core::InputError("add: say which robot with --robot ID, or --any for the one it suits best");
       }
-      if (request.robot_id.size() > fleet_transport::kMaxRobotIdLength) {
-        throw planner_core::InputError("--robot: robot ids have at most 32 characters");
+      if (!request.robot_id.empty() && !fleet_transport::is_valid_robot_id(request.robot_id)) {
+        throw planner_core::InputError("--robot: '" + fleet_transport::printable(request.robot_id, 40) +
+                                       "' is not a robot id (" + fleet_transport::kRobotIdRule + ")");
       }
     } else if (cancel->parsed()) {
       request.action = fleet_transport::TaskAction::kCancel;

@@ -182,8 +182,8 @@ void DashboardServer::add_routes() {
       } else {
         throw std::invalid_argument("action must be add or cancel, not '" + action + "'");
       }
-      if (request.robot_id.size() > fleet_transport::kMaxRobotIdLength) {
-        throw std::invalid_argument("robot ids have at most 32 characters");
+      if (!request.robot_id.empty() && !fleet_transport::is_valid_robot_id(request.robot_id)) {
+        throw std::invalid_argument(std::string("not a robot id: robot ids are ") + fleet_transport::kRobotIdRule);
       }
     } catch (const std::exception& e) {
       reply_json(response, 400, {{"accepted", false}, {"reason", std::string("bad request: ") + e.what()}});

@@ -5,6 +5,7 @@
 #include <optional>
 #include <set>
 
+#include "planner_core/input_file.hpp"
 #include "dashboard/message_json.hpp"
 #include "planner_core/input_error.hpp"
 #include "planner_core/validator.hpp"
@@ -55,6 +56,7 @@ void HistoryRecorder::write(const HistoryEntry& entry) {
 }
 
 std::vector<HistoryEntry> load_history(const std::string& path) {
+  planner_core::require_regular_file(path, "history file");
   std::ifstream in(path);
   if (!in) throw planner_core::InputError(path + ": cannot open it");
   std::vector<HistoryEntry> entries;
@@ -214,7 +216,12 @@ HistoryPicture history_picture(const std::vector<HistoryEntry>& entries, const s
   }
   HistoryPicture picture;
   planner_core::Instance& instance = picture.instance;
-  instance.graph = std::make_shared<const planner_core::Graph>(mission->width, mission->height, rows);
+  try {
+    instance.graph = std::make_shared<const planner_core::Graph>(mission->width, mission->height, rows);
+  } catch (const std::invalid_argument& e) {
+    throw planner_core::InputError(source + ": its mission's map does not fit its size (map_rows, width, height): " +
+                                   e.what());
+  }
   instance.source = source;
   const planner_core::Graph& map = *instance.graph;
   std::map<std::string, int> agent_of;

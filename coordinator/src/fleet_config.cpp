@@ -59,9 +59,12 @@ FleetConfig load_fleet_config(const std::string& path) {
         config.any_robots = true;
       } else if (expected.IsSequence()) {
         config.any_robots = false;
+        if (expected.size() == 0) {
+          r.fail(expected, "robots.expected", "an empty list: no robot could take part (list robot ids, or say 'any')");
+        }
         for (const auto& id : expected) {
-          if (!id.IsScalar() || id.Scalar().empty() || id.Scalar().size() > 32) {
-            r.fail(id, "robots.expected", "robot ids are strings of 1 to 32 characters");
+          if (!id.IsScalar() || !fleet_transport::is_valid_robot_id(id.Scalar())) {
+            r.fail(id, "robots.expected", std::string("robot ids are ") + fleet_transport::kRobotIdRule);
           }
           if (std::find(config.expected_robots.begin(), config.expected_robots.end(), id.Scalar()) !=
               config.expected_robots.end()) {

@@ -256,6 +256,16 @@ void FleetCoordinator::handle(const Event& event) {
     others_[event.mission.coordinator].mission = event.mission;
     return;
   }
+  if (!fleet_transport::is_valid_robot_id(event.robot_id)) {
+    // A name, not markup: refused before it becomes a record, a role or an event's robot.
+    if (bad_robot_ids_.size() < kBadRobotIdsReported && bad_robot_ids_.insert(event.robot_id).second) {
+      const std::string why = fmt::format("a message from robot id '{}' refused: robot ids are {}",
+                                          fleet_transport::printable(event.robot_id, 40), fleet_transport::kRobotIdRule);
+      spdlog::error("{}", why);
+      report("refused", "", why);
+    }
+    return;
+  }
   RobotRecord& robot = robots_[event.robot_id];
   switch (event.kind) {
     case Event::Kind::kAnnouncement: handle_announcement(robot, event.announcement); return;
@@ -792,7 +802,8 @@ bool FleetCoordinator::step(fleet_transport::Transport& transport) {
     }
     handle(event);
     // Match the robot's command channel now, long before its first command.
-    if (event.kind == Event::Kind::kAnnouncement && !event.announcement.leaving) {
+    if (event.kind == Event::Kind::kAnnouncement && !event.announcement.leaving &&
+        fleet_transport::is_valid_robot_id(event.robot_id)) {
       transport.prepare_commands_for(event.robot_id);
     }
   }
@@ -825,7 +836,7 @@ bool FleetCoordinator::step(fleet_transport::Transport& transport) {
   switch (phase_) {
     case Phase::kWaiting: {
       const std::vector<RobotRecord*> ready = robots_.ready_robots();
-      const bool all_expected = !config_.any_robots && static_cast<int>(ready.size()) ==
+      const bool all_expected = !config_.any_robots && !ready.empty() && static_cast<int>(ready.size()) ==
                                                             static_cast<int>(config_.expected_robots.size());
       const bool quorum = config_.any_robots && static_cast<int>(ready.size()) >= config_.quorum;
       const bool timed_out = seconds_between(started_, now) > config_.wait_timeout_s && !ready.empty();

@@ -3,10 +3,13 @@
 #include <sqlite3.h>
 
 #include <algorithm>
+#include <filesystem>
 #include <cstdio>
 #include <set>
 #include <string>
 #include <variant>
+
+#include "planner_core/input_file.hpp"
 
 namespace coordinator {
 
@@ -128,6 +131,13 @@ void MissionJournal::execute(const std::string& sql) {
 
 MissionJournal::MissionJournal(const std::string& path, const std::string& fingerprint, const std::string& description)
     : path_(path) {
+  if (std::filesystem::exists(path)) {
+    try {
+      planner_core::require_regular_file(path, "journal");
+    } catch (const planner_core::InputError& e) {
+      throw JournalError(std::string("--journal ") + e.what());
+    }
+  }
   if (sqlite3_open_v2(path.c_str(), &db_, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE, nullptr) != SQLITE_OK) {
     const std::string message = db_ ? sqlite3_errmsg(db_) : "out of memory";
     sqlite3_close(db_);

@@ -1,7 +1,9 @@
 #include "fleet_transport/messages.hpp"
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cstdio>
 #include <stdexcept>
 
 #include "fleet_transport/transport.hpp"
@@ -59,6 +61,29 @@ Vendor parse_vendor(const std::string& name) {
   if (name == "cyclone") return Vendor::kCyclone;
   if (name == "fastdds") return Vendor::kFastDds;
   throw std::invalid_argument("unknown DDS vendor '" + name + "' (known: cyclone, fastdds)");
+}
+
+bool is_valid_robot_id(const std::string& id) {
+  if (id.empty() || id.size() > kMaxRobotIdLength) return false;
+  return std::all_of(id.begin(), id.end(), [](char c) {
+    return (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_' || c == '-';
+  });
+}
+
+std::string printable(const std::string& text, size_t at_most) {
+  std::string out;
+  for (const char c : text) {
+    if (out.size() >= at_most) return out + "...";
+    const auto byte = static_cast<unsigned char>(c);
+    if (byte >= 0x20 && byte < 0x7f && c != '\\') {
+      out += c;
+    } else {
+      char escaped[8];
+      std::snprintf(escaped, sizeof escaped, "\\x%02x", byte);
+      out += escaped;
+    }
+  }
+  return out;
 }
 
 const char* to_string(Vendor vendor) { return vendor == Vendor::kCyclone ? "cyclone" : "fastdds"; }

@@ -6,10 +6,10 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "planner_core/input_file.hpp"
 #include "planner_core/input_error.hpp"
 
 namespace planner_core {
-
 
 namespace {
 constexpr int kTileWidth = 8;   // 8 x 4 cells of 16-bit distances: one 64-byte cache line
@@ -20,6 +20,21 @@ static bool is_free_symbol(char c) { return c == '.' || c == 'G'; }
 
 Graph::Graph(int width, int height, const std::vector<std::string>& rows)
     : width_(width), height_(height), rows_(rows) {
+  // Every caller reads rows and size from outside (a map file, a mission on the wire, a history):
+  // rows that do not cover the size would be read past their end.
+  if (width <= 0 || height <= 0) {
+    throw std::invalid_argument("a map of " + std::to_string(width) + " x " + std::to_string(height) + " cells");
+  }
+  if (static_cast<int64_t>(rows.size()) < height) {
+    throw std::invalid_argument("a map of height " + std::to_string(height) + " with " + std::to_string(rows.size()) +
+                                " rows");
+  }
+  for (int y = 0; y < height; ++y) {
+    if (static_cast<int64_t>(rows[y].size()) < width) {
+      throw std::invalid_argument("a map of width " + std::to_string(width) + " whose row " + std::to_string(y) +
+                                  " has " + std::to_string(rows[y].size()) + " cells");
+    }
+  }
   // Vertices are numbered tile by tile (kTileWidth x kTileHeight cells, row by row inside a
   // tile), not row by row over the whole map: a cell's neighbours above and below then mostly
   // have numbers close to its own, so the per-vertex tables read in one step (a distance for each
@@ -90,6 +105,7 @@ Graph Graph::with_walls(const std::set<Vertex>& walls) const {
 }
 
 Graph load_movingai_map(const std::string& path) {
+  require_regular_file(path, "map file");
   std::ifstream in(path);
   if (!in) throw InputError(path + ": cannot open map file");
   int width = -1, height = -1;
@@ -113,6 +129,10 @@ Graph load_movingai_map(const std::string& path) {
     int value = 0;
     if (!(words >> value) || value <= 0) {
       throw InputError(path + ":" + std::to_string(line_no) + ": " + key + " must be a positive integer");
+    }
+    if (value > kMaxMapSide) {
+      throw InputError(path + ":" + std::to_string(line_no) + ": " + key + " " + std::to_string(value) +
+                       " is more than the " + std::to_string(kMaxMapSide) + " cells a map side may have");
     }
     (key == "height" ? height : width) = value;
   }

@@ -9,6 +9,7 @@
 #include <set>
 #include <sstream>
 
+#include "planner_core/input_file.hpp"
 #include "planner_core/input_error.hpp"
 #include "planner_core/yaml_context.hpp"
 
@@ -114,6 +115,7 @@ Instance load_instance_yaml(const std::string& path) {
 }
 
 Instance load_scen(const std::string& path, int agent_count, const std::string& map) {
+  require_regular_file(path, "scenario file");
   std::ifstream in(path);
   if (!in) throw InputError(path + ": cannot open scenario file");
   Instance instance;
@@ -153,6 +155,7 @@ Instance load_scen(const std::string& path, int agent_count, const std::string& 
 }
 
 Instance load_instance(const std::string& path, int scen_agent_count, const std::string& map) {
+  require_regular_file(path, "instance file");
   const std::string ext = fs::path(path).extension().string();
   if (ext == ".scen") return load_scen(path, scen_agent_count, map);
   if (!map.empty()) throw InputError(path + ": --map is for .scen files; a .yaml instance names its own map");

@@ -7,6 +7,7 @@
 #include <regex>
 #include <sstream>
 
+#include "planner_core/input_file.hpp"
 #include "planner_core/input_error.hpp"
 
 namespace planner_core {
@@ -98,6 +99,7 @@ void write_solution(const std::string& path, const Graph& graph, const SolutionF
 }
 
 SolutionFile read_solution(const std::string& path, const Graph& graph) {
+  require_regular_file(path, "solution file");
   std::ifstream in(path);
   if (!in) throw InputError(path + ": cannot open solution file");
   SolutionFile file;

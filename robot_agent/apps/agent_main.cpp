@@ -27,7 +27,7 @@ int main(int argc, char** argv) {
   std::string backend_name = "sim", start_text = "0,0", vendor = "cyclone", dds_dir;
   int domain = 0;
   double lease = 1.0;
-  app.add_option("--id", settings.robot_id, "robot id (at most 32 characters)")->required();
+  app.add_option("--id", settings.robot_id, "robot id (1 to 32 characters of A-Z, a-z, 0-9, '_' and '-')")->required();
   app.add_option("--backend", backend_name, "robot backend")->check(CLI::IsMember({"sim", "toio"}))->capture_default_str();
   app.add_option("--start", start_text, "starting cell x,y (sim)")->capture_default_str();
   app.add_option("--dds", vendor, "DDS implementation")->check(CLI::IsMember({"cyclone", "fastdds"}))->capture_default_str();
@@ -97,8 +97,9 @@ int main(int argc, char** argv) {
   return program.main(argc, argv, [&] {
     const std::atomic<bool>& g_stop = ctsfleet::stop_requested();
     using planner_core::InputError;
-    if (settings.robot_id.empty() || settings.robot_id.size() > fleet_transport::kMaxRobotIdLength) {
-      throw InputError("--id: must have 1 to " + std::to_string(fleet_transport::kMaxRobotIdLength) + " characters");
+    if (!fleet_transport::is_valid_robot_id(settings.robot_id)) {
+      throw InputError("--id: '" + fleet_transport::printable(settings.robot_id, 40) + "' is not a robot id (" +
+                       fleet_transport::kRobotIdRule + ")");
     }
     Cell start;
     char trailing = 0;

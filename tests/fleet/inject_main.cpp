@@ -56,9 +56,11 @@ int main(int argc, char** argv) {
   std::atomic<int> epoch{0};
   std::atomic<uint64_t> victim_incarnation{0};  // a hostile sender reads it off the victim's states
   fleet_transport::Handlers handlers;
-  handlers.on_state = [&](const fleet_transport::RobotState& state) {
-    if (state.robot_id == victim && state.incarnation != 0) victim_incarnation = state.incarnation;
-  };
+  if (claim.empty()) {  // a claim plays one robot, whose identity may read no other robot's states
+    handlers.on_state = [&](const fleet_transport::RobotState& state) {
+      if (state.robot_id == victim && state.incarnation != 0) victim_incarnation = state.incarnation;
+    };
+  }
   handlers.on_coordinator_status = [&](const fleet_transport::CoordinatorStatus& status) {
     if (status.role != fleet_transport::CoordinatorRole::kActive) return;
     coordinator = status.coordinator;

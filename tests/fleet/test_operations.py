@@ -25,6 +25,15 @@ TESTS = [
     "test_dashboard_in_a_real_browser",
     "test_a_task_added_survives_a_failover",
     "test_fastdds_fleet_takes_tasks_and_its_dashboard_sees_them",
+    "test_hostile_ids_and_texts_run_no_script_in_the_dashboard",
+]
+
+# Markup an attacker may put in a robot id, an event kind or an event text: each would set
+# window.pwned if the page ever parsed it as HTML.
+HOSTILE = [
+    '<img src=x onerror="window.pwned=(window.pwned||0)+1">',
+    '"><script>window.pwned=(window.pwned||0)+1</script>',
+    "<svg onload=window.pwned=(window.pwned||0)+1>",
 ]
 
 
@@ -144,6 +153,40 @@ class OperationsTest(unittest.TestCase):
         self.fleet.processes["coordinator"].send_signal(signal.SIGINT)
         self.fleet.wait_exit("coordinator", 60)
         self.assert_safe()
+
+    def test_hostile_ids_and_texts_run_no_script_in_the_dashboard(self):
+        # Whatever reaches the dashboard (a forged state, an event) is shown as text: a replayed
+        # history carries markup in robot ids, an event's kind, robot and text.
+        browser = chromium_driver()
+        if browser is None:
+            return
+        self.addCleanup(browser.quit)
+        history = os.path.join(self.fleet.dir, "hostile.jsonl")
+        with open(history, "w") as f:
+            f.write(json.dumps({"format": "ctsfleet-history-1"}) + "\n")
+            for k, markup in enumerate(HOSTILE):
+                state = {"robot_id": markup, "cell_x": k, "cell_y": 0, "pose_x": k, "pose_y": 0, "pose_theta": 0,
+                         "plan_epoch": 1, "action_index": 0, "status": "idle", "battery_percent": 50,
+                         "seq_number": 1, "stamp_ms": 1000, "incarnation": 7 + k, "coordinator": 0}
+                f.write(json.dumps({"t": 100 + k, "type": "state", "msg": state}) + "\n")
+                event = {"coordinator": 1, "stamp_ms": 1000, "kind": markup, "robot_id": markup, "text": markup,
+                         "value": 0}
+                f.write(json.dumps({"t": 200 + k, "type": "event", "msg": event}) + "\n")
+        dashboard = self.fleet.start("dashboard", [f"{BIN}/ctsfleet-dashboard", "--replay", history, "--port", "0",
+                                                   "--speed", "1"])
+        log = self.fleet.log("dashboard")
+        wait_for(lambda: "dashboard: http://" in read(log), 60, "the dashboard's address")
+        url = re.search(r"dashboard: (http://\S+)", read(log)).group(1)
+        browser.get(url)
+        events = lambda: browser.find_element("id", "events").text
+        robots = lambda: browser.find_element("css selector", "#robots tbody").text
+        wait_for(lambda: all(markup in events() for markup in HOSTILE), 60, "the hostile events shown as text")
+        wait_for(lambda: all(markup in robots() for markup in HOSTILE), 60, "the hostile ids shown as text")
+        self.assertIsNone(browser.execute_script("return window.pwned"), "a script from the data ran in the page")
+        self.assertEqual(browser.execute_script("return document.querySelectorAll('#events img, #events script, "
+                                                "#events svg, #robots img, #robots script, #robots svg').length"), 0)
+        dashboard.send_signal(signal.SIGINT)
+        self.fleet.wait_exit("dashboard", 30)
 
     def test_dashboard_in_a_real_browser(self):
         browser = chromium_driver()

@@ -222,8 +222,13 @@ function renderPanels() {
     ["plan flowtime", view.plan ? text(view.plan.flowtime) : "–"],
     ["page latency p50 / p99", `${text(percentile(view.latencies, 0.5))} / ${text(percentile(view.latencies, 0.99))} ms`],
   ];
-  document.getElementById("figures").innerHTML =
-    rows.map(([name, value]) => `<tr><td>${name}</td><td>${value}</td></tr>`).join("");
+  // Every string the page shows goes in as text, never as markup: robot ids, event texts and
+  // figures come from the network and may hold anything.
+  document.getElementById("figures").replaceChildren(...rows.map(([name, value]) => {
+    const row = document.createElement("tr");
+    for (const cell of [name, value]) row.insertCell().textContent = cell;
+    return row;
+  }));
   renderRobotTable(f.robots);
   const select = document.getElementById("task-robot");
   const ids = f.robots.filter((r) => r.role >= 0).map((r) => r.id);
@@ -236,10 +241,15 @@ function renderPanels() {
   }
   if (view.eventsShown === f.events_total) return;
   view.eventsShown = f.events_total;
-  document.getElementById("events").innerHTML = [...f.events].reverse().map((e) => {
+  document.getElementById("events").replaceChildren(...[...f.events].reverse().map((e) => {
+    const item = document.createElement("li");
+    const kind = document.createElement("span");
+    kind.className = `kind kind-${String(e.kind).replace(/[^a-z_]/g, "")}`;
+    kind.textContent = e.kind;
     const time = new Date(e.stamp_ms).toLocaleTimeString();
-    return `<li><span class="kind kind-${e.kind}">${e.kind}</span> ${time} ${e.robot ? e.robot + ": " : ""}${escapeHtml(e.text)}</li>`;
-  }).join("");
+    item.append(kind, ` ${time} ${e.robot ? e.robot + ": " : ""}${e.text}`);
+    return item;
+  }));
 }
 
 // One row per robot, kept from frame to frame: only the cells whose text changed are touched (a
@@ -271,10 +281,6 @@ function renderRobotTable(robots) {
       robotRows.delete(id);
     }
   }
-}
-
-function escapeHtml(s) {
-  return s.replace(/[&<>"]/g, (c) => ({ "&": "&amp;", "<": "&lt;", ">": "&gt;", '"': "&quot;" })[c]);
 }
 
 // --- The stream ----------------------------------------------------------------------------

@@ -252,6 +252,8 @@ class FleetCoordinator {
   MissionProgress progress_;
   std::map<planner_core::Vertex, std::string> blocked_;  // cells of lost robots (mission graph ids) -> robot
   std::set<std::string> warned_unknown_;
+  static constexpr size_t kBadRobotIdsReported = 64;  // then refused without a word (a flood)
+  std::set<std::string> bad_robot_ids_;               // refused ids already reported
   std::map<std::string, planner_core::Vertex> unknown_cells_;  // robots heard but not announced
   RefusedProcesses refused_processes_;  // second processes claiming a driven robot's id
 

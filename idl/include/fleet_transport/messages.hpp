@@ -182,6 +182,14 @@ bool outranks(const CoordinatorStatus& a, const CoordinatorStatus& b);
 
 // Longest robot id the wire types carry.
 constexpr size_t kMaxRobotIdLength = 32;
+// A robot id is a name, not markup: 1 to 32 characters of A-Z, a-z, 0-9, '_', '-' (the fleet CA's
+// rule for participant names, which are folder names too). Every program that takes an id (agent
+// --id, fleet config, CA, task tool, dashboard) and the coordinator on every message apply it.
+constexpr const char* kRobotIdRule = "1 to 32 characters of A-Z, a-z, 0-9, '_' and '-'";
+bool is_valid_robot_id(const std::string& id);
+// `text` safe to print in one log line: control and non-ASCII bytes as \xNN, cut to `at_most`
+// characters with "..." (a hostile value neither breaks the line nor floods it).
+std::string printable(const std::string& text, size_t at_most = 80);
 
 // Milliseconds since the epoch on this host's clock (shifted by the test skew, if one is set).
 int64_t wall_clock_ms();

@@ -2,6 +2,8 @@
 
 #include <filesystem>
 
+#include "planner_core/input_file.hpp"
+
 namespace planner_core {
 
 void YamlContext::fail(const YAML::Node& node, const std::string& field, const std::string& problem) const {
@@ -40,6 +42,7 @@ Cell YamlContext::cell(const YAML::Node& node, const std::string& field) const {
 
 YAML::Node load_yaml_file(const std::string& path) {
   if (!std::filesystem::exists(path)) throw InputError(path + ": no such file");
+  require_regular_file(path, "file");
   try {
     return YAML::LoadFile(path);
   } catch (const YAML::Exception& e) {

@@ -162,6 +162,10 @@ CLI::Validator writable_file() {
         std::error_code ec;
         const fs::path path(input);
         if (fs::is_directory(path, ec)) return "'" + input + "' is a folder, not a file";
+        // Opening a FIFO waits for a reader, for ever and deaf to Ctrl-C; a device (/dev/null) is
+        // written as it is, without a probe.
+        if (fs::is_fifo(path, ec)) return "'" + input + "' is a FIFO (named pipe), not a file";
+        if (fs::is_character_file(path, ec) || fs::is_block_file(path, ec)) return {};
         const bool existed = fs::exists(path, ec);
         if (const std::string problem = probe_write(path, !existed); !problem.empty()) {
           return "cannot write '" + input + "': " + problem;
