@@ -218,6 +218,14 @@ def fleet_config(name, **overrides):
     return path
 
 
+def second_timing_config():
+    """config/fleet.yaml with a second `timing:` section after the first (the first won silently)."""
+    path = fleet_config("second-timing.yaml")
+    with open(path, "a") as f:
+        f.write("timing:\n  step_s: -1\n")
+    return path
+
+
 def named_cases():
     refuse = lambda program, args, name: Case(program, args, name, must_refuse=True)
     return [
@@ -286,6 +294,8 @@ def named_cases():
         refuse("ctsfleet-coordinator", ["-c", fleet_config("markup-id.yaml", expected=f"['{MARKUP_ID}']")],
                "config robots.expected with markup as an id"),
         refuse("ctsfleet-coordinator", ["-c", fleet_config("seed.yaml", seed="-1")], "config planner.seed: -1"),
+        Case("ctsfleet-coordinator", ["-c", second_timing_config()], "config with a second timing section",
+             must_refuse=True, stderr_contains="key 'timing' given twice"),
         refuse("ctsfleet-coordinator", ["-c", fleet_config("seed-big.yaml", seed="4294967296")],
                "config planner.seed: 2^32"),
         refuse("ctsfleet-task", ["add", "--at", "1,1", "--robot", MARKUP_ID, "--domain", "228"],

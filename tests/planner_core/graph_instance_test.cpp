@@ -120,6 +120,28 @@ TEST(InstanceErrors, WrongType) {
                      {"wrong-type.yaml:3", "agents[0].start[0]", "expected an integer"});
 }
 
+TEST(InstanceErrors, NumbersPastTheirTypeAreRefusedNotWrapped) {
+  expect_input_error(instance_file("wrap", "map: small.map\nagents:\n  - {start: [4294967296, 0], goal: [4, 0]}\n"),
+                     {"wrap.yaml:3", "4294967296", "out of range"});
+  expect_input_error(instance_file("wrap-task", "map: small.map\nagents:\n  - {start: [0, 0], goal: [4, 0]}\n"
+                                                "tasks:\n  - {at: [1, 0], agents: [4294967296]}\n"),
+                     {"wrap-task.yaml:5", "out of range"});
+  const std::string long_value(10'000, '9');
+  try {
+    load_instance(instance_file("long", "map: small.map\nagents:\n  - {start: [" + long_value + ", 0], goal: [4, 0]}\n"));
+    FAIL() << "a 10,000-digit coordinate was accepted";
+  } catch (const InputError& e) {
+    EXPECT_LT(std::string(e.what()).size(), 400u) << "the error echoes the whole value";
+  }
+}
+
+TEST(InstanceErrors, DuplicateAndNonScalarKeysAreRefused) {
+  expect_input_error(instance_file("twice", "map: small.map\nmap: other.map\nagents:\n  - {start: [0, 0], goal: [4, 0]}\n"),
+                     {"twice.yaml:2", "key 'map' given twice"});
+  expect_input_error(instance_file("list-key", "? [a, b]\n: 1\nmap: small.map\nagents: []\n"),
+                     {"list-key.yaml:1", "not a plain word"});
+}
+
 TEST(InstanceErrors, MissingMapFile) {
   expect_input_error(instance_file("no-map", "map: nowhere.map\nagents:\n  - {start: [0, 0], goal: [4, 0]}\n"),
                      {"nowhere.map", "cannot open"});

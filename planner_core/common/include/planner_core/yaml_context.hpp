@@ -37,6 +37,9 @@ class YamlContext {
   std::string file_;
 };
 
+// `text` as an error message may echo it: at most `at_most` characters, then how long it was.
+std::string cut(const std::string& text, size_t at_most = 80);
+
 // Parses a YAML file; a syntax error becomes an InputError naming file and line.
 YAML::Node load_yaml_file(const std::string& path);
 
