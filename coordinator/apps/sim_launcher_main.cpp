@@ -94,7 +94,8 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"cyclone", "fastdds"}));
   app.add_option("--backend", backend, "robot backend")->check(CLI::IsMember({"sim", "toio-emulated"}))->capture_default_str();
   app.add_option("--domain", domain, "DDS domain id (default: the config's)")->check(ctsfleet::dds_domain());
-  app.add_option("--step", step, "sim: seconds per move")->check(ctsfleet::positive_seconds(3600))->capture_default_str();
+  app.add_option("--step", step, "sim: seconds per move (default: the config's timing.step_s, what the coordinator plans with)")
+      ->check(ctsfleet::positive_seconds(3600));
   app.add_option("--jitter", jitter, "sim: each move takes step * (1 + U[0, jitter])")
       ->check(ctsfleet::number_in(0, 10))
       ->capture_default_str();
@@ -137,6 +138,8 @@ int main(int argc, char** argv) {
       if (vendor.empty()) vendor = config.dds_vendor;
       if (agent_vendor.empty()) agent_vendor = vendor;
       if (domain < 0) domain = config.domain_id;
+      // One source for the simulated robots' speed: the config the coordinator times its commands by.
+      if (app.count("--step") == 0) step = config.step_s;
       fs::create_directories(log_dir);
       if (!security_dir.empty()) secure = true;
       const fs::path fleet_ca = security_dir.empty() ? fs::absolute(fs::path(log_dir) / "fleet-ca") : fs::absolute(security_dir);

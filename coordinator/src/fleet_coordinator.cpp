@@ -11,6 +11,7 @@
 
 #include "coordinator/plan_builder.hpp"
 #include "coordinator/role_assignment.hpp"
+#include "fleet_transport/lease_timeouts.hpp"
 #include "planner_core/dist_table.hpp"
 #include "planner_core/input_error.hpp"
 #include "planner_core/solver.hpp"
@@ -48,6 +49,8 @@ constexpr double kStatusPeriodS = 0.25;
 constexpr double kProgressPeriodS = 0.5;
 constexpr double kProgressGapS = 0.05;
 constexpr double kStoodStillS = 1.0;  // a step this long after the last one heard nobody
+// How long a step waits for a plan it just started before it lets the loop go on (see step()).
+constexpr std::chrono::milliseconds kQuickPlanWait{50};
 // Robots judge a command's deadline on their own clock through an offset they estimate from send
 // stamps; this much is allowed for that estimate's error.
 constexpr double kClockMarginS = 1.0;
@@ -925,7 +928,14 @@ bool FleetCoordinator::step(fleet_transport::Transport& transport) {
       }
       // The plan is made on the worker while this loop goes on; it is used only if the fleet is
       // still as it was planned from (robots, cells, roles, incarnations, walls, tasks).
-      if (std::optional<PlanningOutcome> outcome = planning_.poll()) {
+      std::optional<PlanningOutcome> outcome = planning_.poll();
+      if (!outcome && planning_.idle() && !moves_in_flight && now >= retry_plan_at_) {
+        start_planning();
+        // A quick plan is used in this very step, as when planning ran inside it; a long one goes
+        // on beside the loop. The wait is far below a heartbeat period.
+        outcome = planning_.wait_for(kQuickPlanWait);
+      }
+      if (outcome) {
         if (outcome->cancelled) {
           spdlog::info("planning was interrupted");
         } else if (const std::string change = what_changed_since(planned_from_); !change.empty()) {
@@ -934,8 +944,6 @@ bool FleetCoordinator::step(fleet_transport::Transport& transport) {
         } else if (!finish_planning(std::move(*outcome), transport)) {
           retry_plan_at_ = now + seconds(1.0);
         }
-      } else if (planning_.idle() && !moves_in_flight && now >= retry_plan_at_) {
-        start_planning();
       }
       break;
     }
@@ -1004,7 +1012,9 @@ const FleetCoordinator::OtherCoordinator* FleetCoordinator::stronger_active(Cloc
   const fleet_transport::CoordinatorStatus mine = own_status();
   for (const auto& [id, other] : others_) {
     if (other.status.role != fleet_transport::CoordinatorRole::kActive) continue;
-    if (seconds_between(other.heard, now) > config_.lease_s + 1.0) continue;  // gone
+    if (seconds_between(other.heard, now) > fleet_transport::LeaseTimeouts{config_.lease_s}.coordinator_gone_s()) {
+      continue;  // gone
+    }
     if (fleet_transport::outranks(other.status, mine)) return &other;
   }
   return nullptr;
@@ -1111,7 +1121,7 @@ void FleetCoordinator::follow(fleet_transport::Transport& transport, Clock::time
   const std::vector<std::string> unheard = robots_unheard_since(active->heard + status_gap);
   if (!unheard.empty()) every_robot_heard_since_.reset();
   if (unheard.empty() && !every_robot_heard_since_) every_robot_heard_since_ = now;
-  if (silent_s <= config_.lease_s + 0.5) return;
+  if (silent_s <= fleet_transport::LeaseTimeouts{config_.lease_s}.standby_takes_over_after_s()) return;
   if (every_robot_heard_since_ && now - *every_robot_heard_since_ >= status_gap) {
     take_over(transport, *active, now);
     return;

@@ -32,6 +32,14 @@ std::optional<PlanningOutcome> PlanningWorker::poll() {
   return outcome;
 }
 
+std::optional<PlanningOutcome> PlanningWorker::wait_for(std::chrono::milliseconds timeout) {
+  std::unique_lock<std::mutex> lock(mutex_);
+  done_.wait_for(lock, timeout, [&] { return outcome_.has_value(); });
+  std::optional<PlanningOutcome> outcome;
+  outcome.swap(outcome_);
+  return outcome;
+}
+
 bool PlanningWorker::idle() const {
   const std::lock_guard<std::mutex> lock(mutex_);
   return !busy_ && !outcome_;
@@ -62,9 +70,12 @@ void PlanningWorker::run() {
     outcome.planning_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
     outcome.cancelled = cancel_.load();
     outcome.built = std::move(request.built);
-    const std::lock_guard<std::mutex> lock(mutex_);
-    outcome_ = std::move(outcome);
-    busy_ = false;
+    {
+      const std::lock_guard<std::mutex> lock(mutex_);
+      outcome_ = std::move(outcome);
+      busy_ = false;
+    }
+    done_.notify_all();
   }
 }
 

@@ -10,6 +10,7 @@
 
 #include "ctsfleet/data_dir.hpp"
 #include "ctsfleet/program.hpp"
+#include "fleet_transport/lease_timeouts.hpp"
 #include "planner_core/input_error.hpp"
 #include "robot_agent/robot_agent.hpp"
 #include "robot_agent/sim_robot.hpp"
@@ -141,7 +142,7 @@ int main(int argc, char** argv) {
     auto reporting = [sim_robot] { return sim_robot == nullptr || sim_robot->reporting_enabled(); };
     try {
       RobotBackend& robot = *backend;
-      settings.coordinator_silence_s = lease + 1.0;  // the coordinator publishes its status every 0.25 s
+      settings.coordinator_silence_s = fleet_transport::LeaseTimeouts{lease}.coordinator_gone_s();
       RobotAgent agent(settings, robot);
       fleet_transport::TransportConfig config;
       config.vendor = fleet_transport::parse_vendor(vendor);

@@ -46,6 +46,8 @@ class PlanningWorker {
   void start(PlanningRequest request);
   // The outcome once the solve has ended (then idle again), else nothing.
   std::optional<PlanningOutcome> poll();
+  // As poll(), waiting up to `timeout` for the solve to end.
+  std::optional<PlanningOutcome> wait_for(std::chrono::milliseconds timeout);
   // Cuts the solve under way short; its outcome comes back `cancelled`.
   void cancel() { cancel_.store(true); }
   bool idle() const;
@@ -55,6 +57,7 @@ class PlanningWorker {
 
   mutable std::mutex mutex_;
   std::condition_variable wake_;
+  std::condition_variable done_;  // an outcome was set
   std::optional<PlanningRequest> request_;
   std::optional<PlanningOutcome> outcome_;
   bool busy_ = false;
