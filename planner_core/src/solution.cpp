@@ -9,6 +9,7 @@
 
 #include "planner_core/input_file.hpp"
 #include "planner_core/input_error.hpp"
+#include "planner_core/yaml_context.hpp"
 
 namespace planner_core {
 
@@ -137,7 +138,16 @@ SolutionFile read_solution(const std::string& path, const Graph& graph) {
     Config config;
     const std::string rest = line.substr(colon + 1);
     for (auto it = std::sregex_iterator(rest.begin(), rest.end(), cell_pattern); it != std::sregex_iterator(); ++it) {
-      config.push_back(graph.vertex_at({std::stoi((*it)[1]), std::stoi((*it)[2])}));
+      // A coordinate past int is refused naming the line, never wrapped, never an exception that
+      // names nothing (a cell off the map becomes kNoVertex, which the validator names).
+      Cell cell{-1, -1};
+      const std::string x = (*it)[1], y = (*it)[2];
+      const auto x_read = std::from_chars(x.data(), x.data() + x.size(), cell.x);
+      const auto y_read = std::from_chars(y.data(), y.data() + y.size(), cell.y);
+      if (x_read.ec != std::errc() || y_read.ec != std::errc()) {
+        throw InputError(where + ": a cell (" + cut(x, 20) + "," + cut(y, 20) + ") past the range of a coordinate");
+      }
+      config.push_back(graph.vertex_at(cell));
     }
     file.solution.push_back(std::move(config));
   }

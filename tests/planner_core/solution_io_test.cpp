@@ -44,6 +44,16 @@ TEST(SolutionIo, OutOfOrderTimestepNamesLine) {
   }
 }
 
+TEST(SolutionIo, ACoordinatePastIntIsRefusedNamingTheLine) {
+  const Instance instance = testing::make_instance({".."}, {{{0, 0}, {1, 0}}});
+  try {
+    read_solution(testing::write_temp_file("io/huge.txt", "solution=\n0:(0,0),\n1:(4294967296,0),\n"), *instance.graph);
+    FAIL() << "a coordinate past int was read";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("huge.txt:3"), std::string::npos) << e.what();
+  }
+}
+
 TEST(SolutionIo, MissingSolutionLine) {
   const Instance instance = testing::make_instance({".."}, {{{0, 0}, {1, 0}}});
   EXPECT_THROW(read_solution(testing::write_temp_file("io/none.txt", "solved=0\n"), *instance.graph), InputError);
