@@ -199,12 +199,14 @@ int main(int argc, char** argv) {
                                             std::chrono::duration<double>(duration_s))) {
       std::this_thread::sleep_for(std::chrono::milliseconds(100));
     }
+    // Stopped by Ctrl-C or SIGTERM: 130, as every program; at the end of --duration: 0.
+    const int exit_code = stop.load() ? ctsfleet::kExitInterrupted : 0;
     ctsfleet::stop_requested() = true;
     server.stop();
     http_thread.join();
     if (replay_thread.joinable()) replay_thread.join();
-    fleet_transport::exit_if_shutdown_hangs(5, 0);
+    fleet_transport::exit_if_shutdown_hangs(5, exit_code);
     transport.reset();
-    return 0;
+    return exit_code;
   });
 }

@@ -195,6 +195,9 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "warning: the time limit (-t %g) ended the solve before its %lld iterations: another run "
                            "may give another plan (raise -t)\n", seconds, static_cast<long long>(iterations));
     }
+    // Stopped by Ctrl-C or SIGTERM: 130, as every program (the best plan found so far, if any, is
+    // written above, validated).
+    if (ctsfleet::stop_requested().load()) return ctsfleet::kExitInterrupted;
     return result.solved ? 0 : 1;
   });
 }
