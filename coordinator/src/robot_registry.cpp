@@ -1,5 +1,7 @@
 #include "coordinator/robot_registry.hpp"
 
+#include <utility>
+
 namespace coordinator {
 
 RobotRecord& RobotRegistry::operator[](const std::string& id) {
@@ -38,9 +40,7 @@ int RobotRegistry::active_count() const {
 
 std::vector<RobotRecord*> RobotRegistry::ready_robots() {
   std::vector<RobotRecord*> ready;
-  for (auto& [id, robot] : robots_) {
-    if (robot.active && robot.has_state) ready.push_back(&robot);
-  }
+  for (const RobotRecord* robot : std::as_const(*this).ready_robots()) ready.push_back(const_cast<RobotRecord*>(robot));
   return ready;
 }
 

@@ -192,8 +192,13 @@ int main(int argc, char** argv) {
                    static_cast<long long>(iterations));
     }
     if (iterations > 0 && !reproducible) {
-      std::fprintf(stderr, "warning: the time limit (-t %g) ended the solve before its %lld iterations: another run "
-                           "may give another plan (raise -t)\n", seconds, static_cast<long long>(iterations));
+      if (ctsfleet::stop_requested().load()) {
+        std::fprintf(stderr, "warning: stopped before its %lld iterations: another run may give another plan\n",
+                     static_cast<long long>(iterations));
+      } else {
+        std::fprintf(stderr, "warning: the time limit (-t %g) ended the solve before its %lld iterations: another run "
+                             "may give another plan (raise -t)\n", seconds, static_cast<long long>(iterations));
+      }
     }
     // Stopped by Ctrl-C or SIGTERM: 130, as every program (the best plan found so far, if any, is
     // written above, validated).
