@@ -53,6 +53,20 @@ with open(INSTANCE) as f, open(ZERO_MAP_INSTANCE, "w") as out:
 HUGE_MAP = os.path.join(WORK, "huge.map")
 with open(HUGE_MAP, "w") as f:
     f.write("type octile\nheight 5000\nwidth 5000\nmap\n")
+# A plan of INSTANCE, and two that do not fit it: another instance's starts (the agents' columns
+# rotated) and a cell off the map. The dashboard drew both once.
+PLAN = os.path.join(WORK, "plan.txt")
+subprocess.run([os.path.join(BIN, "ctsfleet-solve"), "-i", INSTANCE, "--solver", "cts-pibt", "-o", PLAN, "-t", "10"],
+               check=True, capture_output=True)
+with open(PLAN) as f:
+    head, steps = f.read().split("solution=\n", 1)
+ROTATED_PLAN = os.path.join(WORK, "rotated-plan.txt")
+with open(ROTATED_PLAN, "w") as f:
+    rotate = lambda line: re.sub(r"^(\d+:)(\(\d+,\d+\),)(.*)$", r"\1\3\2", line)
+    f.write(head + "solution=\n" + "\n".join(rotate(line) for line in steps.splitlines()) + "\n")
+OFF_MAP_PLAN = os.path.join(WORK, "off-map-plan.txt")
+with open(OFF_MAP_PLAN, "w") as f:
+    f.write(head + "solution=\n" + re.sub(r"^(5:)\(\d+,\d+\)", r"\1(999,999)", steps, flags=re.M))
 DOMAIN_BASE = 150  # catalogue runs use DDS domains 150..199, away from the other tests
 
 # A valid command line per program: it either finishes quickly or runs until SIGTERM.
@@ -323,6 +337,13 @@ def named_cases():
              timeout=5),
         Case("ctsfleet-dashboard", ["--plan", FIFO, "--instance", INSTANCE, "--port", "0"],
              "dashboard --plan a FIFO", must_refuse=True, timeout=5),
+        Case("ctsfleet-dashboard", ["--plan", ROTATED_PLAN, "--instance", INSTANCE, "--port", "0"],
+             "dashboard --plan of another instance (the agents rotated)", must_refuse=True,
+             stderr_contains="not a valid plan of"),
+        refuse("ctsfleet-dashboard", ["--plan", OFF_MAP_PLAN, "--instance", INSTANCE, "--port", "0"],
+               "dashboard --plan with a cell off the map"),
+        refuse("ctsfleet-dashboard", ["--plan", ROTATED_PLAN, "--instance", INSTANCE, "--svg",
+                                      os.path.join(WORK, "rotated.svg")], "dashboard --svg of another instance's plan"),
         refuse("ctsfleet-dashboard", ["--replay", SHORT_ROWS_HISTORY, "--svg", os.path.join(WORK, "short.svg")],
                "dashboard --svg of a history whose map rows are short (crashed once)"),
         refuse("ctsfleet-sim", ["--domain", "-5"], "sim --domain -5"),

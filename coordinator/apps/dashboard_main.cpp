@@ -11,11 +11,14 @@
 #include <atomic>
 #include <chrono>
 #include <iostream>
+#include <memory>
+#include <mutex>
 #include <thread>
 
 #include "dashboard/dashboard_server.hpp"
 #include "dashboard/history.hpp"
 #include "dashboard/message_json.hpp"
+#include "dashboard/playback.hpp"
 #include "observer_options.hpp"
 #include "planner_core/input_error.hpp"
 #include "planner_core/svg_writer.hpp"
@@ -30,12 +33,11 @@ bool is_loopback(const std::string& host) {
   return host == "localhost" || (inet_pton(AF_INET, host.c_str(), &address) == 1 && (ntohl(address.s_addr) >> 24) == 127);
 }
 
-// Plays `entries` into the server on a clock that runs `speed` times as fast as the wall clock.
+// Plays a playback into the server on a clock that runs `speed` times as fast as the wall clock.
 class Replay {
  public:
-  Replay(std::vector<HistoryEntry> entries, double speed) : entries_(std::move(entries)), speed_(speed) {
-    start_ms_ = entries_.empty() ? 0 : entries_.front().t_ms;
-    anchor_replayed_ms_ = start_ms_;
+  Replay(std::unique_ptr<dashboard::Playback> playback, double speed) : playback_(std::move(playback)), speed_(speed) {
+    anchor_replayed_ms_ = playback_->start_ms();
     anchor_real_ = std::chrono::steady_clock::now();
   }
   int64_t now_ms() {
@@ -50,10 +52,8 @@ class Replay {
     speed_ = speed;
   }
   void run(dashboard::DashboardServer& server, const std::atomic<bool>& stop) {
-    size_t next = 0;
     while (!stop) {
-      const int64_t now = now_ms();
-      while (next < entries_.size() && entries_[next].t_ms <= now) server.apply(entries_[next++]);
+      playback_->play_until(now_ms(), [&server](const HistoryEntry& entry) { server.apply(entry); });
       server.touch();  // the clock moved: robots may turn lost
       std::this_thread::sleep_for(std::chrono::milliseconds(50));
     }
@@ -62,13 +62,11 @@ class Replay {
  private:
   int64_t replayed_at(std::chrono::steady_clock::time_point now) const {
     const double real_ms = std::chrono::duration<double, std::milli>(now - anchor_real_).count();
-    const int64_t end = entries_.empty() ? 0 : entries_.back().t_ms;
-    return std::min(end, anchor_replayed_ms_ + static_cast<int64_t>(real_ms * speed_));
+    return std::min(playback_->end_ms(), anchor_replayed_ms_ + static_cast<int64_t>(real_ms * speed_));
   }
-  std::vector<HistoryEntry> entries_;
+  std::unique_ptr<dashboard::Playback> playback_;
   std::mutex mutex_;
   double speed_;
-  int64_t start_ms_ = 0;
   int64_t anchor_replayed_ms_ = 0;
   std::chrono::steady_clock::time_point anchor_real_;
 };
@@ -117,28 +115,38 @@ int main(int argc, char** argv) {
   return program.main(argc, argv, [&] {
     const std::atomic<bool>& stop = ctsfleet::stop_requested();
     const bool live = replay.empty() && plan.empty();
-    std::vector<HistoryEntry> entries;
-    if (!replay.empty()) entries = dashboard::load_history(replay);
+    std::unique_ptr<dashboard::Playback> playback;
+    if (!live && !record.empty()) throw planner_core::InputError("--record: only a live dashboard records");
+    if (!svg.empty() && live) throw planner_core::InputError("--svg: draws a --replay or a --plan");
+    if (!replay.empty()) {
+      std::vector<HistoryEntry> entries = dashboard::load_history(replay);
+      if (!svg.empty()) {
+        const dashboard::HistoryPicture picture = dashboard::history_picture(entries, replay);
+        planner_core::write_svg(svg, picture.instance, picture.solution);
+        std::cout << "picture of " << picture.robots.size() << " robots over " << picture.solution.size() - 1
+                  << " moves: " << svg << std::endl;
+        return 0;
+      }
+      playback = std::make_unique<dashboard::RecordedPlayback>(std::move(entries));
+    }
     if (!plan.empty()) {
       const planner_core::Instance loaded = planner_core::load_instance(instance);
-      const planner_core::SolutionFile solution = planner_core::read_solution(plan, *loaded.graph);
-      if (solution.solution.empty()) throw planner_core::InputError(plan + ": no timesteps in it");
+      planner_core::SolutionFile solution = planner_core::read_solution(plan, *loaded.graph);
       for (const planner_core::Config& config : solution.solution) {
         if (static_cast<int>(config.size()) != loaded.agent_count()) {
           throw planner_core::InputError(plan + ": " + std::to_string(config.size()) + " agents per timestep, but " +
                                          instance + " has " + std::to_string(loaded.agent_count()));
         }
       }
-      entries = dashboard::plan_history(loaded, solution.solution, step_ms);
-    }
-    if (!live && !record.empty()) throw planner_core::InputError("--record: only a live dashboard records");
-    if (!svg.empty()) {
-      if (live) throw planner_core::InputError("--svg: draws a --replay or a --plan");
-      const dashboard::HistoryPicture picture = dashboard::history_picture(entries, replay.empty() ? plan : replay);
-      planner_core::write_svg(svg, picture.instance, picture.solution);
-      std::cout << "picture of " << picture.robots.size() << " robots over " << picture.solution.size() - 1
-                << " moves: " << svg << std::endl;
-      return 0;
+      const size_t steps = solution.solution.size();
+      auto shown = std::make_unique<dashboard::PlanPlayback>(loaded, std::move(solution.solution), step_ms, plan);
+      if (!svg.empty()) {
+        planner_core::write_svg(svg, loaded, shown->solution());
+        std::cout << "picture of " << loaded.agent_count() << " robots over " << steps - 1 << " moves: " << svg
+                  << std::endl;
+        return 0;
+      }
+      playback = std::move(shown);
     }
     const fleet_transport::TransportConfig config = dds.transport_config();
     std::unique_ptr<dashboard::HistoryRecorder> recorder;
@@ -186,7 +194,7 @@ int main(int argc, char** argv) {
       handlers.on_refused = [](const std::string& what) { spdlog::warn("refused: {}", what); };
       transport = fleet_transport::make_transport(config, handlers);
     } else {
-      replayer = std::make_unique<Replay>(std::move(entries), speed);
+      replayer = std::make_unique<Replay>(std::move(playback), speed);
       server.set_clock([&replayer] { return replayer->now_ms(); });
       server.set_replay_control([&replayer](double s) { replayer->set_speed(s); });
       replay_thread = std::thread([&] { replayer->run(server, stop); });

@@ -8,6 +8,7 @@
 #include <sstream>
 #include <random>
 
+#include "dashboard/guarded_http_server.hpp"
 #include "dashboard/message_json.hpp"
 #include "planner_core/input_error.hpp"
 #include "dashboard/web_assets.hpp"
@@ -17,26 +18,40 @@ namespace dashboard {
 namespace {
 
 constexpr auto kFrameGap = std::chrono::milliseconds(50);  // at most 20 frames per second per page
+constexpr size_t kBytesPerGapMs = 10 * 1024;               // bigger frames come less often: 2 MB, 5 a second
 constexpr auto kHeartbeat = std::chrono::seconds(1);       // a frame at least this often
-constexpr int kStreamThreads = 32;                         // pages (and requests) served at once
 constexpr double kTaskAnswerS = 5;                         // how long a task request waits for the coordinator
 
-std::string sse(const std::string& event, const Json& data) { return "event: " + event + "\ndata: " + data.dump() + "\n\n"; }
+// Texts from the fleet or from a request may hold bytes that are not UTF-8: shown replaced, never thrown.
+std::string dump(const Json& json) { return json.dump(-1, ' ', false, Json::error_handler_t::replace); }
+
+std::string sse(const std::string& event, const Json& data) { return "event: " + event + "\ndata: " + dump(data) + "\n\n"; }
 
 void reply_json(httplib::Response& response, int status, const Json& body) {
   response.status = status;
-  response.set_content(body.dump(), "application/json");
+  response.set_content(dump(body), "application/json");
+}
+
+// A route's handler: the request has been read whole once it runs.
+template <typename Handler>
+auto handled(Handler handler) {
+  return [handler](const httplib::Request& request, httplib::Response& response) {
+    GuardedHttpServer::mark_request_read();
+    handler(request, response);
+  };
 }
 
 }  // namespace
 
 DashboardServer::DashboardServer(double lost_after_s, RequestTask request_task, HistoryRecorder* recorder)
-    : http_(std::make_unique<httplib::Server>()),
+    : http_(std::make_unique<GuardedHttpServer>()),
       request_task_(std::move(request_task)),
       recorder_(recorder),
       now_ms_(fleet_transport::wall_clock_ms),
       view_(lost_after_s) {
-  http_->new_task_queue = [] { return new httplib::ThreadPool(kStreamThreads); };
+  http_->set_exception_handler([](const httplib::Request&, httplib::Response& response, std::exception_ptr) {
+    reply_json(response, 500, {{"reason", "internal error"}});
+  });
   add_routes();
 }
 
@@ -115,27 +130,32 @@ void DashboardServer::add_routes() {
     body << in.rdbuf();
     response.set_content(body.str(), asset.content_type);
   };
-  http_->Get("/", [serve_file](const httplib::Request&, httplib::Response& response) {
+  http_->Get("/", handled([serve_file](const httplib::Request&, httplib::Response& response) {
     serve_file("/index.html", web_assets().at("/index.html"), response);
-  });
+  }));
   for (const auto& [path, asset] : web_assets()) {
-    http_->Get(path, [serve_file, path = path, &asset = asset](const httplib::Request&, httplib::Response& response) {
+    http_->Get(path, handled([serve_file, path = path, &asset = asset](const httplib::Request&, httplib::Response& response) {
       serve_file(path, asset, response);
-    });
+    }));
   }
-  http_->Get("/api/frame", [this](const httplib::Request&, httplib::Response& response) {
+  http_->Get("/api/frame", handled([this](const httplib::Request&, httplib::Response& response) {
     const std::lock_guard<std::mutex> lock(mutex_);
     reply_json(response, 200, frame());
-  });
-  http_->Get("/api/mission", [this](const httplib::Request&, httplib::Response& response) {
+  }));
+  http_->Get("/api/mission", handled([this](const httplib::Request&, httplib::Response& response) {
     const std::lock_guard<std::mutex> lock(mutex_);
     reply_json(response, 200, view_.mission_json());
-  });
-  http_->Get("/api/plan", [this](const httplib::Request&, httplib::Response& response) {
+  }));
+  http_->Get("/api/plan", handled([this](const httplib::Request&, httplib::Response& response) {
     const std::lock_guard<std::mutex> lock(mutex_);
     reply_json(response, 200, view_.plan_json());
-  });
-  http_->Get("/api/stream", [this](const httplib::Request&, httplib::Response& response) {
+  }));
+  http_->Get("/api/stream", handled([this](const httplib::Request&, httplib::Response& response) {
+    if (!http_->mark_stream()) {
+      response.set_header("Retry-After", "2");
+      reply_json(response, 503, {{"reason", "too many event streams open: retry later"}});
+      return;
+    }
     response.set_header("Cache-Control", "no-cache");
     // Per page: what it has been sent so far.
     auto sent = std::make_shared<std::tuple<int, int, uint64_t>>(-1, -1, ~uint64_t{0});  // mission, plan, changes
@@ -158,11 +178,12 @@ void DashboardServer::add_routes() {
         out += sse("frame", frame());
       }
       if (!sink.write(out.data(), out.size())) return false;  // the page went away
-      std::this_thread::sleep_for(kFrameGap);
+      std::this_thread::sleep_for(std::max<std::chrono::milliseconds>(
+          kFrameGap, std::chrono::milliseconds(out.size() / kBytesPerGapMs)));
       return true;
     });
-  });
-  http_->Post("/api/tasks", [this](const httplib::Request& http_request, httplib::Response& response) {
+  }));
+  http_->Post("/api/tasks", handled([this](const httplib::Request& http_request, httplib::Response& response) {
     if (!request_task_) {
       reply_json(response, 409, {{"accepted", false}, {"reason", "a replay: tasks cannot be added to it"}});
       return;
@@ -192,8 +213,8 @@ void DashboardServer::add_routes() {
     const fleet_transport::TaskReply reply = this->request(request);
     reply_json(response, 200,
                {{"accepted", reply.accepted}, {"reason", reply.reason}, {"task", reply.task}, {"robot", reply.robot_id}});
-  });
-  http_->Post("/api/replay", [this](const httplib::Request& http_request, httplib::Response& response) {
+  }));
+  http_->Post("/api/replay", handled([this](const httplib::Request& http_request, httplib::Response& response) {
     if (!set_speed_) {
       reply_json(response, 409, {{"reason", "not a replay"}});
       return;
@@ -207,7 +228,7 @@ void DashboardServer::add_routes() {
     } catch (const std::exception& e) {
       reply_json(response, 400, {{"reason", std::string("bad request: ") + e.what()}});
     }
-  });
+  }));
 }
 
 void DashboardServer::bind(const std::string& host, int port) {
@@ -227,7 +248,10 @@ void DashboardServer::stop() {
     changed_.notify_all();
     answered_.notify_all();
   }
-  if (http_) http_->stop();
+  if (http_) {
+    http_->stop_connections();
+    http_->stop();
+  }
 }
 
 }  // namespace dashboard

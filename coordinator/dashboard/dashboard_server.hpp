@@ -18,11 +18,9 @@
 #include "dashboard/fleet_view.hpp"
 #include "dashboard/history.hpp"
 
-namespace httplib {
-class Server;
-}
-
 namespace dashboard {
+
+class GuardedHttpServer;
 
 class DashboardServer {
  public:
@@ -56,7 +54,7 @@ class DashboardServer {
   Json frame() const;  // the view's frame, saying whether it is a replay (call with mutex_ held)
   fleet_transport::TaskReply request(fleet_transport::TaskRequest request);
 
-  std::unique_ptr<httplib::Server> http_;
+  std::unique_ptr<GuardedHttpServer> http_;
   RequestTask request_task_;
   HistoryRecorder* recorder_;
   std::function<int64_t()> now_ms_;

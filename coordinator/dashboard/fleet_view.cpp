@@ -88,12 +88,20 @@ void FleetView::on_fleet_status(const fleet_transport::FleetStatus& status, int6
   Coordinator& c = coordinator(status.coordinator);
   c.progress = status;
   c.heard_ms = std::max(c.heard_ms, heard_ms);
+  c.role_index.clear();
+  for (const fleet_transport::Assignment& row : status.assignments) c.role_index.emplace(row.robot_id, row.role);
+  c.visits_done.clear();
+  for (const fleet_transport::TaskVisit& visit : status.done_visits) c.visits_done.emplace(visit.task, visit.role);
 }
 
 void FleetView::on_mission(const fleet_transport::MissionInfo& mission, int64_t heard_ms) {
   Coordinator& c = coordinator(mission.coordinator);
   c.mission = mission;
   c.heard_ms = std::max(c.heard_ms, heard_ms);
+  c.tasks_of_role.clear();
+  for (int t = 0; t < static_cast<int>(mission.tasks.size()); ++t) {
+    for (int role : mission.tasks[t].roles) c.tasks_of_role[role].push_back(t);
+  }
   if (mission.coordinator == followed_) ++mission_version_;
   refollow();
 }
@@ -102,6 +110,8 @@ void FleetView::on_plan(const fleet_transport::FleetPlan& plan, int64_t heard_ms
   Coordinator& c = coordinator(plan.coordinator);
   c.plan = plan;
   c.heard_ms = std::max(c.heard_ms, heard_ms);
+  c.plan_index.clear();
+  for (size_t k = 0; k < plan.robots.size(); ++k) c.plan_index.emplace(plan.robots[k].robot_id, k);
   if (plan.coordinator == followed_) ++plan_version_;
   refollow();
 }
@@ -125,18 +135,15 @@ void FleetView::on_event(const fleet_transport::FleetEvent& event, int64_t heard
 const fleet_transport::RobotPlan* FleetView::plan_of(const std::string& robot_id) const {
   const Coordinator* c = followed();
   if (c == nullptr || !c->plan) return nullptr;
-  for (const fleet_transport::RobotPlan& robot : c->plan->robots) {
-    if (robot.robot_id == robot_id) return &robot;
-  }
-  return nullptr;
+  const auto found = c->plan_index.find(robot_id);
+  return found == c->plan_index.end() ? nullptr : &c->plan->robots[found->second];
 }
 
 int FleetView::role_of(const std::string& robot_id) const {
   const Coordinator* c = followed();
   if (c != nullptr && c->progress) {
-    for (const fleet_transport::Assignment& row : c->progress->assignments) {
-      if (row.robot_id == robot_id) return row.role;
-    }
+    const auto found = c->role_index.find(robot_id);
+    if (found != c->role_index.end()) return found->second;
   }
   const fleet_transport::RobotPlan* plan = plan_of(robot_id);
   return plan != nullptr ? plan->role : -1;
@@ -144,9 +151,7 @@ int FleetView::role_of(const std::string& robot_id) const {
 
 bool FleetView::visited(int task, int role) const {
   const Coordinator* c = followed();
-  if (c == nullptr || !c->progress) return false;
-  const auto& done = c->progress->done_visits;
-  return std::find(done.begin(), done.end(), fleet_transport::TaskVisit{task, role}) != done.end();
+  return c != nullptr && c->progress && c->visits_done.count({task, role}) > 0;
 }
 
 int FleetView::path_from(const std::string& robot_id) const {
@@ -190,9 +195,10 @@ std::vector<int> FleetView::next_tasks(const std::string& robot_id) const {
   }
   std::vector<std::pair<size_t, int>> due;  // (place on the path, task)
   const auto& tasks = c->mission->tasks;
-  for (int t = 0; t < static_cast<int>(tasks.size()); ++t) {
-    const auto& roles = tasks[t].roles;
-    if (tasks[t].cancelled || std::find(roles.begin(), roles.end(), role) == roles.end() || visited(t, role)) continue;
+  const auto mine = c->tasks_of_role.find(role);
+  if (mine == c->tasks_of_role.end()) return {};
+  for (const int t : mine->second) {
+    if (tasks[t].cancelled || visited(t, role)) continue;
     const fleet_transport::GridCell cell{tasks[t].x, tasks[t].y};
     due.emplace_back(std::find(ahead.begin(), ahead.end(), cell) - ahead.begin(), t);
   }

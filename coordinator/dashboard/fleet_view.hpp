@@ -12,6 +12,9 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <set>
+#include <utility>
+#include <vector>
 #include <string>
 
 #include "fleet_transport/messages.hpp"
@@ -70,6 +73,11 @@ class FleetView {
     std::optional<fleet_transport::MissionInfo> mission;
     std::optional<fleet_transport::FleetPlan> plan;
     std::optional<fleet_transport::FleetStatus> progress;
+    // Looked up for every robot in every frame (thousands of robots when a big plan is shown):
+    std::map<std::string, size_t> plan_index;       // robot -> its place in plan->robots
+    std::map<std::string, int> role_index;          // robot -> role, from progress->assignments
+    std::set<std::pair<int, int>> visits_done;      // (task, role), from progress->done_visits
+    std::map<int, std::vector<int>> tasks_of_role;  // role -> the mission's tasks for it, in order
   };
 
   const Coordinator* followed() const;

@@ -1,7 +1,7 @@
 // A fleet's history: every message the dashboard heard, with the time it heard it, one JSON object
 // per line (JSON Lines; the first line names the format). Written live by `ctsfleet-dashboard
-// --record FILE`, replayed at any speed by `--replay FILE`. A plan written by ctsfleet-solve
-// becomes a history too (robots stepping through it), so it plays in the same viewer.
+// --record FILE`, replayed at any speed by `--replay FILE` (playback.hpp; a plan written by
+// ctsfleet-solve plays there too).
 #pragma once
 
 #include <cstdint>
@@ -43,11 +43,6 @@ class HistoryRecorder {
 
 // Reads a history file, sorted by time. Throws planner_core::InputError naming the file and line.
 std::vector<HistoryEntry> load_history(const std::string& path);
-
-// A solution of `instance` as a history: one step every `step_ms`; robots agent0..agentN-1; the
-// validator's verdict as the first event.
-std::vector<HistoryEntry> plan_history(const planner_core::Instance& instance, const planner_core::Solution& solution,
-                                       int64_t step_ms);
 
 // What a history shows, as a plan for planner_core's SVG picture (write_svg): the last mission's
 // map and tasks, and each robot that reported a cell as an agent whose path is the cells it stood

@@ -9,6 +9,7 @@
 #include "dashboard/fleet_view.hpp"
 #include "dashboard/history.hpp"
 #include "dashboard/message_json.hpp"
+#include "dashboard/playback.hpp"
 #include "planner_core/input_error.hpp"
 
 namespace dashboard {
@@ -232,7 +233,9 @@ struct TinyPlan : ::testing::Test {
 };
 
 TEST_F(TinyPlan, APlanPlaysToTheEndWithEveryTaskDone) {
-  const std::vector<HistoryEntry> entries = plan_history(instance, solution, 100);
+  PlanPlayback playback(instance, solution, 100, "tiny.txt");
+  EXPECT_EQ(playback.end_ms(), 200);
+  const std::vector<HistoryEntry> entries = all_entries(playback);
   FleetView view;
   for (const HistoryEntry& entry : entries) apply(view, entry);
   const Json frame = view.frame_json(entries.back().t_ms);
@@ -240,15 +243,64 @@ TEST_F(TinyPlan, APlanPlaysToTheEndWithEveryTaskDone) {
   EXPECT_EQ(frame["robots"][0]["status"], "parked");
   EXPECT_EQ(frame["robots"][0]["x"], 2);
   EXPECT_NE(frame["events"][0]["text"].get<std::string>().find("valid, flowtime 4"), std::string::npos);
-  // A plan with a collision says so.
-  const planner_core::Solution crash = {{v(0, 0), v(0, 1)}, {v(1, 0), v(1, 0)}, {v(2, 0), v(2, 1)}};
-  FleetView crashed;
-  for (const HistoryEntry& entry : plan_history(instance, crash, 100)) apply(crashed, entry);
-  EXPECT_EQ(crashed.frame_json(0)["events"][0]["kind"], "plan_failed");
+}
+
+TEST_F(TinyPlan, APlanThatDoesNotSolveItsInstanceIsRefusedNamingTheFault) {
+  const auto refusal = [&](planner_core::Solution plan) {
+    try {
+      PlanPlayback playback(instance, std::move(plan), 100, "bad.txt");
+    } catch (const planner_core::InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  // Two agents on one cell.
+  EXPECT_NE(refusal({{v(0, 0), v(0, 1)}, {v(1, 0), v(1, 0)}, {v(2, 0), v(2, 1)}}).find("bad.txt: not a valid plan of tiny"),
+            std::string::npos);
+  // Ends short of the goals; jumps two cells and so skips its task.
+  EXPECT_NE(refusal({{v(0, 0), v(0, 1)}, {v(1, 0), v(1, 1)}}).find("bad.txt"), std::string::npos);
+  EXPECT_NE(refusal({{v(0, 0), v(0, 1)}, {v(2, 0), v(1, 1)}, {v(2, 0), v(2, 1)}}).find("bad.txt"), std::string::npos);
+  // A plan that waits a step more is still valid.
+  EXPECT_EQ(refusal({{v(0, 0), v(0, 1)}, {v(0, 0), v(1, 1)}, {v(1, 0), v(2, 1)}, {v(2, 0), v(2, 1)}}), "accepted");
+  EXPECT_NE(refusal({}).find("bad.txt: no timesteps"), std::string::npos);
+}
+
+TEST(PlanPlaybackTest, ALongPlanIsSentInWindowsAndTheRobotsStayOnThem) {
+  // One agent walking 100 cells east: the page gets the plan 32 steps at a time, and at every step
+  // the robot's place in the window is where it stands.
+  planner_core::Instance line;
+  line.graph = std::make_shared<const planner_core::Graph>(101, 1, std::vector<std::string>{std::string(101, '.')});
+  line.starts = {line.graph->vertex_at({0, 0})};
+  line.goals = {line.graph->vertex_at({100, 0})};
+  line.index_tasks();
+  line.source = "line";
+  planner_core::Solution walk;
+  for (int x = 0; x <= 100; ++x) walk.push_back({line.graph->vertex_at({x, 0})});
+  PlanPlayback playback(line, walk, 10, "walk.txt");
+  FleetView view;
+  int plans = 0;
+  for (int64_t t = 0; t <= playback.end_ms(); t += 10) {
+    playback.play_until(t, [&](const HistoryEntry& entry) {
+      plans += entry.type == "plan";
+      apply(view, entry);
+    });
+    const Json robot = view.frame_json(t)["robots"][0];
+    const Json path = view.plan_json()["robots"]["agent0"]["path"];
+    ASSERT_LE(path.size(), static_cast<size_t>(PlanPlayback::kPlanWindow + 1));
+    const int from = robot["path_from"].get<int>();
+    ASSERT_GE(from, 1);
+    if (t < playback.end_ms()) {
+      ASSERT_LT(from, static_cast<int>(path.size())) << "at " << t;
+      EXPECT_EQ(path[from - 1], Json::array({robot["x"], 0})) << "at " << t;  // it stands on (or leaves) path[from-1]
+    }
+  }
+  EXPECT_EQ(plans, 4);  // steps 0, 32, 64, 96
+  EXPECT_EQ(view.frame_json(playback.end_ms())["robots"][0]["status"], "parked");
 }
 
 TEST_F(TinyPlan, ARunBecomesAPlanForTheSvgPicture) {
-  const HistoryPicture picture = history_picture(plan_history(instance, solution, 100), "run");
+  PlanPlayback playback(instance, solution, 100, "run.txt");
+  const HistoryPicture picture = history_picture(all_entries(playback), "run");
   EXPECT_EQ(picture.robots, (std::vector<std::string>{"agent0", "agent1"}));
   EXPECT_EQ(picture.instance.starts, instance.starts);
   EXPECT_EQ(picture.instance.goals, instance.goals);

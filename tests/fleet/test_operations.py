@@ -5,6 +5,9 @@ browser (Debian's chromium, headless, driven by chromedriver through Selenium). 
 watches every fleet. Every wait is on a condition with a generous deadline."""
 import json
 import os
+import socket
+import statistics
+import threading
 import re
 import shutil
 import signal
@@ -12,6 +15,7 @@ import subprocess
 import sys
 import time
 import unittest
+import urllib.error
 import urllib.request
 
 import yaml
@@ -26,6 +30,7 @@ TESTS = [
     "test_a_task_added_survives_a_failover",
     "test_fastdds_fleet_takes_tasks_and_its_dashboard_sees_them",
     "test_hostile_ids_and_texts_run_no_script_in_the_dashboard",
+    "test_the_dashboard_answers_with_idle_streams_and_slow_sockets_open",
 ]
 
 # Markup an attacker may put in a robot id, an event kind or an event text: each would set
@@ -187,6 +192,95 @@ class OperationsTest(unittest.TestCase):
                                                 "#events svg, #robots img, #robots script, #robots svg').length"), 0)
         dashboard.send_signal(signal.SIGINT)
         self.fleet.wait_exit("dashboard", 30)
+
+    def test_the_dashboard_answers_with_idle_streams_and_slow_sockets_open(self):
+        # 100 event streams that are never read (from 127.0.0.2) and 100 sockets sending their
+        # request a byte at a time (from 127.0.0.3): the page, asked from 127.0.0.1, still answers.
+        instance = os.path.join(os.path.dirname(__file__), "..", "data", "instances", "random-32-32-20-N10-M30-00.yaml")
+        plan = os.path.join(self.fleet.dir, "plan.txt")
+        solved = subprocess.run([f"{BIN}/ctsfleet-solve", "-i", instance, "-o", plan, "-t", "5"], capture_output=True,
+                                text=True, timeout=120)
+        self.assertEqual(solved.returncode, 0, solved.stderr)
+        dashboard = self.fleet.start("dashboard", [f"{BIN}/ctsfleet-dashboard", "--plan", plan, "--instance", instance,
+                                                   "--port", "0"])
+        log = self.fleet.log("dashboard")
+        wait_for(lambda: "dashboard: http://" in read(log), 60, "the dashboard's address")
+        port = int(re.search(r"dashboard: http://127\.0\.0\.1:(\d+)/", read(log)).group(1))
+
+        def connect(source):
+            s = socket.socket()
+            self.addCleanup(s.close)
+            s.bind((source, 0))
+            s.settimeout(30)
+            s.connect(("127.0.0.1", port))
+            return s
+
+        streams = [connect("127.0.0.2") for _ in range(100)]
+        for s in streams:
+            s.sendall(b"GET /api/stream HTTP/1.1\r\nHost: x\r\n\r\n")
+        slow = [connect("127.0.0.3") for _ in range(100)]
+        stop_dripping = threading.Event()
+        self.addCleanup(stop_dripping.set)
+
+        def drip():
+            while not stop_dripping.wait(0.5):
+                for s in slow:
+                    try:
+                        s.sendall(b"X")
+                    except OSError:
+                        pass
+        for s in slow:
+            s.sendall(b"GET / HTTP/1.1\r\nX-Slow: ")
+        threading.Thread(target=drip, daemon=True).start()
+
+        times = []
+        for _ in range(5):
+            for path in ["", "api/frame", "api/plan"]:
+                started = time.monotonic()
+                with urllib.request.urlopen(f"http://127.0.0.1:{port}/{path}", timeout=30) as reply:
+                    self.assertEqual(reply.status, 200)
+                    reply.read()
+                times.append(time.monotonic() - started)
+        print(f"page answers under load: median {statistics.median(times) * 1000:.0f} ms, "
+              f"slowest {max(times) * 1000:.0f} ms of {len(times)}")
+        self.assertLess(statistics.median(times), 1.0, times)
+
+        # Streams over the per-address cap were refused at once: 503 (or closed, when the server
+        # refused the connection before the request reached it).
+        def answer_start(s, wait=10):
+            """The first bytes the server sent (b"" when it closed), None when it sent nothing in time."""
+            s.settimeout(wait)
+            try:
+                return s.recv(64)
+            except socket.timeout:
+                return None
+            except OSError:
+                return b""
+        answers = [answer_start(s) for s in streams]
+        served = sum(1 for a in answers if a is not None and a.startswith(b"HTTP/1.1 200"))
+        refused = sum(1 for a in answers if a is not None and (a == b"" or a.startswith(b"HTTP/1.1 503")))
+        self.assertLessEqual(served, 8, answers)
+        self.assertEqual(served + refused, 100, answers)
+        # A socket still sending its request after the deadline (10 s) is cut off.
+        wait_for(lambda: all(answer_start(s, 0.1) == b"" for s in slow), 60, "the slow sockets cut")
+
+        # A body past the limit is refused without being read; a body that is not UTF-8 gets 400.
+        big = connect("127.0.0.1")
+        big.sendall(b"POST /api/replay HTTP/1.1\r\nHost: x\r\nContent-Length: 300000000\r\n\r\n")
+        self.assertTrue(answer_start(big).startswith(b"HTTP/1.1 413"))
+        for body in [b'{"speed": "\xff\xfe"}', b"\xc3\x28"]:
+            request = urllib.request.Request(f"http://127.0.0.1:{port}/api/replay", data=body, method="POST")
+            with self.assertRaises(urllib.error.HTTPError) as refused_body:
+                urllib.request.urlopen(request, timeout=30)
+            self.assertEqual(refused_body.exception.code, 400)
+            json.loads(refused_body.exception.read())  # a JSON reason, whatever bytes came in
+
+        # Ctrl-C ends it promptly, slow sockets and all.
+        stop_dripping.set()
+        started = time.monotonic()
+        dashboard.send_signal(signal.SIGINT)
+        self.assertEqual(self.fleet.wait_exit("dashboard", 30), 130)
+        print(f"stopped {time.monotonic() - started:.2f} s after SIGINT")
 
     def test_dashboard_in_a_real_browser(self):
         browser = chromium_driver()

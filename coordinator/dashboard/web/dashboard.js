@@ -17,6 +17,7 @@ const view = {
   panelsDue: 0,       // when the side panels may be rendered again (performance.now())
   eventsShown: -1,
 };
+const kRobotsListed = 300;  // rows of the robots table (and robots in the task menu)
 
 // Three stacked canvases: walls (drawn once per mission), tasks and plans (drawn again a few times a
 // second at most, when they change), robots (animated; on top, it takes the clicks).
@@ -124,6 +125,7 @@ function drawTasksAndPlans(f, now) {
 // Each robot is drawn from a sprite (its disc, outline and label, made once per look and scale):
 // copying a small image is much cheaper than filling a path and shaping text, thirty times a second.
 const sprites = new Map();  // "id|status|scale" -> canvas
+const kSmallestSprite = 6;  // pixels per cell below which robots are drawn as squares
 function robotSprite(robot, s) {
   const key = `${robot.id}|${robot.status}|${s}`;
   let sprite = sprites.get(key);
@@ -147,7 +149,7 @@ function robotSprite(robot, s) {
     g.font = `${Math.max(9, s * 0.45)}px system-ui`;
     g.fillText(robot.id.replace(/^robot/, "r"), cx + s * 0.45, cy - s * 0.35);
   }
-  if (sprites.size > 5000) sprites.clear();
+  if (sprites.size > Math.max(5000, 3 * (view.frame ? view.frame.robots.length : 0))) sprites.clear();
   sprites.set(key, sprite);
   return sprite;
 }
@@ -165,6 +167,11 @@ function draw(now) {
   for (const robot of f ? f.robots : []) {
     const at = view.drawn[robot.id];
     if (!at) continue;
+    if (s < kSmallestSprite) {  // a big map: each robot a square of its status's colour, no sprites
+      context.fillStyle = statusColours[robot.status] || "#000";
+      context.fillRect(at.x * s, at.y * s, Math.max(1, s), Math.max(1, s));
+      continue;
+    }
     const sprite = robotSprite(robot, s);
     context.drawImage(sprite, Math.round(at.x * s), Math.round((at.y + 1) * s - sprite.height));
   }
@@ -229,9 +236,15 @@ function renderPanels() {
     for (const cell of [name, value]) row.insertCell().textContent = cell;
     return row;
   }));
-  renderRobotTable(f.robots);
+  // A fleet of thousands (a big plan shown) lists its first robots only: a table or a menu of
+  // ten thousand rows helps nobody and costs the page most of a core.
+  const listed = f.robots.slice(0, kRobotsListed);
+  renderRobotTable(listed);
+  const cut = document.getElementById("robots-cut");
+  cut.hidden = listed.length === f.robots.length;
+  cut.textContent = `the first ${listed.length} of ${f.robots.length} robots`;
   const select = document.getElementById("task-robot");
-  const ids = f.robots.filter((r) => r.role >= 0).map((r) => r.id);
+  const ids = listed.filter((r) => r.role >= 0).map((r) => r.id);
   const have = [...select.options].slice(1).map((o) => o.value);
   if (ids.join() !== have.join()) {
     const chosen = select.value;
