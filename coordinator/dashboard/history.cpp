@@ -8,34 +8,71 @@
 #include "planner_core/input_file.hpp"
 #include "dashboard/message_json.hpp"
 #include "planner_core/input_error.hpp"
+#include "planner_core/yaml_context.hpp"
 #include "planner_core/validator.hpp"
 
 namespace dashboard {
 
 using fleet_transport::GoneReason;
 
+namespace {
+
+// Where `read` (a message read back as JSON) differs from what the file said: a number past its
+// field's type (nlohmann wraps it), a fraction for an integer, a word no enum has. "" when none.
+std::string first_difference(const Json& said, const Json& read, const std::string& field) {
+  if (read.is_object()) {
+    for (const auto& [key, value] : read.items()) {
+      if (!said.contains(key)) continue;
+      const std::string found = first_difference(said.at(key), value, field.empty() ? key : field + "." + key);
+      if (!found.empty()) return found;
+    }
+    return "";
+  }
+  if (read.is_array() && said.is_array() && said.size() == read.size()) {
+    for (size_t i = 0; i < read.size(); ++i) {
+      const std::string found = first_difference(said[i], read[i], field + "[" + std::to_string(i) + "]");
+      if (!found.empty()) return found;
+    }
+    return "";
+  }
+  if (said == read) return "";
+  return "field " + field + " is " + planner_core::cut(said.dump(-1, ' ', false, Json::error_handler_t::replace)) +
+         ", which its type cannot hold (it would read as " + read.dump() + ")";
+}
+
+// The message, refused (std::invalid_argument naming the field) unless it reads back as it was said.
+template <typename Message>
+Message checked(const Json& said) {
+  Message message = said.get<Message>();
+  const std::string difference = first_difference(said, Json(message), "");
+  if (!difference.empty()) throw std::invalid_argument(difference);
+  return message;
+}
+
+}  // namespace
+
 void apply(FleetView& view, const HistoryEntry& entry) {
   const Json& m = entry.message;
   const int64_t t = entry.t_ms;
   try {
     if (entry.type == "state") {
-      view.on_state(m.get<fleet_transport::RobotState>(), t);
+      view.on_state(checked<fleet_transport::RobotState>(m), t);
     } else if (entry.type == "announcement") {
-      view.on_announcement(m.get<fleet_transport::Announcement>(), t);
+      view.on_announcement(checked<fleet_transport::Announcement>(m), t);
     } else if (entry.type == "gone") {
       view.on_robot_gone(m.at("robot_id").get<std::string>(),
                          m.at("reason").get<std::string>() == "goodbye" ? GoneReason::kGoodbye : GoneReason::kLivelinessLost,
                          t);
     } else if (entry.type == "coordinator") {
-      view.on_coordinator_status(m.get<fleet_transport::CoordinatorStatus>(), t);
+      view.on_coordinator_status(checked<fleet_transport::CoordinatorStatus>(m), t);
     } else if (entry.type == "status") {
-      view.on_fleet_status(m.get<fleet_transport::FleetStatus>(), t);
+      view.on_fleet_status(checked<fleet_transport::FleetStatus>(m), t);
     } else if (entry.type == "mission") {
-      view.on_mission(m.get<fleet_transport::MissionInfo>(), t);
+      view.on_mission(checked<fleet_transport::MissionInfo>(m), t);
     } else if (entry.type == "plan") {
-      view.on_plan(m.get<fleet_transport::FleetPlan>(), t);
+      view.on_plan(checked<fleet_transport::FleetPlan>(m), t);
     } else if (entry.type == "event") {
-      view.on_event(m.get<fleet_transport::FleetEvent>(), t);
+      view.on_event(checked<fleet_transport::FleetEvent>(m), t);
     } else {
       throw std::invalid_argument("unknown message type '" + entry.type + "'");
     }
@@ -71,7 +108,7 @@ std::vector<HistoryEntry> load_history(const std::string& path) {
     try {
       row = Json::parse(line);
     } catch (const nlohmann::json::exception& e) {
-      throw planner_core::InputError(where + "not JSON (" + e.what() + ")");
+      throw planner_core::InputError(where + "not JSON (" + planner_core::cut(e.what(), 160) + ")");
     }
     if (number == 1) {
       if (!row.is_object() || row.value("format", "") != kHistoryFormat) {
@@ -81,11 +118,15 @@ std::vector<HistoryEntry> load_history(const std::string& path) {
       continue;
     }
     try {
-      HistoryEntry entry{row.at("t").get<int64_t>(), row.at("type").get<std::string>(), row.at("msg")};
+      const Json& t = row.at("t");
+      if (!t.is_number_integer() || (t.is_number_unsigned() && t.get<uint64_t>() > INT64_MAX)) {
+        throw std::invalid_argument("field t is " + t.dump().substr(0, 80) + ", not a time in ms (an integer of 64 bits)");
+      }
+      HistoryEntry entry{t.get<int64_t>(), row.at("type").get<std::string>(), row.at("msg")};
       apply(check, entry);
       entries.push_back(std::move(entry));
     } catch (const std::exception& e) {
-      throw planner_core::InputError(where + e.what());
+      throw planner_core::InputError(where + planner_core::cut(e.what(), 240));
     }
   }
   if (number == 0) throw planner_core::InputError(path + ": empty, not a ctsfleet history");

@@ -89,8 +89,25 @@ FleetCoordinator::FleetCoordinator(const FleetConfig& config, planner_core::Inst
         mission_.index_tasks();
         progress_.add_task();
       }
-      for (int task : resume->cancelled_tasks) progress_.cancel(task);
-      for (const fleet_transport::TaskVisit& visit : resume->visits) progress_.mark(visit);
+      const auto does_not_fit = [&](const std::string& what) {
+        return JournalError("--journal " + journal->path() + ": " + what + " does not fit mission " + mission_id_ +
+                            " (" + std::to_string(mission_.task_count()) + " tasks, " +
+                            std::to_string(mission_.agent_count()) + " roles); it is left as it is");
+      };
+      for (int task : resume->cancelled_tasks) {
+        if (task >= mission_.task_count()) throw does_not_fit("cancelled task " + std::to_string(task));
+        progress_.cancel(task);
+      }
+      for (const fleet_transport::TaskVisit& visit : resume->visits) {
+        const auto& roles = visit.task < mission_.task_count() ? mission_.tasks[visit.task].agents : std::vector<int>{};
+        if (std::find(roles.begin(), roles.end(), visit.role) == roles.end()) {
+          throw does_not_fit("the visit of task " + std::to_string(visit.task) + " by role " + std::to_string(visit.role));
+        }
+        progress_.mark(visit);
+      }
+      for (const auto& [role, robot] : resume->bindings) {
+        if (role >= mission_.agent_count()) throw does_not_fit("the binding of role " + std::to_string(role));
+      }
       epoch_ = resume->last_epoch;
       resumed_bindings_ = resume->bindings;
       spdlog::info("journal {}: resuming run {} of mission {}: {} task visits and {} of {} tasks done, last epoch {}, "

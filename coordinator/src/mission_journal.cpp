@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <cstdio>
+#include <limits>
 #include <set>
 #include <string>
 #include <variant>
@@ -97,6 +98,20 @@ class MissionJournal::Statement {
     }
   }
   int64_t number(int column) const { return sqlite3_column_int64(statement_, column); }
+  // A column's integer, refused (JournalError naming the field and its range) when it is not an
+  // integer or lies outside [low, high]: a journal edited by hand or by another program.
+  int64_t number_in(int column, const char* field, int64_t low, int64_t high) const {
+    const int64_t value = number(column);
+    if (sqlite3_column_type(statement_, column) != SQLITE_INTEGER || value < low || value > high) {
+      throw JournalError("--journal " + journal_.path() + ": " + field + " is " + text(column) +
+                         ", not an integer in [" + std::to_string(low) + ", " + std::to_string(high) +
+                         "]; the journal is left as it is: move it away to start afresh, or give the right file");
+    }
+    return value;
+  }
+  int int_in(int column, const char* field, int low = 0) const {
+    return static_cast<int>(number_in(column, field, low, std::numeric_limits<int>::max()));
+  }
   std::string text(int column) const {
     const unsigned char* value = sqlite3_column_text(statement_, column);
     return value == nullptr ? std::string() : reinterpret_cast<const char*>(value);
@@ -247,7 +262,7 @@ void MissionJournal::refuse_writes_for_test() { execute("PRAGMA query_only=1"); 
 void MissionJournal::read_resumable() {
   {
     Statement term(*this, "SELECT coalesce(max(term), 0) FROM claims");
-    if (term.next()) highest_term_ = static_cast<uint32_t>(term.number(0));
+    if (term.next()) highest_term_ = static_cast<uint32_t>(term.number_in(0, "claims.term", 0, UINT32_MAX));
   }
   Statement open_run(*this, "SELECT run FROM runs WHERE ended_ms IS NULL ORDER BY run DESC LIMIT 1");
   if (!open_run.next()) return;
@@ -255,28 +270,28 @@ void MissionJournal::read_resumable() {
   resume.run = open_run.number(0);
   {
     Statement last(*this, "SELECT coalesce(max(term), 0) FROM claims WHERE run = ?1", {resume.run});
-    if (last.next()) resume.last_term = static_cast<uint32_t>(last.number(0));
+    if (last.next()) resume.last_term = static_cast<uint32_t>(last.number_in(0, "claims.term", 0, UINT32_MAX));
   }
   {
     Statement epoch(*this, "SELECT coalesce(max(epoch), 0) FROM epochs WHERE run = ?1", {resume.run});
-    if (epoch.next()) resume.last_epoch = static_cast<int>(epoch.number(0));
+    if (epoch.next()) resume.last_epoch = epoch.int_in(0, "epochs.epoch");
   }
   {
     Statement bindings(*this, "SELECT role, robot FROM bindings WHERE run = ?1 AND robot != ''", {resume.run});
-    while (bindings.next()) resume.bindings[static_cast<int>(bindings.number(0))] = bindings.text(1);
+    while (bindings.next()) resume.bindings[bindings.int_in(0, "bindings.role")] = bindings.text(1);
   }
   {
     Statement added(*this, "SELECT task, x, y, role FROM tasks_added WHERE run = ?1 ORDER BY task", {resume.run});
     while (added.next()) {
-      resume.added_tasks.push_back({static_cast<int>(added.number(0)), static_cast<int>(added.number(1)),
-                                    static_cast<int>(added.number(2)), static_cast<int>(added.number(3))});
+      resume.added_tasks.push_back({added.int_in(0, "tasks_added.task"), added.int_in(1, "tasks_added.x"),
+                                    added.int_in(2, "tasks_added.y"), added.int_in(3, "tasks_added.role")});
     }
     Statement cancelled(*this, "SELECT task FROM tasks_cancelled WHERE run = ?1 ORDER BY task", {resume.run});
-    while (cancelled.next()) resume.cancelled_tasks.push_back(static_cast<int>(cancelled.number(0)));
+    while (cancelled.next()) resume.cancelled_tasks.push_back(cancelled.int_in(0, "tasks_cancelled.task"));
   }
   Statement visits(*this, "SELECT task, role FROM visits WHERE run = ?1 ORDER BY task, role", {resume.run});
   while (visits.next()) {
-    resume.visits.push_back({static_cast<int>(visits.number(0)), static_cast<int>(visits.number(1))});
+    resume.visits.push_back({visits.int_in(0, "visits.task"), visits.int_in(1, "visits.role")});
   }
   resumable_ = resume;
 }

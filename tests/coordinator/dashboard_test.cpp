@@ -216,6 +216,35 @@ TEST_F(HistoryTest, BadFilesAreRefusedNamingTheLine) {
   EXPECT_NE(error_of((dir / "missing").string()).find("cannot open"), std::string::npos);
 }
 
+TEST_F(HistoryTest, NumbersPastTheirTypeAndUnknownWordsAreRefusedNamingTheField) {
+  const std::string header = "{\"format\": \"ctsfleet-history-1\"}\n";
+  const auto state_with = [&](const std::string& name, const std::string& field, const std::string& value) {
+    Json state = fleet_transport::RobotState{"r1", 1, 2, 1, 2, 0, 1, 0, fleet_transport::RobotStatus::kIdle, 50, 1, 1, 1, 1};
+    std::string line = Json{{"t", 1}, {"type", "state"}, {"msg", state}}.dump();
+    const std::string key = "\"" + field + "\":";
+    const size_t at = line.find(key) + key.size();
+    line.replace(at, line.find_first_of(",}", at) - at, value);
+    return error_of(write(name, header + line + "\n"));
+  };
+  EXPECT_EQ(state_with("fine", "cell_x", "7"), "");
+  const std::string wide = state_with("wide", "cell_x", "4294967320");  // 2^32 + 24: read as 24 before
+  EXPECT_NE(wide.find("wide:2: field cell_x is 4294967320, which its type cannot hold"),
+            std::string::npos) << wide;
+  EXPECT_NE(state_with("low", "plan_epoch", "-2147483649").find("field plan_epoch is -2147483649"), std::string::npos);
+  EXPECT_NE(state_with("fraction", "action_index", "1.5").find("field action_index is 1.5"), std::string::npos);
+  EXPECT_NE(state_with("word", "status", "\"flying\"").find("field status is \"flying\""), std::string::npos);
+  const std::string cut = state_with("long", "cell_y", std::string(500, '9'));
+  EXPECT_LT(cut.size(), 400u) << cut;  // the 500 digits are echoed cut
+  // The time of a line too.
+  const std::string time = error_of(write("time", header + "{\"t\": 1.5, \"type\": \"state\", \"msg\": {}}\n"));
+  EXPECT_NE(time.find("time:2: field t is 1.5"), std::string::npos) << time;
+  // Nested: a plan's cell.
+  Json plan = fleet_transport::FleetPlan{1, 1, 0, 0, 0, {{"r1", 0, {{1, 2}, {1, 3}}}}};
+  plan["robots"][0]["path"][1]["y"] = 4294967296ULL;
+  const std::string nested = error_of(write("nested", header + Json{{"t", 1}, {"type", "plan"}, {"msg", plan}}.dump() + "\n"));
+  EXPECT_NE(nested.find("field robots[0].path[1].y is 4294967296"), std::string::npos) << nested;
+}
+
 // Two agents on a 3x2 map, each with one task on its way, and the plan that does it in 2 steps.
 struct TinyPlan : ::testing::Test {
   planner_core::Instance instance;

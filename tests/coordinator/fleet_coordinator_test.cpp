@@ -803,6 +803,53 @@ TEST(FleetCoordinator, ARestartFromTheJournalKeepsTheTasksAddedAtRuntime) {
   std::filesystem::remove(path + "-shm");
 }
 
+// A journal whose records do not fit the mission (a visit by a role the task is not for, a task
+// past the mission's, a binding of a role it does not have) is refused naming the record, never
+// counted.
+TEST(FleetCoordinator, AJournalRecordThatDoesNotFitTheMissionIsRefused) {
+  const planner_core::Instance mission = planner_core::load_instance(CTSFLEET_CONFIG_DIR "/default/mission-8.yaml");
+  const std::string path = (std::filesystem::temp_directory_path() /
+                            ("ctsfleet-unfit-" + std::to_string(::getpid()) + ".journal")).string();
+  const int role_not_of_task_0 = [&] {
+    for (int role = 0; role < mission.agent_count(); ++role) {
+      const auto& agents = mission.tasks[0].agents;
+      if (std::find(agents.begin(), agents.end(), role) == agents.end()) return role;
+    }
+    return mission.agent_count();
+  }();
+  const auto refusal = [&](const std::function<void(MissionJournal&)>& record) {
+    std::filesystem::remove(path);
+    {
+      MissionJournal journal(path, mission_fingerprint(mission), "test");
+      journal.claim(1, 0x11, 1);
+      record(journal);
+    }
+    MissionJournal journal(path, mission_fingerprint(mission), "test");
+    try {
+      FleetCoordinator restarted(config_for(mission.agent_count()), planner_core::Instance(mission), {false, &journal});
+    } catch (const JournalError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_NE(refusal([&](MissionJournal& j) { j.record_visit({0, role_not_of_task_0}, "robot0", 1); })
+                .find("the visit of task 0 by role " + std::to_string(role_not_of_task_0) + " does not fit"),
+            std::string::npos);
+  EXPECT_NE(refusal([&](MissionJournal& j) { j.record_visit({mission.task_count(), 0}, "robot0", 1); }).find("does not fit"),
+            std::string::npos);
+  EXPECT_NE(refusal([&](MissionJournal& j) { j.record_task_cancelled(mission.task_count() + 3, "x"); })
+                .find("cancelled task"),
+            std::string::npos);
+  EXPECT_NE(refusal([&](MissionJournal& j) { j.record_binding(mission.agent_count(), "robot9"); })
+                .find("the binding of role"),
+            std::string::npos);
+  EXPECT_EQ(refusal([&](MissionJournal& j) { j.record_visit({0, mission.tasks[0].agents[0]}, "robot0", 1); }),
+            "accepted");
+  std::filesystem::remove(path);
+  std::filesystem::remove(path + "-wal");
+  std::filesystem::remove(path + "-shm");
+}
+
 // The same journal, seed and robot states give the same plan: a restarted coordinator (or a
 // standby taking over) plans what the one before it would have, so an operator can tell why.
 // With a work budget this holds for the anytime solver too.

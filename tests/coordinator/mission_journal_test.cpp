@@ -132,6 +132,31 @@ TEST_F(JournalTest, AnSQLiteDatabaseOfAnotherProgramIsRefusedAndLeftAlone) {
             std::string::npos);
 }
 
+// Numbers edited into a journal past their type are refused naming the field, never wrapped.
+TEST_F(JournalTest, NumbersPastTheirTypeAreRefusedNamingTheField) {
+  const auto journal_with = [&](const std::string& sql) {
+    fs::remove(path);
+    {
+      MissionJournal journal(path, "aaaa", "test mission");
+      journal.claim(1, 0x11, 1000);
+      journal.record_epoch(1, 1);
+      journal.record_visit({3, 0}, "robot0", 1);
+    }
+    run_sql(path, sql);
+    return error_of([&] { MissionJournal journal(path, "aaaa", "test mission"); });
+  };
+  const std::string role = journal_with("UPDATE visits SET role = 1099511627776");  // 2^40
+  EXPECT_NE(role.find("visits.role is 1099511627776, not an integer in [0, 2147483647]"), std::string::npos) << role;
+  const std::string epoch = journal_with("INSERT INTO epochs SELECT run, 9223372036854775807, 1, 1 FROM runs");
+  EXPECT_NE(epoch.find("epochs.epoch is 9223372036854775807"), std::string::npos) << epoch;
+  const std::string term = journal_with("UPDATE claims SET term = 4294967296");
+  EXPECT_NE(term.find("claims.term is 4294967296"), std::string::npos) << term;
+  const std::string negative = journal_with("UPDATE visits SET task = -1");
+  EXPECT_NE(negative.find("visits.task is -1"), std::string::npos) << negative;
+  const std::string text = journal_with("UPDATE visits SET task = 'three'");
+  EXPECT_NE(text.find("visits.task is three"), std::string::npos) << text;
+}
+
 // The main file alone is the whole journal after every record: a copy made without its -wal (a
 // backup tool, a careless cp) resumes the mission where it was.
 TEST_F(JournalTest, TheMainFileAloneHoldsEveryRecord) {
