@@ -67,6 +67,15 @@ with open(ROTATED_PLAN, "w") as f:
 OFF_MAP_PLAN = os.path.join(WORK, "off-map-plan.txt")
 with open(OFF_MAP_PLAN, "w") as f:
     f.write(head + "solution=\n" + re.sub(r"^(5:)\(\d+,\d+\)", r"\1(999,999)", steps, flags=re.M))
+# An open 2000 x 2000 map with a few agents: reading it takes a while, and Ctrl-C must still end
+# the solve at once (the reading did not look at the stop flag before).
+BIG_MAP_INSTANCE = os.path.join(WORK, "big-open.yaml")
+with open(os.path.join(WORK, "big-open.map"), "w") as f:
+    f.write("type octile\nheight 2000\nwidth 2000\nmap\n" + ("." * 2000 + "\n") * 2000)
+with open(BIG_MAP_INSTANCE, "w") as f:
+    f.write("map: big-open.map\nagents:\n" +
+            "".join(f"  - {{start: [{j}, 0], goal: [{1999 - j}, 1999]}}\n" for j in range(5)) +
+            "tasks:\n" + "".join(f"  - {{at: [{100 * j + 7}, {1500 - 50 * j}], agents: [{j}]}}\n" for j in range(5)))
 DOMAIN_BASE = 150  # catalogue runs use DDS domains 150..199, away from the other tests
 
 # A valid command line per program: it either finishes quickly or runs until SIGTERM.
@@ -323,6 +332,9 @@ def named_cases():
         Case("ctsfleet-solve", ["-i", os.path.join(ROOT, "benchmarks/mapf-scale/warehouse-20-40-10-2-2-N10000.yaml"),
                                 "--solver", "lacam", "-t", "60", "-o", os.path.join(WORK, "stopped-early.txt")],
              "solve stopped by SIGTERM before a plan: 130", timeout=1, expect=lambda code: code == 130),
+        Case("ctsfleet-solve", ["-i", BIG_MAP_INSTANCE, "-t", "60", "-o", os.path.join(WORK, "big.txt")],
+             "solve on a 2000x2000 map stopped by SIGTERM while reading it: 130", timeout=0.3,
+             expect=lambda code: code == 130),
         Case("ctsfleet-solve", ["-i", FIFO], "solve -i a FIFO", must_refuse=True, timeout=5, stderr_contains="FIFO"),
         Case("ctsfleet-solve", ["-i", ZERO_MAP_INSTANCE], "solve: an instance whose map is /dev/zero",
              must_refuse=True, timeout=5, stderr_contains="a device"),

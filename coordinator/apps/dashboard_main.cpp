@@ -13,6 +13,7 @@
 #include <iostream>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <thread>
 
 #include "dashboard/dashboard_server.hpp"
@@ -116,6 +117,8 @@ int main(int argc, char** argv) {
     const std::atomic<bool>& stop = ctsfleet::stop_requested();
     const bool live = replay.empty() && plan.empty();
     std::unique_ptr<dashboard::Playback> playback;
+    std::optional<ctsfleet::StopsAtOnce> reading;  // until the input is read and checked
+    if (!live) reading.emplace("ctsfleet-dashboard", "reading " + (replay.empty() ? plan : replay));
     if (!live && !record.empty()) throw planner_core::InputError("--record: only a live dashboard records");
     if (!svg.empty() && live) throw planner_core::InputError("--svg: draws a --replay or a --plan");
     if (!replay.empty()) {
@@ -148,6 +151,7 @@ int main(int argc, char** argv) {
       }
       playback = std::move(shown);
     }
+    reading.reset();
     const fleet_transport::TransportConfig config = dds.transport_config();
     std::unique_ptr<dashboard::HistoryRecorder> recorder;
     if (!record.empty()) recorder = std::make_unique<dashboard::HistoryRecorder>(record);

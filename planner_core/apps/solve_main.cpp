@@ -100,7 +100,10 @@ int main(int argc, char** argv) {
   return program.main(argc, argv, [&] {
     // The time limit and every reported time count from here, before the instance is read.
     SolveOptions options{Deadline::in_seconds(seconds, &ctsfleet::stop_requested()), {}, Clock::now()};
-    const Instance instance = load_instance(instance_path, scen_agents, map);
+    const Instance instance = [&] {
+      const ctsfleet::StopsAtOnce reading("ctsfleet-solve", "reading " + instance_path);
+      return load_instance(instance_path, scen_agents, map);
+    }();
     options.deadline = options.deadline.within(options.deadline.seconds_left() - output_reserve_s(instance, seconds));
     if (iterations > 0) options.deadline = options.deadline.with_work_budget(iterations * kWorkPerIteration);
     if (verbose) {

@@ -28,7 +28,9 @@ SolveResult CtsPll::solve(const Instance& instance, const SolveOptions& options)
   Lacam lacam(*instance.graph, dist, LacamConfig{false, config_.forbid_rotations}, rng);
   LnsConfig lns_config = config_.lns;
   lns_config.search.forbid_rotations = lns_config.search.forbid_rotations || config_.forbid_rotations;
-  LnsRefiner lns(instance, dist, lns_config, rng);
+  // Made when a plan is first refined (v3 only): its tables span the whole map, which on a big
+  // one takes seconds that a solve without refinement should not spend.
+  std::unique_ptr<LnsRefiner> lns;
   const Deadline& deadline = options.deadline;
 
   const double total_s = deadline.budget_s;
@@ -47,13 +49,16 @@ SolveResult CtsPll::solve(const Instance& instance, const SolveOptions& options)
   auto refine_by_lns = [&](Solution plan, const std::vector<std::vector<int>>& orders, int sequence_index,
                            const Deadline& until) {
     ++refined_sequences;
-    const LnsStats stats = lns.refine(plan, orders, until, [&](int64_t flow) {
-      if (result.solved && flow < result.flowtime &&
-          (result.improvements.empty() || flow < result.improvements.back().flowtime)) {
-        result.improvements.push_back({elapsed_ms(started), flow, sequence_index});
-      }
-    });
-    result.lns_iterations += stats.iterations;
+    if (!until.expired()) {
+      if (!lns) lns = std::make_unique<LnsRefiner>(instance, dist, lns_config, rng);
+      const LnsStats stats = lns->refine(plan, orders, until, [&](int64_t flow) {
+        if (result.solved && flow < result.flowtime &&
+            (result.improvements.empty() || flow < result.improvements.back().flowtime)) {
+          result.improvements.push_back({elapsed_ms(started), flow, sequence_index});
+        }
+      });
+      result.lns_iterations += stats.iterations;
+    }
     keep_if_better(result, instance, plan, orders, sequence_index, started, options, "CTS-PLL");
   };
   CompleteSearch complete(instance, dist, config_, rng, variant_ == Variant::kV3);

@@ -13,7 +13,11 @@
 #include <stdexcept>
 #include <csignal>
 #include <cstdio>
+#include <chrono>
+#include <condition_variable>
 #include <filesystem>
+#include <mutex>
+#include <thread>
 #include <sstream>
 
 #include "ctsfleet/version.hpp"
@@ -67,6 +71,38 @@ std::string version_text() {
   std::string text = kVersion;
   if (std::string(kGitDescribe).size() > 0) text += std::string(" (git ") + kGitDescribe + ")";
   return text;
+}
+
+struct StopsAtOnce::Watch {
+  std::mutex mutex;
+  std::condition_variable done;
+  bool finished = false;
+  std::thread thread;
+};
+
+StopsAtOnce::StopsAtOnce(const std::string& program, const std::string& doing, double grace_s)
+    : watch_(std::make_unique<Watch>()) {
+  watch_->thread = std::thread([watch = watch_.get(), program, doing, grace_s] {
+    constexpr auto kLook = std::chrono::milliseconds(50);
+    std::unique_lock<std::mutex> lock(watch->mutex);
+    while (!watch->done.wait_for(lock, kLook, [&] { return watch->finished; })) {
+      if (!stop_requested()) continue;
+      const auto grace = std::chrono::duration<double>(grace_s);
+      if (watch->done.wait_for(lock, grace, [&] { return watch->finished; })) return;
+      const std::string line = program + ": stopped while " + doing + "\n";
+      [[maybe_unused]] const ssize_t written = ::write(STDERR_FILENO, line.data(), line.size());
+      std::_Exit(kExitInterrupted);
+    }
+  });
+}
+
+StopsAtOnce::~StopsAtOnce() {
+  {
+    const std::lock_guard<std::mutex> lock(watch_->mutex);
+    watch_->finished = true;
+  }
+  watch_->done.notify_all();
+  watch_->thread.join();
 }
 
 std::atomic<bool>& stop_requested() {

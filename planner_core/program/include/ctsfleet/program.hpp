@@ -7,6 +7,7 @@
 
 #include <atomic>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 
@@ -50,6 +51,21 @@ class Program {
 
 // True once SIGINT or SIGTERM arrived (after Program::run installed the handlers).
 std::atomic<bool>& stop_requested();
+
+// Marks a stretch that does not look at stop_requested() (reading a big input, building its
+// tables): while one is alive, a stop request ends the process with exit 130 after `grace_s`,
+// saying so on stderr. Nothing it could lose is written yet. One at a time; not nested.
+class StopsAtOnce {
+ public:
+  explicit StopsAtOnce(const std::string& program, const std::string& doing, double grace_s = 0.2);
+  ~StopsAtOnce();
+  StopsAtOnce(const StopsAtOnce&) = delete;
+  StopsAtOnce& operator=(const StopsAtOnce&) = delete;
+
+ private:
+  struct Watch;
+  std::unique_ptr<Watch> watch_;
+};
 
 // Sends logs to stderr at `level` (after SPDLOG_LEVEL); results stay alone on stdout.
 void setup_logging(const std::string& level);
