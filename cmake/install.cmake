@@ -8,8 +8,9 @@ set(CTSFLEET_PROGRAMS
   ctsfleet-coordinator ctsfleet-sim ctsfleet-monitor ctsfleet-fleetbench ctsfleet-discovery
   ctsfleet-agent ctsfleet-toio-emulator ctsfleet-toio-calibrate ctsfleet-dashboard ctsfleet-task)
 install(TARGETS ${CTSFLEET_PROGRAMS} RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
-install(PROGRAMS scripts/ctsfleet-plot DESTINATION ${CMAKE_INSTALL_BINDIR})
-install(PROGRAMS scripts/fleet-ca DESTINATION ${CMAKE_INSTALL_BINDIR} RENAME ctsfleet-ca)
+# The scripts as configured beside the programs (they carry the version).
+install(PROGRAMS ${CMAKE_BINARY_DIR}/bin/ctsfleet-plot ${CMAKE_BINARY_DIR}/bin/ctsfleet-ca
+        DESTINATION ${CMAKE_INSTALL_BINDIR})
 
 set(CTSFLEET_DATA_DESTINATION ${CMAKE_INSTALL_DATADIR}/ctsfleet)
 install(DIRECTORY config benchmarks DESTINATION ${CTSFLEET_DATA_DESTINATION})
@@ -48,7 +49,10 @@ set(CTSFLEET_MAN_NAMES
   "ctsfleet-toio-emulator|emulated toio cubes behind a fake BlueZ on a private D-Bus"
   "ctsfleet-toio-calibrate|find toio cubes, fit and check where the grid lies on a mat"
   "ctsfleet-dashboard|the fleet live in a browser, and its runs recorded, replayed or drawn"
-  "ctsfleet-task|add, cancel or list the tasks of a running fleet")
+  "ctsfleet-task|add, cancel or list the tasks of a running fleet"
+  "ctsfleet-ca|the fleet's certificate authority: enrol robots, coordinators, observers and operators for DDS Security"
+  "ctsfleet-plot|draw success-rate, flowtime-ratio and anytime charts from ctsfleet-bench results")
+set(CTSFLEET_SCRIPTS ctsfleet-ca ctsfleet-plot)
 find_program(HELP2MAN help2man)
 if(HELP2MAN)
   set(man_pages)
@@ -57,12 +61,17 @@ if(HELP2MAN)
     list(GET entry 0 program)
     list(GET entry 1 man_name)
     set(page ${CMAKE_BINARY_DIR}/man/${program}.1)
+    if(program IN_LIST CTSFLEET_SCRIPTS)
+      set(executable ${CMAKE_BINARY_DIR}/bin/${program})
+    else()
+      set(executable $<TARGET_FILE:${program}>)
+    endif()
     add_custom_command(OUTPUT ${page}.gz
       COMMAND ${CMAKE_COMMAND} -E make_directory ${CMAKE_BINARY_DIR}/man
       COMMAND ${HELP2MAN} --no-info --no-discard-stderr --section=1 "--name=${man_name}" --output=${page}
-              $<TARGET_FILE:${program}>
+              ${executable}
       COMMAND gzip -9nf ${page}
-      DEPENDS ${program}
+      DEPENDS ${executable}
       COMMENT "man page ${program}.1"
       VERBATIM)
     list(APPEND man_pages ${page}.gz)
@@ -98,7 +107,9 @@ set(CPACK_PACKAGING_INSTALL_PREFIX /usr)
 set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
 set(CPACK_DEBIAN_PACKAGE_SECTION science)
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
-set(CPACK_DEBIAN_PACKAGE_DEPENDS "python3, python3-matplotlib, openssl")  # ctsfleet-plot, ctsfleet-ca; the rest from shlibdeps
+# ctsfleet-plot, ctsfleet-ca, and what the CMake package (find_package(ctsfleet)) finds itself:
+# yaml-cpp's CMake files and headers; the rest from shlibdeps.
+set(CPACK_DEBIAN_PACKAGE_DEPENDS "python3, python3-matplotlib, openssl, libyaml-cpp-dev")
 set(CPACK_DEBIAN_PACKAGE_RECOMMENDS "dbus-daemon")
 set(CPACK_DEBIAN_PACKAGE_CONTROL_STRICT_PERMISSION ON)
 set(CPACK_STRIP_FILES ON)

@@ -133,6 +133,7 @@ class Case:
         self.must_refuse = must_refuse  # exit 2 required
         self.expect = expect            # a predicate on the exit code, for named cases
         self.timeout = timeout or LONG_RUNNING.get(program, 20.0)
+        self.code = None                # the exit code seen
 
 
 def run(case):
@@ -159,6 +160,7 @@ def run(case):
         except ProcessLookupError:
             pass
     code = proc.returncode
+    case.code = code
     tail = (err.strip().splitlines() or [""])[-1][:200]
     if code < 0 and case.args[-2:-1] == ["--crash-at"] and -code == signal.SIGABRT:
         return None  # the agent's fault injection: it aborts on purpose
@@ -392,6 +394,26 @@ def script_cases():
     return count, problems
 
 
+def exit_code_table_problems(cases):
+    """The README's exit-code table, the constants of ctsfleet/program.hpp and the codes the cases
+    exited with must agree: one table for every program."""
+    with open(os.path.join(ROOT, "README.md")) as f:
+        readme = f.read()
+    block = re.search(r"<!-- exit-codes -->(.*?)<!-- /exit-codes -->", readme, re.S)
+    if not block:
+        return ["README.md has no exit-code table between <!-- exit-codes --> markers"]
+    table = {int(m.group(1)) for m in re.finditer(r"^\| (\d+) \|", block.group(1), re.M)}
+    with open(os.path.join(ROOT, "planner_core/program/include/ctsfleet/program.hpp")) as f:
+        header = {int(m.group(1)) for m in re.finditer(r"constexpr int kExit\w+ = (\d+);", f.read())}
+    problems = []
+    if table != header:
+        problems.append(f"exit codes: README table {sorted(table)} but ctsfleet/program.hpp {sorted(header)}")
+    for case in cases:
+        if case.code is not None and case.code >= 0 and case.code not in table:
+            problems.append(f"{case.name}: exit {case.code}, which the README's exit-code table does not list")
+    return problems
+
+
 def main():
     cases = catalogue_cases() + named_cases()
     failures = []
@@ -399,6 +421,7 @@ def main():
         for case, problem in zip(cases, pool.map(run, cases)):
             if problem:
                 failures.append(f"{case.name}: {problem}")
+    failures += exit_code_table_problems(cases)
     script_count, script_problems = script_cases()
     failures += script_problems
     programs = len(PROGRAMS)

@@ -14,7 +14,7 @@ fail() { echo "FAIL: $*" >&2; exit 1; }
 cmake --install "$build" --prefix "$prefix" >"$work/install.log" || fail "cmake --install (see $work/install.log)"
 for program in ctsfleet-solve ctsfleet-gen ctsfleet-bench ctsfleet-coordinator ctsfleet-sim ctsfleet-agent \
                ctsfleet-monitor ctsfleet-fleetbench ctsfleet-seqbench ctsfleet-toio-emulator ctsfleet-toio-calibrate \
-               ctsfleet-dashboard ctsfleet-task; do
+               ctsfleet-dashboard ctsfleet-task ctsfleet-ca ctsfleet-plot; do
   [ -x "$prefix/bin/$program" ] || fail "$program not installed"
   "$prefix/bin/$program" --version | grep -q "^$program [0-9]" || fail "$program --version"
   if command -v help2man >/dev/null; then

@@ -15,5 +15,13 @@ dpkg-deb --field "$deb" Depends >"$work/depends.txt"
 grep -q "libyaml-cpp" "$work/depends.txt" || { echo "FAIL: no shlibdeps dependencies" >&2; exit 1; }
 dpkg-deb --contents "$deb" >"$work/contents.txt"
 grep -q "usr/share/ctsfleet/config/fleet.yaml" "$work/contents.txt" || { echo "FAIL: configs missing" >&2; exit 1; }
+# What find_package(ctsfleet) needs beyond the package: yaml-cpp's CMake files.
+grep -q "libyaml-cpp-dev" "$work/depends.txt" || { echo "FAIL: Depends lacks libyaml-cpp-dev (the CMake package finds yaml-cpp)" >&2; exit 1; }
+multiarch="$(dpkg-architecture -qDEB_HOST_MULTIARCH)"
+grep -q "usr/lib/$multiarch/libplanner_core.a" "$work/contents.txt" ||
+  { echo "FAIL: static libraries not in usr/lib/$multiarch" >&2; grep "\.a$" "$work/contents.txt" >&2; exit 1; }
+for page in ctsfleet-ca ctsfleet-plot ctsfleet-solve; do
+  grep -q "usr/share/man/man1/$page.1.gz" "$work/contents.txt" || { echo "FAIL: no man page for $page" >&2; exit 1; }
+done
 lintian --fail-on error --no-tag-display-limit "$deb" | tee "$work/lintian.log" || { echo "FAIL: lintian reports errors" >&2; exit 1; }
 echo "lintian: $(grep -c '^E:' "$work/lintian.log" || true) errors, $(grep -c '^W:' "$work/lintian.log" || true) warnings"

@@ -127,7 +127,8 @@ int main(int argc, char** argv) {
       return round_trips.empty() ? 0.0 : round_trips[std::min(round_trips.size() - 1, static_cast<size_t>(q * round_trips.size()))];
     };
     // 5: stood down for another active coordinator (nothing was driven after that).
-    const int exit_code = stop.load() ? ctsfleet::kExitInterrupted : s.stood_down ? 5 : (s.completed ? 0 : 3);
+    const int exit_code = stop.load() ? ctsfleet::kExitInterrupted : s.stood_down ? ctsfleet::kExitStoodDown
+                                                            : (s.completed ? ctsfleet::kExitSuccess : ctsfleet::kExitUnfinished);
     if (json) {
       const nlohmann::json summary = {
           {"completed", s.completed}, {"tasks_done", s.tasks_done}, {"tasks_total", s.tasks_total},

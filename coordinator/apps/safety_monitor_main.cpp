@@ -21,7 +21,7 @@
 
 namespace {
 
-constexpr int kExitHeardNothing = 4;
+constexpr int kExitHeardNothing = ctsfleet::kExitHeardNothing;
 
 struct Visit {
   int x, y;

@@ -2,7 +2,7 @@
 // coordinator to add a task (it checks the cell, picks the robot whose tour grows least when --any,
 // journals it and replans), `cancel TASK` withdraws one, `list` prints every task with its state.
 // The request is sent again every second until the coordinator answers; exit 0 when accepted, 1
-// when refused (the reason on stderr), 3 when no coordinator answered within --timeout.
+// when refused (the reason on stderr), 4 when no coordinator answered within --timeout.
 #include <spdlog/spdlog.h>
 #include <unistd.h>
 
@@ -19,8 +19,8 @@
 
 namespace {
 
-constexpr int kExitRefused = 1;
-constexpr int kExitNoAnswer = 3;
+constexpr int kExitRefused = ctsfleet::kExitFailed;
+constexpr int kExitNoAnswer = ctsfleet::kExitHeardNothing;
 
 std::string new_request_id() {
   char host[64] = {0};

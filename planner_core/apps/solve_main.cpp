@@ -136,7 +136,7 @@ int main(int argc, char** argv) {
       const ValidationReport report = validate(instance, result.solution, ValidationOptions{config.forbid_rotations});
       if (!report.ok()) {
         std::cerr << "error: the solver's plan failed validation; nothing written\n" << report.summary();
-        return 3;
+        return ctsfleet::kExitInternalError;
       }
       put("flowtime", report.flowtime);
       put("soc", report.flowtime);  // lacam's name for the same sum

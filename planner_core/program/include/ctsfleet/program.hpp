@@ -13,9 +13,16 @@
 
 namespace ctsfleet {
 
-// Exit codes shared by every program.
-inline constexpr int kExitInputError = 2;
-inline constexpr int kExitInterrupted = 130;
+// Exit codes: one table for every program (README "Exit codes"; tests/cli_catalogue.py checks
+// that the two agree and that no program exits with a code outside it).
+inline constexpr int kExitSuccess = 0;
+inline constexpr int kExitFailed = 1;         // the run failed: not solved, a collision seen, a request refused
+inline constexpr int kExitInputError = 2;     // bad input: one line naming the option, file:line or field
+inline constexpr int kExitUnfinished = 3;     // a mission ended with tasks pending
+inline constexpr int kExitHeardNothing = 4;   // nobody answered: no robot heard, no coordinator answered
+inline constexpr int kExitStoodDown = 5;      // another coordinator is active
+inline constexpr int kExitInternalError = 70; // a bug: e.g. a plan that failed validation (nothing written)
+inline constexpr int kExitInterrupted = 130;  // stopped by Ctrl-C or SIGTERM
 
 // "0.1.0" plus `git describe` when built from a git checkout, e.g. "0.1.0 (git 4f2c1e9-dirty)".
 std::string version_text();
