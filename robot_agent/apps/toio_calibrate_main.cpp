@@ -9,12 +9,16 @@
 #include <spdlog/spdlog.h>
 
 #include <cstdio>
+#include <cstdlib>
+#include <cmath>
+#include <regex>
 #include <iostream>
 #include <sstream>
 #include <thread>
 
 #include "ctsfleet/program.hpp"
 #include "planner_core/input_error.hpp"
+#include "planner_core/yaml_context.hpp"
 #include "robot_agent/bluez_client.hpp"
 #include "robot_agent/mat_calibration.hpp"
 #include "robot_agent/toio_robot.hpp"
@@ -40,14 +44,28 @@ Cell parse_cell(const std::string& text) {
   return cell;
 }
 
-// "X,Y=MX,MY": a cell and the mat coordinates measured on it.
+// "X,Y=MX,MY": a cell and the mat coordinates measured on it. Cells are small non-negative
+// integers, mat coordinates finite numbers within the toio mats' range (0-65535).
 CalibrationPoint parse_point(const std::string& text) {
-  CalibrationPoint point;
-  double mx = 0, my = 0;
-  if (std::sscanf(text.c_str(), "%d,%d=%lf,%lf", &point.cell.x, &point.cell.y, &mx, &my) != 4) {
-    throw planner_core::InputError("--point '" + text + "' must be X,Y=MAT_X,MAT_Y");
+  static const std::regex kPoint(R"(^(\d{1,4}),(\d{1,4})=([-+0-9.eE]{1,32}),([-+0-9.eE]{1,32})$)");
+  std::smatch parts;
+  if (!std::regex_match(text, parts, kPoint)) {
+    throw planner_core::InputError("--point '" + planner_core::cut(text) +
+                                   "' must be X,Y=MAT_X,MAT_Y (a cell of at most 4 digits each, then two numbers)");
   }
-  point.mat = {mx, my};
+  const auto coordinate = [&](int part, const char* name) {
+    const std::string value = parts[part].str();
+    char* end = nullptr;
+    const double number = std::strtod(value.c_str(), &end);
+    if (end != value.c_str() + value.size() || !std::isfinite(number) || number < 0 || number > 65535) {
+      throw planner_core::InputError("--point '" + text + "': " + name + " is " + value +
+                                     ", not a number in [0, 65535] (mat coordinates)");
+    }
+    return number;
+  };
+  CalibrationPoint point;
+  point.cell = {std::stoi(parts[1].str()), std::stoi(parts[2].str())};
+  point.mat = {coordinate(3, "MAT_X"), coordinate(4, "MAT_Y")};
   return point;
 }
 
