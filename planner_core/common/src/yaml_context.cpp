@@ -1,5 +1,7 @@
 #include "planner_core/yaml_context.hpp"
 
+#include <yaml-cpp/depthguard.h>
+
 #include <filesystem>
 #include <limits>
 #include <set>
@@ -62,6 +64,9 @@ YAML::Node load_yaml_file(const std::string& path) {
   require_regular_file(path, "file");
   try {
     return YAML::LoadFile(path);
+  } catch (const YAML::DeepRecursion& e) {  // yaml-cpp calls it "bad file"
+    throw InputError(path + ":" + std::to_string(e.mark.line + 1) + ": malformed YAML: nested more than " +
+                     std::to_string(e.depth()) + " levels deep");
   } catch (const YAML::Exception& e) {
     throw InputError(path + ":" + std::to_string(e.mark.line + 1) + ": malformed YAML: " + e.msg);
   }
