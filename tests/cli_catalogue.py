@@ -378,11 +378,12 @@ def named_cases():
 
 
 def script_cases():
-    """Every script answers --help at once with exit 0 and refuses an unknown option with exit 2."""
+    """Every script answers --help and --version at once with exit 0 and refuses an unknown option
+    with exit 2."""
     problems, count = [], 0
     for script in sorted(os.listdir(os.path.join(ROOT, "scripts"))):
         path = os.path.join(ROOT, "scripts", script)
-        checks = [(["--help"], 0)]
+        checks = [(["--help"], 0), (["--version"], 0)]
         if script != "test":  # test passes its arguments on to ctest
             checks.append((["--no-such-option"], 2))
         for args, want in checks:
@@ -395,8 +396,10 @@ def script_cases():
             if done.returncode != want or "Traceback" in done.stderr:
                 problems.append(f"scripts/{script} {' '.join(args)}: exit {done.returncode}, expected {want}: "
                                 f"{done.stderr.strip()[-200:]!r}")
-            elif want == 0 and "usage" not in (done.stdout + done.stderr).lower():
+            elif args == ["--help"] and "usage" not in (done.stdout + done.stderr).lower():
                 problems.append(f"scripts/{script} --help: no usage text")
+            elif args == ["--version"] and not re.search(r"\d+\.\d+|unversioned", done.stdout):
+                problems.append(f"scripts/{script} --version: no version: {done.stdout.strip()[:100]!r}")
     return count, problems
 
 
