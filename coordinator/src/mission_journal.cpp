@@ -1,5 +1,6 @@
 #include "coordinator/mission_journal.hpp"
 
+#include <spdlog/spdlog.h>
 #include <sqlite3.h>
 
 #include <algorithm>
@@ -255,6 +256,20 @@ void MissionJournal::checkpoint() {
   }
 }
 
+// The journal keeps, per run and table, how many rows it ever wrote (in `meta`): rows are never
+// deleted, so a resume that finds fewer lost some (an older copy of the file, a file cut short).
+std::string MissionJournal::count_key(const std::string& table, int64_t run) {
+  return "rows:" + table + ":" + std::to_string(run);
+}
+
+void MissionJournal::count_row_written(const std::string& table) {
+  if (sqlite3_changes(db_) == 0) return;  // a repeat, ignored
+  Statement(*this,
+            "INSERT INTO meta VALUES(?1, '1') ON CONFLICT(key) DO UPDATE SET value = CAST(value AS INTEGER) + 1",
+            {count_key(table, run_)})
+      .run();
+}
+
 void MissionJournal::limit_size_for_test(int64_t pages) { execute("PRAGMA max_page_count=" + std::to_string(pages)); }
 
 void MissionJournal::refuse_writes_for_test() { execute("PRAGMA query_only=1"); }
@@ -292,6 +307,19 @@ void MissionJournal::read_resumable() {
   Statement visits(*this, "SELECT task, role FROM visits WHERE run = ?1 ORDER BY task, role", {resume.run});
   while (visits.next()) {
     resume.visits.push_back({visits.int_in(0, "visits.task"), visits.int_in(1, "visits.role")});
+  }
+  const std::pair<const char*, size_t> held[] = {{"visits", resume.visits.size()},
+                                                  {"tasks_added", resume.added_tasks.size()},
+                                                  {"tasks_cancelled", resume.cancelled_tasks.size()}};
+  for (const auto& [table, found] : held) {
+    Statement written(*this, "SELECT value FROM meta WHERE key = ?1", {count_key(table, resume.run)});
+    const int64_t count = written.next() ? written.number_in(0, "meta.rows", 0, INT64_MAX) : 0;
+    if (count > static_cast<int64_t>(found)) {
+      resume.lost_records += static_cast<int>(count - static_cast<int64_t>(found));
+      spdlog::warn("journal {}: run {} wrote {} rows of {} but {} are left: the file lost records (an older copy, "
+                   "or a file cut short); resuming from what it holds, so work may be done again",
+                   path_, resume.run, count, table, found);
+    }
   }
   resumable_ = resume;
 }
@@ -337,6 +365,7 @@ void MissionJournal::record_visit(const fleet_transport::TaskVisit& visit, const
             {run_, static_cast<int64_t>(visit.task), static_cast<int64_t>(visit.role), robot_id,
              static_cast<int64_t>(epoch), fleet_transport::wall_clock_ms()})
       .run();
+  count_row_written("visits");
   checkpoint();
 }
 
@@ -345,6 +374,7 @@ void MissionJournal::record_task_added(int task, int x, int y, int role, const s
             {run_, static_cast<int64_t>(task), static_cast<int64_t>(x), static_cast<int64_t>(y),
              static_cast<int64_t>(role), request_id, fleet_transport::wall_clock_ms()})
       .run();
+  count_row_written("tasks_added");
   checkpoint();
 }
 
@@ -352,6 +382,7 @@ void MissionJournal::record_task_cancelled(int task, const std::string& request_
   Statement(*this, "INSERT OR IGNORE INTO tasks_cancelled VALUES(?1, ?2, ?3, ?4)",
             {run_, static_cast<int64_t>(task), request_id, fleet_transport::wall_clock_ms()})
       .run();
+  count_row_written("tasks_cancelled");
   checkpoint();
 }
 

@@ -35,7 +35,7 @@ SolveResult CtsPll::solve(const Instance& instance, const SolveOptions& options)
 
   const double total_s = deadline.budget_s;
   // v3's LNS: by default each feasible sequence gets up to a quarter of the limit (less when its
-  // LNS stalls), and after the first two the better refined plan gets the rest (docs/RESULTS.md
+  // LNS stalls), and after the first two the better refined plan gets the rest (docs/results/HISTORY.md
   // section 7: half each did worse on dense mazes, the whole limit on the first sequence worse on
   // warehouses).
   const bool race_two_sequences = config_.lns.time_per_sequence_s <= 0;

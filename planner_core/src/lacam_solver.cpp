@@ -24,7 +24,7 @@ constexpr double kMaxSearchSliceS = 4.0;
 
 // Agents' paths spread over the map, at most a quarter of the time left: LaCAM's first plan sends
 // crowds down the same shortest corridors (warehouse aisles), and a search whose generator
-// follows these paths finds a far cheaper plan (docs/RESULTS.md, section 6).
+// follows these paths finds a far cheaper plan (docs/results/HISTORY.md, section 6).
 std::unique_ptr<Scatter> spread_out(const Instance& instance, DistTable& dist, uint32_t seed, const Deadline& deadline) {
   auto scatter = std::make_unique<Scatter>(*instance.graph, dist, instance.starts, instance.goals, kScatterMargin, seed);
   scatter->build(deadline.slice(deadline.budget_left_s() * kScatterTimeShare));

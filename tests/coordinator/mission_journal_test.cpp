@@ -157,6 +157,31 @@ TEST_F(JournalTest, NumbersPastTheirTypeAreRefusedNamingTheField) {
   EXPECT_NE(text.find("visits.task is three"), std::string::npos) << text;
 }
 
+// A journal that lost rows it once held (an older copy put back, a file cut short) resumes from
+// what it holds, and says how much is missing; one that lost nothing says nothing.
+TEST_F(JournalTest, AResumeThatFindsLessThanTheFileOnceHeldIsCounted) {
+  {
+    MissionJournal journal(path, "aaaa", "test mission");
+    journal.claim(1, 0x11, 1000);
+    journal.record_visit({3, 0}, "robot0", 1);
+    journal.record_visit({3, 0}, "robot0", 1);  // a repeat: one row, counted once
+    journal.record_visit({4, 1}, "robot1", 1);
+    journal.record_visit({5, 1}, "robot1", 1);
+    journal.record_task_added(20, 1, 1, 0, "a");
+  }
+  {
+    MissionJournal journal(path, "aaaa", "test mission");
+    ASSERT_TRUE(journal.resumable().has_value());
+    EXPECT_EQ(journal.resumable()->lost_records, 0);
+    EXPECT_EQ(journal.resumable()->visits.size(), 3u);
+  }
+  run_sql(path, "DELETE FROM visits WHERE task = 5; DELETE FROM tasks_added;");
+  MissionJournal journal(path, "aaaa", "test mission");
+  ASSERT_TRUE(journal.resumable().has_value());
+  EXPECT_EQ(journal.resumable()->visits.size(), 2u);
+  EXPECT_EQ(journal.resumable()->lost_records, 2);
+}
+
 // The main file alone is the whole journal after every record: a copy made without its -wal (a
 // backup tool, a careless cp) resumes the mission where it was.
 TEST_F(JournalTest, TheMainFileAloneHoldsEveryRecord) {

@@ -38,7 +38,7 @@ TEST(LacamStar, RefinementLowersTheFirstPlansFlowtime) {
   ASSERT_TRUE(report.ok()) << report.summary();
   EXPECT_EQ(report.flowtime, refined.flowtime);
   // Same seed, same first plan; three seconds of refinement must take some of the gap to the
-  // lower bound away (measured: most of it; see docs/RESULTS.md).
+  // lower bound away (measured: most of it; see docs/results/HISTORY.md).
   EXPECT_LT(refined.flowtime, first.flowtime);
   EXPECT_GE(refined.flowtime, refined.lower_bound);
   EXPECT_GT(refined.lns_iterations, 0);

@@ -45,6 +45,8 @@ struct JournalResume {
   };
   std::vector<AddedTask> added_tasks;
   std::vector<int> cancelled_tasks;
+  // Rows the run once wrote that the file no longer holds (warned about at open).
+  int lost_records = 0;
 };
 
 class MissionJournal {
@@ -78,6 +80,8 @@ class MissionJournal {
 
  private:
   class Statement;
+  static std::string count_key(const std::string& table, int64_t run);
+  void count_row_written(const std::string& table);  // after an INSERT OR IGNORE into `table`
   void execute(const std::string& sql);
   void read_resumable();
   // Throws JournalError, writing nothing, for an SQLite database that is not a ctsfleet journal.

@@ -30,8 +30,8 @@ class WorkMeter {
   std::atomic<int64_t> done_{0};  // atomic only so that helper threads may look (DistTable::prepare)
 };
 
-// Work units this machine does in about a second (measured on the benchmark suites, docs/RESULTS.md
-// "Reproducible plans"): converts the solvers' time shares into work and back. A slower machine
+// Work units this machine does in about a second (measured on the benchmark suites, docs/results/HISTORY.md
+// section 21): converts the solvers' time shares into work and back. A slower machine
 // takes longer for the same work; the plan stays the same.
 constexpr int64_t kWorkPerSecond = 3'000'000;
 constexpr int64_t kNoWorkLimit = std::numeric_limits<int64_t>::max();

@@ -30,7 +30,7 @@ struct PibtConfig {
   // The swap operation of LaCAM3's PIBT (Okumura, "Engineering LaCAM*", AAMAS 2024): when two
   // agents meet head-on in a corridor, the one with priority backs off and pulls the other along
   // until there is room to pass, instead of both waiting forever. On by default since it measured
-  // better overall (docs/RESULTS.md, section 5); --no-swap turns it off, e.g. for the paper's
+  // better overall (docs/results/HISTORY.md, section 5); --no-swap turns it off, e.g. for the paper's
   // CTS-PIBT baseline exactly as published.
   bool swap = true;
   // CTS-PLL: each joint sequence's run is guided by Scatter paths through the agents' task orders

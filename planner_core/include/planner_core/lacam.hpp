@@ -33,7 +33,7 @@ struct LacamConfig {
   bool swap = false;
   // Among moves equally near the goal, the generator tries a cell nobody stands on first (fewer
   // agents pushed). The plain MAPF solvers turn both this and the swap on (measured together:
-  // docs/RESULTS.md, section 2); CTS-PLL's lock release keeps both off, as measured.
+  // docs/results/HISTORY.md, section 2); CTS-PLL's lock release keeps both off, as measured.
   bool prefer_free_cells = false;
   // Plain MAPF only: each agent's next cell on its Scatter path is its generator's first choice
   // (ahead of the nearest cell to its goal). Must outlive the search; null for none.

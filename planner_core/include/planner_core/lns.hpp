@@ -19,7 +19,7 @@
 namespace planner_core {
 
 struct LnsConfig {
-  int neighbourhood_size = 4;  // measured on dense maze instances: 4 beat 2 and 8 (docs/RESULTS.md)
+  int neighbourhood_size = 4;  // measured on dense maze instances: 4 beat 2 and 8 (docs/results/HISTORY.md)
   double gamma = 0.1;
   // CTS-PLL-v3: refinement budget for each joint sequence; 0 = half of the solve's time limit.
   double time_per_sequence_s = 0;

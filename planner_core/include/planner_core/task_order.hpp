@@ -13,7 +13,7 @@
 namespace planner_core {
 
 struct TaskOrderConfig {
-  int exact_task_limit = 14;  // Held-Karp up to this many tasks per agent (measured: see docs/RESULTS.md)
+  int exact_task_limit = 14;  // Held-Karp up to this many tasks per agent (measured: see docs/results/HISTORY.md)
 };
 
 // Distances among the points of one agent's tour: 0 = start, 1..m = its tasks, m+1 = goal.
