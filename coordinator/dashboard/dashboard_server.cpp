@@ -32,6 +32,17 @@ void reply_json(httplib::Response& response, int status, const Json& body) {
   response.set_content(dump(body), "application/json");
 }
 
+// An integer field of a request's JSON body, checked in its type (a number such as 1e140 must not
+// reach a cast to int).
+int integer_field(const Json& body, const char* field) {
+  const Json& value = body.at(field);
+  if (!value.is_number_integer() || (value.is_number_unsigned() && value.get<uint64_t>() > INT32_MAX) ||
+      (!value.is_number_unsigned() && (value.get<int64_t>() < INT32_MIN || value.get<int64_t>() > INT32_MAX))) {
+    throw std::invalid_argument(std::string(field) + " must be an integer in [-2147483648, 2147483647]");
+  }
+  return value.get<int>();
+}
+
 // A route's handler: the request has been read whole once it runs.
 template <typename Handler>
 auto handled(Handler handler) {
@@ -194,12 +205,12 @@ void DashboardServer::add_routes() {
       const std::string action = body.value("action", "add");
       if (action == "add") {
         request.action = fleet_transport::TaskAction::kAdd;
-        request.x = body.at("x").get<int>();
-        request.y = body.at("y").get<int>();
-        request.robot_id = body.value("robot", "");
+        request.x = integer_field(body, "x");
+        request.y = integer_field(body, "y");
+        request.robot_id = body.contains("robot") ? body.at("robot").get<std::string>() : "";
       } else if (action == "cancel") {
         request.action = fleet_transport::TaskAction::kCancel;
-        request.task = body.at("task").get<int>();
+        request.task = integer_field(body, "task");
       } else {
         throw std::invalid_argument("action must be add or cancel, not '" + action + "'");
       }

@@ -40,9 +40,53 @@ std::string first_difference(const Json& said, const Json& read, const std::stri
          ", which its type cannot hold (it would read as " + read.dump() + ")";
 }
 
+// The message's fields as JSON, with one element in every list (what each element looks like).
+template <typename Message>
+Json shape_of() {
+  return Message{};
+}
+template <>
+Json shape_of<fleet_transport::FleetStatus>() {
+  fleet_transport::FleetStatus status;
+  status.assignments.resize(1);
+  status.done_visits.resize(1);
+  return status;
+}
+template <>
+Json shape_of<fleet_transport::MissionInfo>() {
+  fleet_transport::MissionInfo mission;
+  mission.goals.resize(1);
+  mission.tasks.resize(1);
+  mission.tasks[0].roles.resize(1);
+  return mission;
+}
+template <>
+Json shape_of<fleet_transport::FleetPlan>() {
+  fleet_transport::FleetPlan plan;
+  plan.robots.resize(1);
+  plan.robots[0].path.resize(1);
+  return plan;
+}
+
+// A number with a fraction or an exponent where an integer goes is refused before it is converted:
+// nlohmann casts it, and a cast of 1e140 (or of -1.5 to an unsigned field) is undefined behaviour.
+void require_integers(const Json& said, const Json& shape, const std::string& field) {
+  if (shape.is_object() && said.is_object()) {
+    for (const auto& [key, value] : shape.items()) {
+      if (said.contains(key)) require_integers(said.at(key), value, field.empty() ? key : field + "." + key);
+    }
+  } else if (shape.is_array() && said.is_array() && !shape.empty()) {
+    for (size_t i = 0; i < said.size(); ++i) require_integers(said[i], shape[0], field + "[" + std::to_string(i) + "]");
+  } else if (shape.is_number_integer() && said.is_number_float()) {
+    throw std::invalid_argument("field " + field + " is " + planner_core::cut(said.dump()) + ", not an integer");
+  }
+}
+
 // The message, refused (std::invalid_argument naming the field) unless it reads back as it was said.
 template <typename Message>
 Message checked(const Json& said) {
+  static const Json shape = shape_of<Message>();
+  require_integers(said, shape, "");
   Message message = said.get<Message>();
   const std::string difference = first_difference(said, Json(message), "");
   if (!difference.empty()) throw std::invalid_argument(difference);

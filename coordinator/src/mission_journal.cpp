@@ -312,7 +312,7 @@ void MissionJournal::read_resumable() {
                                                   {"tasks_added", resume.added_tasks.size()},
                                                   {"tasks_cancelled", resume.cancelled_tasks.size()}};
   for (const auto& [table, found] : held) {
-    Statement written(*this, "SELECT value FROM meta WHERE key = ?1", {count_key(table, resume.run)});
+    Statement written(*this, "SELECT CAST(value AS INTEGER) FROM meta WHERE key = ?1", {count_key(table, resume.run)});
     const int64_t count = written.next() ? written.number_in(0, "meta.rows", 0, INT64_MAX) : 0;
     if (count > static_cast<int64_t>(found)) {
       resume.lost_records += static_cast<int>(count - static_cast<int64_t>(found));

@@ -232,6 +232,11 @@ TEST_F(HistoryTest, NumbersPastTheirTypeAndUnknownWordsAreRefusedNamingTheField)
             std::string::npos) << wide;
   EXPECT_NE(state_with("low", "plan_epoch", "-2147483649").find("field plan_epoch is -2147483649"), std::string::npos);
   EXPECT_NE(state_with("fraction", "action_index", "1.5").find("field action_index is 1.5"), std::string::npos);
+  // Found by fuzz.file_readers: a float past int64 where an integer goes was cast (undefined
+  // behaviour) before it was checked.
+  const std::string huge = state_with("huge", "stamp_ms", "1e140");
+  EXPECT_NE(huge.find("field stamp_ms is 1e+140, not an integer"), std::string::npos) << huge;
+  EXPECT_NE(state_with("negative", "seq_number", "-1.5").find("field seq_number is -1.5"), std::string::npos);
   EXPECT_NE(state_with("word", "status", "\"flying\"").find("field status is \"flying\""), std::string::npos);
   const std::string cut = state_with("long", "cell_y", std::string(500, '9'));
   EXPECT_LT(cut.size(), 400u) << cut;  // the 500 digits are echoed cut

@@ -27,6 +27,7 @@
 #include <string>
 #include <vector>
 
+#include "coordinator/coordinator_inputs.hpp"
 #include "coordinator/fleet_config.hpp"
 #include "coordinator/mission_journal.hpp"
 #include "coordinator/mission_progress.hpp"
@@ -112,21 +113,6 @@ class FleetCoordinator {
 
  private:
   enum class Phase { kWaiting, kStandby, kExecuting, kSettling, kDone };
-  struct Event {
-    enum class Kind { kAnnouncement, kState, kGone, kStatus, kProgress, kTaskRequest, kMission, kRefused } kind =
-        Kind::kAnnouncement;
-    fleet_transport::TaskRequest request;
-    fleet_transport::MissionInfo mission;
-    std::string refusal;  // kRefused: what the transport refused
-    fleet_transport::CoordinatorStatus status;
-    fleet_transport::FleetStatus progress;
-    fleet_transport::Announcement announcement;
-    fleet_transport::RobotState state;
-    std::string robot_id;
-    fleet_transport::GoneReason reason{};
-    Clock::time_point received{};
-  };
-
   struct OtherCoordinator {
     fleet_transport::CoordinatorStatus status;
     fleet_transport::FleetStatus progress;  // its last progress report
@@ -134,8 +120,31 @@ class FleetCoordinator {
     Clock::time_point heard;                // its last heartbeat
   };
 
-  void queue(Event event);  // from the transport's threads; handled by the loop
-  void handle(const Event& event);
+  void queue(inputs::Input input);  // from the transport's threads; handled by the loop
+  // The phases of step(), in order: the inputs queued since the last step; robots silent, deaf to
+  // their commands, or a second process with a driven robot's id; the phase's own work; what
+  // robots and operators are told (mission, events, heartbeat, progress).
+  void take_in_inputs(fleet_transport::Transport& transport);
+  void check_robots(fleet_transport::Transport& transport, Clock::time_point now);
+  void step_waiting(Clock::time_point now);  // for robots: a quorum, all expected, or the wait's end
+  void step_executing(fleet_transport::Transport& transport, Clock::time_point now);
+  // The plan is done but work is left: replan once, then wait for a robot (or end at its timeout).
+  void wait_for_a_robot_or_replan(Clock::time_point now);
+  // Waits for moves in flight, plans on the worker, uses the plan if the fleet is still as planned from.
+  void step_settling(fleet_transport::Transport& transport, Clock::time_point now);
+  void publish(fleet_transport::Transport& transport, Clock::time_point now);
+  // One input, on the loop's thread (step() visits each queued one).
+  void handle(const inputs::Announced& input, fleet_transport::Transport& transport);
+  void handle(const inputs::StateHeard& input, fleet_transport::Transport& transport);
+  void handle(const inputs::RobotGone& input, fleet_transport::Transport& transport);
+  void handle(const inputs::CoordinatorHeard& input, fleet_transport::Transport& transport);
+  void handle(const inputs::ProgressHeard& input, fleet_transport::Transport& transport);
+  void handle(const inputs::MissionHeard& input, fleet_transport::Transport& transport);
+  void handle(const inputs::TaskRequested& input, fleet_transport::Transport& transport);
+  void handle(const inputs::Refused& input, fleet_transport::Transport& transport);
+  // The record of the robot a message names; nullptr (refused with an event) when the id breaks
+  // the rule for robot ids.
+  RobotRecord* record_of(const std::string& robot_id);
   void handle_status(const fleet_transport::CoordinatorStatus& status, Clock::time_point received);
   fleet_transport::CoordinatorStatus own_status() const;
   // An active coordinator that outranks this one and was heard lately, or nullptr.
@@ -245,8 +254,8 @@ class FleetCoordinator {
   bool logged_no_active_ = false;
   int command_strength_ = -1;  // of this process's command writers (a standby starts with 0)
   int plans_made_ = 0;
-  std::mutex events_mutex_;
-  std::deque<Event> events_;
+  std::mutex inputs_mutex_;
+  std::deque<inputs::Input> inputs_;
 
   RobotRegistry robots_;
   MissionProgress progress_;

@@ -1,0 +1,272 @@
+// FleetCoordinator's plans: what a plan is made from, the planning worker's plan checked against
+// the fleet as it is now and taken into use, progress, and the commands sent.
+#include "coordinator/fleet_coordinator.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <sstream>
+#include <tuple>
+#include <utility>
+
+#include "coordinator/plan_builder.hpp"
+#include "coordinator/role_assignment.hpp"
+#include "fleet_transport/lease_timeouts.hpp"
+#include "planner_core/dist_table.hpp"
+#include "planner_core/input_error.hpp"
+#include "planner_core/solver.hpp"
+#include "planner_core/validator.hpp"
+#include "fleet_coordinator_detail.hpp"
+
+namespace coordinator {
+
+using fleet_transport::RobotStatus;
+using planner_core::Cell;
+using planner_core::Vertex;
+using namespace fleet_coordinator_detail;
+
+FleetCoordinator::PlanningInputs FleetCoordinator::planning_inputs() const {
+  PlanningInputs inputs;
+  for (const auto& [cell, robot_id] : blocked_) inputs.blocked.insert(cell);
+  for (const auto& [id, cell] : unknown_cells_) inputs.blocked.insert(cell);
+  for (planner_core::Vertex cell : refused_processes_.cells()) inputs.blocked.insert(cell);
+  for (const RobotRecord* robot : robots_.ready_robots()) {
+    inputs.members.push_back({robot->id, {robot->last.cell_x, robot->last.cell_y}, robot->role});
+    inputs.incarnations.push_back(robot->incarnation);
+  }
+  inputs.replan_requests = replan_requests_;
+  inputs.tasks = mission_.task_count();
+  inputs.tasks_done = progress_.tasks_done();
+  return inputs;
+}
+
+std::string FleetCoordinator::what_changed_since(const PlanningInputs& then) const {
+  const PlanningInputs now = planning_inputs();
+  if (now.replan_requests != then.replan_requests) return "a replan was asked for meanwhile";
+  if (now.members.size() != then.members.size()) {
+    return fmt::format("{} robots ready, {} planned for", now.members.size(), then.members.size());
+  }
+  for (size_t k = 0; k < now.members.size(); ++k) {
+    const PlanMember& was = then.members[k];
+    const PlanMember& is = now.members[k];
+    if (is.robot_id != was.robot_id) return "robot " + is.robot_id + " is ready, " + was.robot_id + " was";
+    if (!(is.cell == was.cell)) {
+      return "robot " + is.robot_id + " moved from " + planner_core::to_string(was.cell) + " to " +
+             planner_core::to_string(is.cell);
+    }
+    if (is.role != was.role) return "robot " + is.robot_id + " changed role";
+    if (now.incarnations[k] != then.incarnations[k]) return "robot " + is.robot_id + " restarted";
+  }
+  if (now.blocked != then.blocked) return "the cells to keep clear changed";
+  if (now.tasks != then.tasks || now.tasks_done != then.tasks_done) return "the tasks changed";
+  return "";
+}
+
+void FleetCoordinator::start_planning() {
+  // Extra robots take over the roles (and remaining tasks) of robots that left.
+  std::vector<RobotRecord*> extras;
+  for (RobotRecord* robot : robots_.ready_robots()) {
+    if (robot->role < 0) extras.push_back(robot);
+  }
+  if (!extras.empty() && progress_.any_role_free()) bind_roles(extras);
+
+  // Plan from where the robots stand, around lost robots and robots that cannot be commanded.
+  planned_from_ = planning_inputs();
+  PlanningRequest request;
+  request.built = build_plan_instance(mission_, progress_, planned_from_.members, planned_from_.blocked);
+  for (const std::string& note : request.built.notes) spdlog::error("{}", note);
+  // The mission's first plan gets the full solver and budget; a resumed or taken-over mission is a
+  // replan (robots wait meanwhile), so it gets the fast one.
+  const bool first_plan = plans_made_ == 0 && epoch_ == 0 && !summary_.took_over;
+  request.solver = config_.solver_config(first_plan);
+  // After a failure the robots hold (no new moves) and the next try gets a longer limit, up to 8x.
+  request.time_limit_s = config_.plan_limit_s(first_plan) * plan_limit_factor_;
+  request.iterations = config_.iterations;
+  planning_first_plan_ = first_plan;
+  planning_.start(std::move(request));
+}
+
+bool FleetCoordinator::finish_planning(PlanningOutcome outcome, fleet_transport::Transport& transport) {
+  const bool first_plan = planning_first_plan_;
+  const auto failed = [&](const std::string& why) {
+    plan_limit_factor_ = std::min(8.0, plan_limit_factor_ * 2);
+    report("plan_failed", "", why);
+    spdlog::error("planning failed ({}); the robots hold; retrying in 1 s with a limit of {:.1f} s", why,
+                  config_.plan_limit_s(first_plan) * plan_limit_factor_);
+    return false;
+  };
+  last_planning_ms_ = outcome.planning_ms;
+  if (!outcome.error.empty()) return failed(outcome.error);
+  if (!outcome.result.solved) return failed(outcome.result.failure_reason);
+  if (!outcome.report.ok()) {
+    spdlog::critical("the plan failed validation; it is not sent:\n{}", outcome.report.summary());
+    return failed("invalid plan");
+  }
+  plan_limit_factor_ = 1;
+  const PlanInstance& built = outcome.built;
+  const planner_core::Instance& instance = built.instance;
+  const planner_core::SolveResult& result = outcome.result;
+  const planner_core::ValidationReport& report = outcome.report;
+  const planner_core::SolverConfig solver_config = config_.solver_config(first_plan);
+  for (auto& [id, robot] : robots_) robot.plan_agent = -1;
+  for (int a = 0; a < instance.agent_count(); ++a) {
+    RobotRecord& robot = robots_[built.robots[a]];
+    robot.plan_agent = a;
+    robot.finished_plan = false;
+  }
+  ++epoch_;
+  if (plans_made_ > 0) ++summary_.replans;
+  if (plans_made_ == 0) {
+    summary_.first_plan_makespan = report.makespan;
+    summary_.first_plan_flowtime = report.flowtime;
+  }
+  ++plans_made_;
+  journal_write("plan epoch", [&](MissionJournal& journal) { journal.record_epoch(epoch_, term_); });
+  if (plan_) {
+    for (int a = 0; a < plan_->agent_count(); ++a) steps_of_earlier_plans_ += plan_->agent(a).finished;
+  }
+  plan_ = std::make_unique<PlanExecution>(epoch_, instance.graph, result.solution, built.robots, incarnation_);
+  // Task visits count only when made under a plan: a start counts, being the plan's first step.
+  for (int a = 0; a < instance.agent_count(); ++a) {
+    const RobotRecord& robot = robots_[built.robots[a]];
+    if (robot.role >= 0) credit_visits(robot.role, mission_vertex(robot.last.cell_x, robot.last.cell_y), robot.id);
+  }
+  int visits = 0;
+  for (const auto& task : instance.tasks) visits += static_cast<int>(task.agents.size());
+  spdlog::info("plan epoch {}: {} robots, {} task visits, flowtime {}, makespan {} ({}, seed {}, planned in {:.0f} ms)",
+               epoch_, instance.agent_count(), visits, report.flowtime, report.makespan, solver_config.solver,
+               solver_config.seed, last_planning_ms_);
+  for (int a = 0; a < plan_->agent_count(); ++a) steps_planned_ += static_cast<int64_t>(plan_->moves(a).size());
+  this->report("replan", "",
+               fmt::format("epoch {}: {} robots, {} task visits, flowtime {}, planned in {:.0f} ms", epoch_,
+                           instance.agent_count(), visits, report.flowtime, last_planning_ms_),
+               last_planning_ms_);
+  publish_plan(transport, report.flowtime, last_planning_ms_);
+  replan_requested_ = false;
+  phase_ = Phase::kExecuting;
+  publish_status(transport);  // agents take only epochs their coordinator has announced
+  dispatch(transport);
+  return true;
+}
+
+void FleetCoordinator::update_progress() {
+  if (!plan_) return;
+  for (int a = 0; a < plan_->agent_count(); ++a) {
+    RobotRecord* robot = robot_of_agent(a);
+    if (robot == nullptr) continue;
+    if (const auto reached = plan_->confirm(a, robot->last); reached && robot->role >= 0) {
+      credit_visits(robot->role, mission_vertex(reached->x, reached->y), robot->id);
+    }
+  }
+}
+
+void FleetCoordinator::dispatch(fleet_transport::Transport& transport, bool resend_only) {
+  if (!plan_) return;
+  const Clock::time_point now = Clock::now();
+  const double resend_after_s = config_.resend_after_s();
+  for (int a = 0; a < plan_->agent_count(); ++a) {
+    RobotRecord* driver = robot_of_agent(a);
+    if (driver == nullptr || !driver->active) continue;
+    RobotRecord& robot = *driver;
+    if (resend_only && !plan_->in_flight(a)) continue;
+    if (plan_->done(a)) {
+      if (!robot.finished_plan) {
+        robot.finished_plan = true;
+        summary_.sum_of_finish_s += first_command_sent_ ? seconds_between(first_command_, now) : 0;
+      }
+      continue;
+    }
+    const int64_t deadline_ms =
+        fleet_transport::wall_clock_ms() + static_cast<int64_t>(1000 * config_.command_lifetime_s());
+    auto command = plan_->due_command(a, now, resend_after_s, deadline_ms);
+    if (!command) continue;
+    command->robot_incarnation = robot.incarnation;  // only that process of the id obeys it
+    transport.send_command(*command);
+    ++summary_.commands_sent;
+    if (!first_command_sent_) {
+      first_command_sent_ = true;
+      first_command_ = now;
+      summary_.first_command_wall_ms = fleet_transport::wall_clock_ms();
+      spdlog::info("first command of term {} sent at wall-clock ms {}", term_, summary_.first_command_wall_ms);
+    }
+    if (awaiting_replan_latency_ && !resend_only) {
+      awaiting_replan_latency_ = false;
+      summary_.replan_latencies_s.push_back(seconds_between(replan_requested_at_, now));
+    }
+  }
+}
+
+bool FleetCoordinator::plan_finished() const {
+  if (!plan_) return false;
+  for (int a = 0; a < plan_->agent_count(); ++a) {
+    const RobotRecord* robot = robot_of_agent(a);
+    if (robot == nullptr || !robot->active) continue;
+    if (!plan_->done(a)) return false;
+  }
+  return true;
+}
+
+bool FleetCoordinator::mission_complete() const {
+  if (!progress_.all_tasks_done()) return false;
+  for (int role = 0; role < mission_.agent_count(); ++role) {
+    if (progress_.robot_of(role).empty()) continue;
+    const RobotRecord& robot = *robots_.find(progress_.robot_of(role));
+    if (mission_vertex(robot.last.cell_x, robot.last.cell_y) != mission_.goals[role]) return false;
+  }
+  return plan_finished();
+}
+
+void FleetCoordinator::step_settling(fleet_transport::Transport& transport, Clock::time_point now) {
+  update_progress();
+  bool moves_in_flight = false;
+  for (int a = 0; plan_ && a < plan_->agent_count(); ++a) {
+    const RobotRecord* robot = robot_of_agent(a);
+    if (plan_->in_flight(a) && robot != nullptr && robot->active) moves_in_flight = true;
+  }
+  // Robots still carrying out another coordinator's last command (after a takeover or a restart).
+  for (RobotRecord* robot : robots_.ready_robots()) {
+    if (plans_made_ == 0 && robot->last.status == RobotStatus::kMoving) moves_in_flight = true;
+  }
+  // Plan only from where robots really stand: every move in flight must have ended (a robot
+  // that never finishes is taken out by the silence timeout or its lease).
+  if (moves_in_flight) dispatch(transport, /*resend_only=*/true);
+  if (moves_in_flight && now >= settle_deadline_) {
+    spdlog::warn("replanning waits for moves still in flight");
+    settle_deadline_ = now + seconds(config_.replan_settle_s);
+  }
+  // The plan is made on the worker while this loop goes on; it is used only if the fleet is
+  // still as it was planned from (robots, cells, roles, incarnations, walls, tasks).
+  std::optional<PlanningOutcome> outcome = planning_.poll();
+  if (!outcome && planning_.idle() && !moves_in_flight && now >= retry_plan_at_) {
+    start_planning();
+    // A quick plan is used in this very step, as when planning ran inside it; a long one goes
+    // on beside the loop. The wait is far below a heartbeat period.
+    outcome = planning_.wait_for(kQuickPlanWait);
+  }
+  if (!outcome) return;
+  if (outcome->cancelled) {
+    spdlog::info("planning was interrupted");
+  } else if (const std::string change = what_changed_since(planned_from_); !change.empty()) {
+    ++summary_.plans_discarded;
+    spdlog::info("the fleet changed while planning ({}): the plan is dropped and made again", change);
+  } else if (!finish_planning(std::move(*outcome), transport)) {
+    retry_plan_at_ = now + seconds(1.0);
+  }
+}
+
+void FleetCoordinator::list_pending() {
+  summary_.pending.clear();
+  for (int role = 0; role < mission_.agent_count(); ++role) {
+    if (progress_.robot_of(role).empty()) continue;
+    const RobotRecord& robot = *robots_.find(progress_.robot_of(role));
+    if (mission_vertex(robot.last.cell_x, robot.last.cell_y) != mission_.goals[role]) {
+      summary_.pending.push_back("role " + std::to_string(role) + ": robot " + robot.id +
+                                 " could not reach its goal (blocked)");
+    }
+  }
+  for (const std::string& line : progress_.pending_visits()) summary_.pending.push_back(line);
+}
+
+}  // namespace coordinator
