@@ -1,5 +1,5 @@
 # Builds a C++ source holding the dashboard's web files (so the program needs no data folder).
-# cmake -DOUT=web_assets.cpp -DWEB_DIR=coordinator/dashboard/web -DFILES=index.html,dashboard.js -P embed_web.cmake
+# cmake -DOUT=web_assets.cpp -DWEB_DIR=dashboard/web -DFILES=index.html,dashboard.js -P embed_web.cmake
 string(REPLACE "," ";" FILES "${FILES}")
 set(code "// Generated from ${WEB_DIR} by cmake/embed_web.cmake at build time; not committed.\n")
 string(APPEND code "#include \"dashboard/web_assets.hpp\"\n\nnamespace dashboard {\n\n")

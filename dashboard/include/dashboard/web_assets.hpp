@@ -1,4 +1,4 @@
-// The dashboard's page: the files of coordinator/dashboard/web, built into the program
+// The dashboard's page: the files of dashboard/web, built into the program
 // (cmake/embed_web.cmake), by URL path ("/index.html", "/dashboard.js", ...).
 #pragma once
 
