@@ -155,7 +155,9 @@ std::vector<HistoryEntry> load_history(const std::string& path) {
       throw planner_core::InputError(where + "not JSON (" + planner_core::cut(e.what(), 160) + ")");
     }
     if (number == 1) {
-      if (!row.is_object() || row.value("format", "") != kHistoryFormat) {
+      const bool ours = row.is_object() && row.contains("format") && row.at("format").is_string() &&
+                        row.at("format").get<std::string>() == kHistoryFormat;
+      if (!ours) {
         throw planner_core::InputError(where + "not a ctsfleet history (its first line must be {\"format\": \"" +
                                        std::string(kHistoryFormat) + "\"})");
       }

@@ -206,6 +206,8 @@ TEST_F(HistoryTest, BadFilesAreRefusedNamingTheLine) {
   const std::string header = "{\"format\": \"ctsfleet-history-1\"}\n";
   EXPECT_NE(error_of(write("empty", "")).find("empty"), std::string::npos);
   EXPECT_NE(error_of(write("other", "{\"format\": \"x\"}\n")).find("other:1: not a ctsfleet history"), std::string::npos);
+  // Found by fuzz.file_readers: a format that is no string threw nlohmann's type error (exit 1).
+  EXPECT_NE(error_of(write("number", "{\"format\": 33}\n")).find("number:1: not a ctsfleet history"), std::string::npos);
   EXPECT_NE(error_of(write("json", header + "{\"t\": 1, \n")).find("json:2: not JSON"), std::string::npos);
   EXPECT_NE(error_of(write("key", header + "{\"t\": 1, \"type\": \"state\"}\n")).find("key:2:"), std::string::npos);
   EXPECT_NE(error_of(write("type", header + "{\"t\": 1, \"type\": \"teleport\", \"msg\": {}}\n"))

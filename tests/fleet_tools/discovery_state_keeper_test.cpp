@@ -1,4 +1,4 @@
-#include "../../fleet_tools/discovery_state_keeper.hpp"
+#include "discovery_state_keeper.hpp"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
