@@ -11,6 +11,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "cyclone_codec.hpp"
 #include "fleet.h"
 #include "middleware_log.hpp"
 #include "transport_factories.hpp"
@@ -18,75 +19,6 @@
 namespace fleet_transport {
 
 namespace {
-
-template <size_t N>
-void copy_string(char (&out)[N], const std::string& in) {
-  std::strncpy(out, in.c_str(), N - 1);
-  out[N - 1] = '\0';
-}
-
-// Points a wire sequence at a vector's elements (no copy; the vector outlives the write).
-template <typename Sequence, typename Element>
-void borrow(Sequence& sequence, std::vector<Element>& elements) {
-  sequence._length = sequence._maximum = static_cast<uint32_t>(elements.size());
-  sequence._buffer = elements.data();
-  sequence._release = false;
-}
-
-template <typename Sequence>
-auto elements_of(const Sequence& sequence) {
-  return std::vector(sequence._buffer, sequence._buffer + sequence._length);
-}
-
-std::vector<GridCell> cells_of(const dds_sequence_fleet_GridCell& sequence) {
-  std::vector<GridCell> cells;
-  for (const fleet_GridCell& cell : elements_of(sequence)) cells.push_back({cell.x, cell.y});
-  return cells;
-}
-
-std::vector<fleet_GridCell> wire_cells(const std::vector<GridCell>& cells) {
-  std::vector<fleet_GridCell> wire;
-  for (const GridCell& cell : cells) wire.push_back({cell.x, cell.y});
-  return wire;
-}
-
-fleet_RobotStatus to_wire(RobotStatus s) {
-  switch (s) {
-    case RobotStatus::kIdle: return fleet_ROBOT_IDLE;
-    case RobotStatus::kMoving: return fleet_ROBOT_MOVING;
-    case RobotStatus::kArrived: return fleet_ROBOT_ARRIVED;
-    case RobotStatus::kFault: return fleet_ROBOT_FAULT;
-  }
-  return fleet_ROBOT_FAULT;
-}
-
-RobotStatus from_wire(fleet_RobotStatus s) {
-  switch (s) {
-    case fleet_ROBOT_IDLE: return RobotStatus::kIdle;
-    case fleet_ROBOT_MOVING: return RobotStatus::kMoving;
-    case fleet_ROBOT_ARRIVED: return RobotStatus::kArrived;
-    default: return RobotStatus::kFault;
-  }
-}
-
-fleet_CoordinatorRole to_wire(CoordinatorRole r) {
-  switch (r) {
-    case CoordinatorRole::kActive: return fleet_COORDINATOR_ACTIVE;
-    case CoordinatorRole::kStandby: return fleet_COORDINATOR_STANDBY;
-    case CoordinatorRole::kStoodDown: return fleet_COORDINATOR_STOOD_DOWN;
-    case CoordinatorRole::kEnded: return fleet_COORDINATOR_ENDED;
-  }
-  return fleet_COORDINATOR_ENDED;
-}
-
-CoordinatorRole from_wire(fleet_CoordinatorRole r) {
-  switch (r) {
-    case fleet_COORDINATOR_ACTIVE: return CoordinatorRole::kActive;
-    case fleet_COORDINATOR_STANDBY: return CoordinatorRole::kStandby;
-    case fleet_COORDINATOR_STOOD_DOWN: return CoordinatorRole::kStoodDown;
-    default: return CoordinatorRole::kEnded;
-  }
-}
 
 void check(dds_return_t rc, const char* what) {
   if (rc < 0) throw std::runtime_error(std::string("Cyclone DDS: ") + what + ": " + dds_strretcode(rc));
@@ -254,58 +186,24 @@ class CycloneTransport : public Transport {
 
  public:
   void announce(const Announcement& a) override {
-    fleet_Announcement wire{};
-    copy_string(wire.robot_id, a.robot_id);
-    copy_string(wire.backend, a.backend);
-    copy_string(wire.capabilities, a.capabilities);
-    copy_string(wire.version, a.version);
-    wire.leaving = a.leaving;
-    wire.incarnation = a.incarnation;
+    const fleet_Announcement wire = cyclone_codec::to_wire(a);
     check(dds_write(robot_writers(a.robot_id).announcement, &wire), "write announcement");
   }
 
   void say_goodbye(const std::string& robot_id) override {
-    fleet_Announcement wire{};
-    copy_string(wire.robot_id, robot_id);
-    wire.leaving = true;
+    const fleet_Announcement wire = cyclone_codec::to_wire(Announcement{.robot_id = robot_id, .leaving = true});
     const dds_entity_t w = robot_writers(robot_id).announcement;
     check(dds_write(w, &wire), "write goodbye");
     check(dds_dispose(w, &wire), "dispose announcement");
   }
 
   void publish_state(const RobotState& s) override {
-    fleet_RobotState wire{};
-    copy_string(wire.robot_id, s.robot_id);
-    wire.cell_x = s.cell_x;
-    wire.cell_y = s.cell_y;
-    wire.pose_x = s.pose_x;
-    wire.pose_y = s.pose_y;
-    wire.pose_theta = s.pose_theta;
-    wire.plan_epoch = s.plan_epoch;
-    wire.action_index = s.action_index;
-    wire.status = to_wire(s.status);
-    wire.battery_percent = s.battery_percent;
-    wire.seq_number = s.seq_number;
-    wire.stamp_ms = s.stamp_ms;
-    wire.incarnation = s.incarnation;
-    wire.coordinator = s.coordinator;
+    const fleet_RobotState wire = cyclone_codec::to_wire(s);
     check(dds_write(robot_writers(s.robot_id).state, &wire), "write state");
   }
 
   void send_command(const StepCommand& c) override {
-    fleet_StepCommand wire{};
-    copy_string(wire.robot_id, c.robot_id);
-    wire.plan_epoch = c.plan_epoch;
-    wire.action_index = c.action_index;
-    wire.target_x = c.target_x;
-    wire.target_y = c.target_y;
-    wire.target_pose_x = c.target_pose_x;
-    wire.target_pose_y = c.target_pose_y;
-    wire.deadline_ms = c.deadline_ms;
-    wire.coordinator = c.coordinator;
-    wire.sent_ms = c.sent_ms;
-    wire.robot_incarnation = c.robot_incarnation;
-    wire.refused = c.refused;
+    const fleet_StepCommand wire = cyclone_codec::to_wire(c);
     check(dds_write(command_writer(c.robot_id), &wire), "write command");
   }
 
@@ -318,123 +216,38 @@ class CycloneTransport : public Transport {
   }
 
   void publish_coordinator_status(const CoordinatorStatus& s) override {
-    fleet_CoordinatorStatus wire{};
-    wire.coordinator = s.coordinator;
-    wire.term = s.term;
-    wire.claimed_ms = s.claimed_ms;
-    wire.role = to_wire(s.role);
-    copy_string(wire.mission_id, s.mission_id);
-    wire.plan_epoch = s.plan_epoch;
+    const fleet_CoordinatorStatus wire = cyclone_codec::to_wire(s);
     check(dds_write(writer(coordinator_writer_, coordinator_topic_, registry_qos_), &wire), "write coordinator status");
   }
 
   void publish_fleet_status(const FleetStatus& s) override {
-    std::vector<fleet_Assignment> rows(s.assignments.size());
-    for (size_t i = 0; i < rows.size(); ++i) {
-      copy_string(rows[i].robot_id, s.assignments[i].robot_id);
-      rows[i].role = s.assignments[i].role;
-      rows[i].tasks_done = s.assignments[i].tasks_done;
-      rows[i].tasks_total = s.assignments[i].tasks_total;
-    }
-    std::vector<fleet_TaskVisit> visits(s.done_visits.size());
-    for (size_t i = 0; i < visits.size(); ++i) visits[i] = {s.done_visits[i].task, s.done_visits[i].role};
-    fleet_FleetStatus wire{};
-    wire.coordinator = s.coordinator;
-    wire.plan_epoch = s.plan_epoch;
-    wire.tasks_done = s.tasks_done;
-    wire.tasks_total = s.tasks_total;
-    wire.robots = s.robots;
-    wire.assignments._length = wire.assignments._maximum = static_cast<uint32_t>(rows.size());
-    wire.assignments._buffer = rows.data();
-    wire.assignments._release = false;
-    wire.done_visits._length = wire.done_visits._maximum = static_cast<uint32_t>(visits.size());
-    wire.done_visits._buffer = visits.data();
-    wire.done_visits._release = false;
-    wire.round_trip_p50_ms = s.round_trip_p50_ms;
-    wire.round_trip_p99_ms = s.round_trip_p99_ms;
-    wire.last_planning_ms = s.last_planning_ms;
-    wire.last_replan_latency_ms = s.last_replan_latency_ms;
-    wire.steps_done = s.steps_done;
-    wire.steps_planned = s.steps_planned;
-    check(dds_write(writer(status_writer_, status_topic_, registry_qos_), &wire), "write fleet status");
+    const dds_entity_t w = writer(status_writer_, status_topic_, registry_qos_);
+    cyclone_codec::with_wire(s, [w](const fleet_FleetStatus& wire) { check(dds_write(w, &wire), "write fleet status"); });
   }
 
   void publish_mission_info(const MissionInfo& m) override {
-    std::vector<fleet_GridCell> goals = wire_cells(m.goals);
-    std::vector<std::vector<int32_t>> roles;
-    std::vector<fleet_MissionTask> tasks(m.tasks.size());
-    for (const MissionTask& task : m.tasks) roles.emplace_back(task.roles.begin(), task.roles.end());
-    for (size_t i = 0; i < tasks.size(); ++i) {
-      tasks[i].x = m.tasks[i].x;
-      tasks[i].y = m.tasks[i].y;
-      tasks[i].cancelled = m.tasks[i].cancelled;
-      borrow(tasks[i].roles, roles[i]);
-    }
-    std::string rows = m.map_rows;
-    fleet_MissionInfo wire{};
-    wire.coordinator = m.coordinator;
-    copy_string(wire.mission_id, m.mission_id);
-    wire.width = m.width;
-    wire.height = m.height;
-    wire.map_rows = rows.data();
-    borrow(wire.goals, goals);
-    borrow(wire.tasks, tasks);
-    wire.lifelong = m.lifelong;
-    check(dds_write(writer(mission_writer_, mission_topic(), registry_qos_), &wire), "write mission info");
+    const dds_entity_t w = writer(mission_writer_, mission_topic(), registry_qos_);
+    cyclone_codec::with_wire(m, [w](const fleet_MissionInfo& wire) { check(dds_write(w, &wire), "write mission info"); });
   }
 
   void publish_fleet_plan(const FleetPlan& p) override {
-    std::vector<std::vector<fleet_GridCell>> paths;
-    std::vector<fleet_RobotPlan> robots(p.robots.size());
-    for (const RobotPlan& robot : p.robots) paths.push_back(wire_cells(robot.path));
-    for (size_t i = 0; i < robots.size(); ++i) {
-      copy_string(robots[i].robot_id, p.robots[i].robot_id);
-      robots[i].role = p.robots[i].role;
-      borrow(robots[i].path, paths[i]);
-    }
-    fleet_FleetPlan wire{};
-    wire.coordinator = p.coordinator;
-    wire.plan_epoch = p.plan_epoch;
-    wire.made_ms = p.made_ms;
-    wire.planning_ms = p.planning_ms;
-    wire.flowtime = p.flowtime;
-    borrow(wire.robots, robots);
-    check(dds_write(writer(plan_writer_, plan_topic(), registry_qos_), &wire), "write fleet plan");
+    const dds_entity_t w = writer(plan_writer_, plan_topic(), registry_qos_);
+    cyclone_codec::with_wire(p, [w](const fleet_FleetPlan& wire) { check(dds_write(w, &wire), "write fleet plan"); });
   }
 
   void publish_fleet_event(const FleetEvent& e) override {
-    fleet_FleetEvent wire{};
-    wire.coordinator = e.coordinator;
-    wire.stamp_ms = e.stamp_ms;
-    copy_string(wire.kind, e.kind);
-    copy_string(wire.robot_id, e.robot_id);
-    copy_string(wire.text, e.text);
-    wire.value = e.value;
+    const fleet_FleetEvent wire = cyclone_codec::to_wire(e);
     check(dds_write(writer(event_writer_, event_topic(), events_qos_), &wire), "write fleet event");
   }
 
   void request_task(const TaskRequest& r) override {
-    fleet_TaskRequest wire{};
-    copy_string(wire.request_id, r.request_id);
-    wire.action = static_cast<fleet_TaskAction>(r.action);
-    wire.x = r.x;
-    wire.y = r.y;
-    copy_string(wire.robot_id, r.robot_id);
-    wire.task = r.task;
+    const fleet_TaskRequest wire = cyclone_codec::to_wire(r);
     check(dds_write(writer(request_writer_, request_topic(), requests_qos_), &wire), "write task request");
   }
 
   void reply_task(const TaskReply& r) override {
-    std::string listing = r.listing;
-    fleet_TaskReply wire{};
-    copy_string(wire.request_id, r.request_id);
-    wire.coordinator = r.coordinator;
-    wire.accepted = r.accepted;
-    copy_string(wire.reason, r.reason);
-    wire.task = r.task;
-    copy_string(wire.robot_id, r.robot_id);
-    wire.listing = listing.data();
-    check(dds_write(writer(reply_writer_, reply_topic(), requests_qos_), &wire), "write task reply");
+    const dds_entity_t w = writer(reply_writer_, reply_topic(), requests_qos_);
+    cyclone_codec::with_wire(r, [w](const fleet_TaskReply& wire) { check(dds_write(w, &wire), "write task reply"); });
   }
 
  private:
@@ -568,9 +381,7 @@ class CycloneTransport : public Transport {
     take_all<fleet_Announcement>(reader, [self, reader](const fleet_Announcement& w, const dds_sample_info_t& info) {
       if (!self->from_own_partition(reader, info, w.robot_id)) return;
       if (info.valid_data) {
-        if (self->handlers_.on_announcement) {
-          self->handlers_.on_announcement({w.robot_id, w.backend, w.capabilities, w.version, w.leaving, w.incarnation});
-        }
+        if (self->handlers_.on_announcement) self->handlers_.on_announcement(cyclone_codec::from_wire(w));
       } else if (self->handlers_.on_robot_gone) {
         // Invalid samples carry the key: the instance lost its writer or was disposed.
         if (info.instance_state == DDS_NOT_ALIVE_DISPOSED_INSTANCE_STATE) {
@@ -586,22 +397,7 @@ class CycloneTransport : public Transport {
     auto* self = static_cast<CycloneTransport*>(arg);
     take_all<fleet_RobotState>(reader, [self, reader](const fleet_RobotState& w, const dds_sample_info_t& info) {
       if (!info.valid_data || !self->from_own_partition(reader, info, w.robot_id)) return;
-      RobotState s;
-      s.robot_id = w.robot_id;
-      s.cell_x = w.cell_x;
-      s.cell_y = w.cell_y;
-      s.pose_x = w.pose_x;
-      s.pose_y = w.pose_y;
-      s.pose_theta = w.pose_theta;
-      s.plan_epoch = w.plan_epoch;
-      s.action_index = w.action_index;
-      s.status = from_wire(w.status);
-      s.battery_percent = w.battery_percent;
-      s.seq_number = w.seq_number;
-      s.stamp_ms = w.stamp_ms;
-      s.incarnation = w.incarnation;
-      s.coordinator = w.coordinator;
-      self->handlers_.on_state(s);
+      self->handlers_.on_state(cyclone_codec::from_wire(w));
     });
   }
 
@@ -610,107 +406,56 @@ class CycloneTransport : public Transport {
     take_all<fleet_StepCommand>(reader, [self](const fleet_StepCommand& w, const dds_sample_info_t& info) {
       if (!info.valid_data) return;
       if (!self->commands_for_.empty() && self->commands_for_ != w.robot_id) return;
-      self->handlers_.on_command({w.robot_id, w.plan_epoch, w.action_index, w.target_x, w.target_y, w.target_pose_x,
-                                  w.target_pose_y, w.deadline_ms, w.coordinator, w.sent_ms, w.robot_incarnation,
-                                  w.refused});
+      self->handlers_.on_command(cyclone_codec::from_wire(w));
     });
   }
 
   static void coordinator_statuses_available(dds_entity_t reader, void* arg) {
     auto* self = static_cast<CycloneTransport*>(arg);
     take_all<fleet_CoordinatorStatus>(reader, [self](const fleet_CoordinatorStatus& w, const dds_sample_info_t& info) {
-      if (!info.valid_data) return;
-      self->handlers_.on_coordinator_status(
-          {w.coordinator, w.term, w.claimed_ms, from_wire(w.role), w.mission_id, w.plan_epoch});
+      if (info.valid_data) self->handlers_.on_coordinator_status(cyclone_codec::from_wire(w));
     });
   }
 
   static void statuses_available(dds_entity_t reader, void* arg) {
     auto* self = static_cast<CycloneTransport*>(arg);
     take_all<fleet_FleetStatus>(reader, [self](const fleet_FleetStatus& w, const dds_sample_info_t& info) {
-      if (!info.valid_data) return;
-      FleetStatus s;
-      s.coordinator = w.coordinator;
-      s.plan_epoch = w.plan_epoch;
-      s.tasks_done = w.tasks_done;
-      s.tasks_total = w.tasks_total;
-      s.robots = w.robots;
-      for (uint32_t i = 0; i < w.done_visits._length; ++i) {
-        s.done_visits.push_back({w.done_visits._buffer[i].task, w.done_visits._buffer[i].role});
-      }
-      for (uint32_t i = 0; i < w.assignments._length; ++i) {
-        const fleet_Assignment& row = w.assignments._buffer[i];
-        s.assignments.push_back({row.robot_id, row.role, row.tasks_done, row.tasks_total});
-      }
-      s.round_trip_p50_ms = w.round_trip_p50_ms;
-      s.round_trip_p99_ms = w.round_trip_p99_ms;
-      s.last_planning_ms = w.last_planning_ms;
-      s.last_replan_latency_ms = w.last_replan_latency_ms;
-      s.steps_done = w.steps_done;
-      s.steps_planned = w.steps_planned;
-      self->handlers_.on_fleet_status(s);
+      if (info.valid_data) self->handlers_.on_fleet_status(cyclone_codec::from_wire(w));
     });
   }
 
   static void missions_available(dds_entity_t reader, void* arg) {
     auto* self = static_cast<CycloneTransport*>(arg);
     take_all<fleet_MissionInfo>(reader, [self](const fleet_MissionInfo& w, const dds_sample_info_t& info) {
-      if (!info.valid_data) return;
-      MissionInfo m;
-      m.coordinator = w.coordinator;
-      m.mission_id = w.mission_id;
-      m.width = w.width;
-      m.height = w.height;
-      m.map_rows = w.map_rows ? w.map_rows : "";
-      m.goals = cells_of(w.goals);
-      for (const fleet_MissionTask& task : elements_of(w.tasks)) {
-        m.tasks.push_back({task.x, task.y, elements_of(task.roles), task.cancelled});
-      }
-      m.lifelong = w.lifelong;
-      self->handlers_.on_mission_info(m);
+      if (info.valid_data) self->handlers_.on_mission_info(cyclone_codec::from_wire(w));
     });
   }
 
   static void plans_available(dds_entity_t reader, void* arg) {
     auto* self = static_cast<CycloneTransport*>(arg);
     take_all<fleet_FleetPlan>(reader, [self](const fleet_FleetPlan& w, const dds_sample_info_t& info) {
-      if (!info.valid_data) return;
-      FleetPlan p;
-      p.coordinator = w.coordinator;
-      p.plan_epoch = w.plan_epoch;
-      p.made_ms = w.made_ms;
-      p.planning_ms = w.planning_ms;
-      p.flowtime = w.flowtime;
-      for (const fleet_RobotPlan& robot : elements_of(w.robots)) {
-        p.robots.push_back({robot.robot_id, robot.role, cells_of(robot.path)});
-      }
-      self->handlers_.on_fleet_plan(p);
+      if (info.valid_data) self->handlers_.on_fleet_plan(cyclone_codec::from_wire(w));
     });
   }
 
   static void events_available(dds_entity_t reader, void* arg) {
     auto* self = static_cast<CycloneTransport*>(arg);
     take_all<fleet_FleetEvent>(reader, [self](const fleet_FleetEvent& w, const dds_sample_info_t& info) {
-      if (!info.valid_data) return;
-      self->handlers_.on_fleet_event({w.coordinator, w.stamp_ms, w.kind, w.robot_id, w.text, w.value});
+      if (info.valid_data) self->handlers_.on_fleet_event(cyclone_codec::from_wire(w));
     });
   }
 
   static void requests_available(dds_entity_t reader, void* arg) {
     auto* self = static_cast<CycloneTransport*>(arg);
     take_all<fleet_TaskRequest>(reader, [self](const fleet_TaskRequest& w, const dds_sample_info_t& info) {
-      if (!info.valid_data) return;
-      self->handlers_.on_task_request(
-          {w.request_id, static_cast<TaskAction>(w.action), w.x, w.y, w.robot_id, w.task});
+      if (info.valid_data) self->handlers_.on_task_request(cyclone_codec::from_wire(w));
     });
   }
 
   static void replies_available(dds_entity_t reader, void* arg) {
     auto* self = static_cast<CycloneTransport*>(arg);
     take_all<fleet_TaskReply>(reader, [self](const fleet_TaskReply& w, const dds_sample_info_t& info) {
-      if (!info.valid_data) return;
-      self->handlers_.on_task_reply({w.request_id, w.coordinator, w.accepted, w.reason, w.task, w.robot_id,
-                                     w.listing ? w.listing : ""});
+      if (info.valid_data) self->handlers_.on_task_reply(cyclone_codec::from_wire(w));
     });
   }
 

@@ -22,6 +22,7 @@
 #include <stdexcept>
 
 #include "fleet_transport/background_opener.hpp"
+#include "fastdds_codec.hpp"
 #include "fastdds_participant.hpp"
 #include "fleet.h"
 #include "middleware_log.hpp"
@@ -33,44 +34,6 @@ namespace fleet_transport {
 namespace {
 
 using namespace eprosima::fastdds::dds;
-
-fleet::RobotStatus to_wire(RobotStatus s) {
-  switch (s) {
-    case RobotStatus::kIdle: return fleet::ROBOT_IDLE;
-    case RobotStatus::kMoving: return fleet::ROBOT_MOVING;
-    case RobotStatus::kArrived: return fleet::ROBOT_ARRIVED;
-    case RobotStatus::kFault: return fleet::ROBOT_FAULT;
-  }
-  return fleet::ROBOT_FAULT;
-}
-
-RobotStatus from_wire(fleet::RobotStatus s) {
-  switch (s) {
-    case fleet::ROBOT_IDLE: return RobotStatus::kIdle;
-    case fleet::ROBOT_MOVING: return RobotStatus::kMoving;
-    case fleet::ROBOT_ARRIVED: return RobotStatus::kArrived;
-    default: return RobotStatus::kFault;
-  }
-}
-
-fleet::CoordinatorRole to_wire(CoordinatorRole r) {
-  switch (r) {
-    case CoordinatorRole::kActive: return fleet::COORDINATOR_ACTIVE;
-    case CoordinatorRole::kStandby: return fleet::COORDINATOR_STANDBY;
-    case CoordinatorRole::kStoodDown: return fleet::COORDINATOR_STOOD_DOWN;
-    case CoordinatorRole::kEnded: return fleet::COORDINATOR_ENDED;
-  }
-  return fleet::COORDINATOR_ENDED;
-}
-
-CoordinatorRole from_wire(fleet::CoordinatorRole r) {
-  switch (r) {
-    case fleet::COORDINATOR_ACTIVE: return CoordinatorRole::kActive;
-    case fleet::COORDINATOR_STANDBY: return CoordinatorRole::kStandby;
-    case fleet::COORDINATOR_STOOD_DOWN: return CoordinatorRole::kStoodDown;
-    default: return CoordinatorRole::kEnded;
-  }
-}
 
 // A listener that takes every sample of one topic and passes it to `deliver`.
 template <typename Wire>
@@ -315,22 +278,7 @@ class FastDdsTransport : public Transport {
     if (handlers_.on_state) {
       listen<fleet::RobotState>(state, state_r, [this](const fleet::RobotState& w, const SampleInfo& info) {
         if (!info.valid_data || !from_own_partition(info, w.robot_id().to_string())) return;
-        RobotState s;
-        s.robot_id = w.robot_id().to_string();
-        s.cell_x = w.cell_x();
-        s.cell_y = w.cell_y();
-        s.pose_x = w.pose_x();
-        s.pose_y = w.pose_y();
-        s.pose_theta = w.pose_theta();
-        s.plan_epoch = w.plan_epoch();
-        s.action_index = w.action_index();
-        s.status = from_wire(w.status());
-        s.battery_percent = w.battery_percent();
-        s.seq_number = w.seq_number();
-        s.stamp_ms = w.stamp_ms();
-        s.incarnation = w.incarnation();
-        s.coordinator = w.coordinator();
-        handlers_.on_state(s);
+        handlers_.on_state(fastdds_codec::from_wire(w));
       }, every_robot);
     }
     if (handlers_.on_command) {
@@ -338,95 +286,43 @@ class FastDdsTransport : public Transport {
           subscriber_in(commands_for_.empty() ? std::string(kEveryRobotPartition) : command_partition(commands_for_));
       listen<fleet::StepCommand>(command, command_r, [this](const fleet::StepCommand& w, const SampleInfo& info) {
         if (!info.valid_data) return;
-        const std::string id = w.robot_id().to_string();
-        if (!commands_for_.empty() && commands_for_ != id) return;
-        handlers_.on_command({id, w.plan_epoch(), w.action_index(), w.target_x(), w.target_y(), w.target_pose_x(),
-                              w.target_pose_y(), w.deadline_ms(), w.coordinator(), w.sent_ms(), w.robot_incarnation(),
-                              w.refused()});
+        if (!commands_for_.empty() && commands_for_ != w.robot_id().to_string()) return;
+        handlers_.on_command(fastdds_codec::from_wire(w));
       }, command_subscriber);
     }
     if (handlers_.on_coordinator_status) {
-      listen<fleet::CoordinatorStatus>(coordinator_topic_, registry_r,
-                                       [this](const fleet::CoordinatorStatus& w, const SampleInfo& info) {
-        if (!info.valid_data) return;
-        handlers_.on_coordinator_status({w.coordinator(), w.term(), w.claimed_ms(), from_wire(w.role()),
-                                         w.mission_id().to_string(), w.plan_epoch()});
+      listen<fleet::CoordinatorStatus>(coordinator_topic_, registry_r, [this](const fleet::CoordinatorStatus& w, const SampleInfo& info) {
+        if (info.valid_data) handlers_.on_coordinator_status(fastdds_codec::from_wire(w));
       });
     }
     if (handlers_.on_fleet_status) {
       listen<fleet::FleetStatus>(status, registry_r, [this](const fleet::FleetStatus& w, const SampleInfo& info) {
-        if (!info.valid_data) return;
-        FleetStatus s;
-        s.coordinator = w.coordinator();
-        s.plan_epoch = w.plan_epoch();
-        s.tasks_done = w.tasks_done();
-        s.tasks_total = w.tasks_total();
-        s.robots = w.robots();
-        for (const fleet::TaskVisit& visit : w.done_visits()) s.done_visits.push_back({visit.task(), visit.role()});
-        for (const fleet::Assignment& row : w.assignments()) {
-          s.assignments.push_back({row.robot_id().to_string(), row.role(), row.tasks_done(), row.tasks_total()});
-        }
-        s.round_trip_p50_ms = w.round_trip_p50_ms();
-        s.round_trip_p99_ms = w.round_trip_p99_ms();
-        s.last_planning_ms = w.last_planning_ms();
-        s.last_replan_latency_ms = w.last_replan_latency_ms();
-        s.steps_done = w.steps_done();
-        s.steps_planned = w.steps_planned();
-        handlers_.on_fleet_status(s);
+        if (info.valid_data) handlers_.on_fleet_status(fastdds_codec::from_wire(w));
       });
     }
     if (handlers_.on_mission_info) {
       listen<fleet::MissionInfo>(mission_topic_, registry_r, [this](const fleet::MissionInfo& w, const SampleInfo& info) {
-        if (!info.valid_data) return;
-        MissionInfo m;
-        m.coordinator = w.coordinator();
-        m.mission_id = w.mission_id().to_string();
-        m.width = w.width();
-        m.height = w.height();
-        m.map_rows = w.map_rows();
-        m.goals = cells_of(w.goals());
-        for (const fleet::MissionTask& task : w.tasks()) {
-          m.tasks.push_back({task.x(), task.y(), std::vector<int>(task.roles().begin(), task.roles().end()),
-                             task.cancelled()});
-        }
-        m.lifelong = w.lifelong();
-        handlers_.on_mission_info(m);
+        if (info.valid_data) handlers_.on_mission_info(fastdds_codec::from_wire(w));
       });
     }
     if (handlers_.on_fleet_plan) {
       listen<fleet::FleetPlan>(plan_topic_, registry_r, [this](const fleet::FleetPlan& w, const SampleInfo& info) {
-        if (!info.valid_data) return;
-        FleetPlan p;
-        p.coordinator = w.coordinator();
-        p.plan_epoch = w.plan_epoch();
-        p.made_ms = w.made_ms();
-        p.planning_ms = w.planning_ms();
-        p.flowtime = w.flowtime();
-        for (const fleet::RobotPlan& robot : w.robots()) {
-          p.robots.push_back({robot.robot_id().to_string(), robot.role(), cells_of(robot.path())});
-        }
-        handlers_.on_fleet_plan(p);
+        if (info.valid_data) handlers_.on_fleet_plan(fastdds_codec::from_wire(w));
       });
     }
     if (handlers_.on_fleet_event) {
       listen<fleet::FleetEvent>(event_topic_, events_r, [this](const fleet::FleetEvent& w, const SampleInfo& info) {
-        if (!info.valid_data) return;
-        handlers_.on_fleet_event({w.coordinator(), w.stamp_ms(), w.kind().to_string(), w.robot_id().to_string(),
-                                  w.text().to_string(), w.value()});
+        if (info.valid_data) handlers_.on_fleet_event(fastdds_codec::from_wire(w));
       });
     }
     if (handlers_.on_task_request) {
       listen<fleet::TaskRequest>(request_topic_, requests_r, [this](const fleet::TaskRequest& w, const SampleInfo& info) {
-        if (!info.valid_data) return;
-        handlers_.on_task_request({w.request_id().to_string(), static_cast<TaskAction>(w.action()), w.x(), w.y(),
-                                   w.robot_id().to_string(), w.task()});
+        if (info.valid_data) handlers_.on_task_request(fastdds_codec::from_wire(w));
       });
     }
     if (handlers_.on_task_reply) {
       listen<fleet::TaskReply>(reply_topic_, requests_r, [this](const fleet::TaskReply& w, const SampleInfo& info) {
-        if (!info.valid_data) return;
-        handlers_.on_task_reply({w.request_id().to_string(), w.coordinator(), w.accepted(), w.reason().to_string(),
-                                 w.task(), w.robot_id().to_string(), w.listing()});
+        if (info.valid_data) handlers_.on_task_reply(fastdds_codec::from_wire(w));
       });
     }
   }
@@ -434,58 +330,24 @@ class FastDdsTransport : public Transport {
 
  public:
   void announce(const Announcement& a) override {
-    fleet::Announcement wire;
-    wire.robot_id(a.robot_id);
-    wire.backend(a.backend);
-    wire.capabilities(a.capabilities);
-    wire.version(a.version);
-    wire.leaving(a.leaving);
-    wire.incarnation(a.incarnation);
+    fleet::Announcement wire = fastdds_codec::to_wire(a);
     robot_writers(a.robot_id).announcement->write(&wire);
   }
 
   void say_goodbye(const std::string& robot_id) override {
-    fleet::Announcement wire;
-    wire.robot_id(robot_id);
-    wire.leaving(true);
+    fleet::Announcement wire = fastdds_codec::to_wire(Announcement{.robot_id = robot_id, .leaving = true});
     DataWriter* w = robot_writers(robot_id).announcement;
     w->write(&wire);
     w->dispose(&wire, HANDLE_NIL);  // the key is taken from the sample (2.9 has no lookup_instance)
   }
 
   void publish_state(const RobotState& s) override {
-    fleet::RobotState wire;
-    wire.robot_id(s.robot_id);
-    wire.cell_x(s.cell_x);
-    wire.cell_y(s.cell_y);
-    wire.pose_x(s.pose_x);
-    wire.pose_y(s.pose_y);
-    wire.pose_theta(s.pose_theta);
-    wire.plan_epoch(s.plan_epoch);
-    wire.action_index(s.action_index);
-    wire.status(to_wire(s.status));
-    wire.battery_percent(s.battery_percent);
-    wire.seq_number(s.seq_number);
-    wire.stamp_ms(s.stamp_ms);
-    wire.incarnation(s.incarnation);
-    wire.coordinator(s.coordinator);
+    fleet::RobotState wire = fastdds_codec::to_wire(s);
     robot_writers(s.robot_id).state->write(&wire);
   }
 
   void send_command(const StepCommand& c) override {
-    fleet::StepCommand wire;
-    wire.robot_id(c.robot_id);
-    wire.plan_epoch(c.plan_epoch);
-    wire.action_index(c.action_index);
-    wire.target_x(c.target_x);
-    wire.target_y(c.target_y);
-    wire.target_pose_x(c.target_pose_x);
-    wire.target_pose_y(c.target_pose_y);
-    wire.deadline_ms(c.deadline_ms);
-    wire.coordinator(c.coordinator);
-    wire.sent_ms(c.sent_ms);
-    wire.robot_incarnation(c.robot_incarnation);
-    wire.refused(c.refused);
+    fleet::StepCommand wire = fastdds_codec::to_wire(c);
     command_writer(c.robot_id)->write(&wire);
   }
 
@@ -504,143 +366,42 @@ class FastDdsTransport : public Transport {
   }
 
   void publish_coordinator_status(const CoordinatorStatus& s) override {
-    fleet::CoordinatorStatus wire;
-    wire.coordinator(s.coordinator);
-    wire.term(s.term);
-    wire.claimed_ms(s.claimed_ms);
-    wire.role(to_wire(s.role));
-    wire.mission_id(s.mission_id);
-    wire.plan_epoch(s.plan_epoch);
+    fleet::CoordinatorStatus wire = fastdds_codec::to_wire(s);
     writer(coordinator_writer_, coordinator_topic_, registry_w_)->write(&wire);
   }
 
   void publish_fleet_status(const FleetStatus& s) override {
-    fleet::FleetStatus wire;
-    wire.coordinator(s.coordinator);
-    wire.plan_epoch(s.plan_epoch);
-    wire.tasks_done(s.tasks_done);
-    wire.tasks_total(s.tasks_total);
-    wire.robots(s.robots);
-    std::vector<fleet::Assignment> rows;
-    for (const Assignment& a : s.assignments) {
-      fleet::Assignment row;
-      row.robot_id(a.robot_id);
-      row.role(a.role);
-      row.tasks_done(a.tasks_done);
-      row.tasks_total(a.tasks_total);
-      rows.push_back(row);
-    }
-    wire.assignments(rows);
-    std::vector<fleet::TaskVisit> visits;
-    for (const TaskVisit& v : s.done_visits) {
-      fleet::TaskVisit visit;
-      visit.task(v.task);
-      visit.role(v.role);
-      visits.push_back(visit);
-    }
-    wire.done_visits(visits);
-    wire.round_trip_p50_ms(s.round_trip_p50_ms);
-    wire.round_trip_p99_ms(s.round_trip_p99_ms);
-    wire.last_planning_ms(s.last_planning_ms);
-    wire.last_replan_latency_ms(s.last_replan_latency_ms);
-    wire.steps_done(s.steps_done);
-    wire.steps_planned(s.steps_planned);
+    fleet::FleetStatus wire = fastdds_codec::to_wire(s);
     writer(status_writer_, status_topic_, registry_w_)->write(&wire);
   }
 
   void publish_mission_info(const MissionInfo& m) override {
-    fleet::MissionInfo wire;
-    wire.coordinator(m.coordinator);
-    wire.mission_id(m.mission_id);
-    wire.width(m.width);
-    wire.height(m.height);
-    wire.map_rows(m.map_rows);
-    wire.goals(wire_cells(m.goals));
-    std::vector<fleet::MissionTask> tasks;
-    for (const MissionTask& t : m.tasks) {
-      fleet::MissionTask task;
-      task.x(t.x);
-      task.y(t.y);
-      task.roles(std::vector<int32_t>(t.roles.begin(), t.roles.end()));
-      task.cancelled(t.cancelled);
-      tasks.push_back(task);
-    }
-    wire.tasks(tasks);
-    wire.lifelong(m.lifelong);
+    fleet::MissionInfo wire = fastdds_codec::to_wire(m);
     writer(mission_writer_, mission_topic_, registry_w_)->write(&wire);
   }
 
   void publish_fleet_plan(const FleetPlan& p) override {
-    fleet::FleetPlan wire;
-    wire.coordinator(p.coordinator);
-    wire.plan_epoch(p.plan_epoch);
-    wire.made_ms(p.made_ms);
-    wire.planning_ms(p.planning_ms);
-    wire.flowtime(p.flowtime);
-    std::vector<fleet::RobotPlan> robots;
-    for (const RobotPlan& r : p.robots) {
-      fleet::RobotPlan robot;
-      robot.robot_id(r.robot_id);
-      robot.role(r.role);
-      robot.path(wire_cells(r.path));
-      robots.push_back(robot);
-    }
-    wire.robots(robots);
+    fleet::FleetPlan wire = fastdds_codec::to_wire(p);
     writer(plan_writer_, plan_topic_, registry_w_)->write(&wire);
   }
 
   void publish_fleet_event(const FleetEvent& e) override {
-    fleet::FleetEvent wire;
-    wire.coordinator(e.coordinator);
-    wire.stamp_ms(e.stamp_ms);
-    wire.kind(e.kind.substr(0, 16));
-    wire.robot_id(e.robot_id.substr(0, kMaxRobotIdLength));
-    wire.text(e.text.substr(0, kMaxEventTextLength));
-    wire.value(e.value);
+    fleet::FleetEvent wire = fastdds_codec::to_wire(e);
     writer(event_writer_, event_topic_, events_w_)->write(&wire);
   }
 
   void request_task(const TaskRequest& r) override {
-    fleet::TaskRequest wire;
-    wire.request_id(r.request_id.substr(0, kMaxRequestIdLength));
-    wire.action(static_cast<fleet::TaskAction>(r.action));
-    wire.x(r.x);
-    wire.y(r.y);
-    wire.robot_id(r.robot_id.substr(0, kMaxRobotIdLength));
-    wire.task(r.task);
+    fleet::TaskRequest wire = fastdds_codec::to_wire(r);
     writer(request_writer_, request_topic_, requests_w_)->write(&wire);
   }
 
   void reply_task(const TaskReply& r) override {
-    fleet::TaskReply wire;
-    wire.request_id(r.request_id.substr(0, kMaxRequestIdLength));
-    wire.coordinator(r.coordinator);
-    wire.accepted(r.accepted);
-    wire.reason(r.reason.substr(0, kMaxEventTextLength));
-    wire.task(r.task);
-    wire.robot_id(r.robot_id.substr(0, kMaxRobotIdLength));
-    wire.listing(r.listing);
+    fleet::TaskReply wire = fastdds_codec::to_wire(r);
     writer(reply_writer_, reply_topic_, requests_w_)->write(&wire);
   }
 
  private:
   static constexpr int kEventHistory = 64;
-
-  static std::vector<GridCell> cells_of(const std::vector<fleet::GridCell>& wire) {
-    std::vector<GridCell> cells;
-    for (const fleet::GridCell& cell : wire) cells.push_back({cell.x(), cell.y()});
-    return cells;
-  }
-  static std::vector<fleet::GridCell> wire_cells(const std::vector<GridCell>& cells) {
-    std::vector<fleet::GridCell> wire;
-    for (const GridCell& cell : cells) {
-      fleet::GridCell w;
-      w.x(cell.x);
-      w.y(cell.y);
-      wire.push_back(w);
-    }
-    return wire;
-  }
 
   template <typename PubSubType>
   Topic* make_topic(const std::string& name) {
@@ -745,10 +506,7 @@ class FastDdsTransport : public Transport {
         const std::lock_guard<std::mutex> lock(instances_mutex_);
         robot_of_instance_[info.instance_handle] = id;
       }
-      if (handlers_.on_announcement) handlers_.on_announcement({id, w.backend().to_string(),
-                                                                w.capabilities().to_string(),
-                                                                w.version().to_string(), w.leaving(),
-                                                                w.incarnation()});
+      if (handlers_.on_announcement) handlers_.on_announcement(fastdds_codec::from_wire(w));
       return;
     }
     // Invalid samples carry no data here: find the robot by the instance it announced on.

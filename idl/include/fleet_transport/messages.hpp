@@ -18,6 +18,7 @@ struct Announcement {
   std::string version;
   bool leaving = false;
   uint64_t incarnation = 0;  // random per process start; 0 from senders that do not set it
+  bool operator==(const Announcement&) const = default;
 };
 
 struct RobotState {
@@ -35,6 +36,7 @@ struct RobotState {
   int64_t stamp_ms = 0;  // wall clock of the arrival at (cell_x, cell_y)
   uint64_t incarnation = 0;  // of the publishing process; seq_number counts within one incarnation
   uint64_t coordinator = 0;  // whose command it executes or executed last; 0 before any
+  bool operator==(const RobotState&) const = default;
 };
 
 struct StepCommand {
@@ -50,6 +52,7 @@ struct StepCommand {
   int64_t sent_ms = 0;       // the sender's wall clock when sent (0: unknown)
   uint64_t robot_incarnation = 0;  // the robot process it is meant for; others with the same id ignore it
   bool refused = false;            // that process is refused: it stands still and obeys nothing (see fleet.idl)
+  bool operator==(const StepCommand&) const = default;
 };
 
 struct Assignment {
@@ -57,6 +60,7 @@ struct Assignment {
   int role = -1;
   int tasks_done = 0;
   int tasks_total = 0;
+  bool operator==(const Assignment&) const = default;
 };
 
 enum class CoordinatorRole { kActive, kStandby, kStoodDown, kEnded };
@@ -76,6 +80,7 @@ struct CoordinatorStatus {
   CoordinatorRole role = CoordinatorRole::kActive;
   std::string mission_id;
   int plan_epoch = 0;
+  bool operator==(const CoordinatorStatus&) const = default;
 };
 
 // A coordinator's mission progress: bindings and task visits done.
@@ -94,6 +99,7 @@ struct FleetStatus {
   double last_replan_latency_ms = 0;
   int64_t steps_done = 0;     // moves confirmed, over every plan so far
   int64_t steps_planned = 0;  // moves in the plans so far (each plan counted from where it started)
+  bool operator==(const FleetStatus&) const = default;
 };
 
 struct GridCell {
@@ -122,6 +128,7 @@ struct MissionInfo {
   std::vector<GridCell> goals;  // per role
   std::vector<MissionTask> tasks;
   bool lifelong = false;
+  bool operator==(const MissionInfo&) const = default;
 };
 
 // One robot's part of a plan: its start, then the target of each action.
@@ -129,6 +136,7 @@ struct RobotPlan {
   std::string robot_id;
   int role = -1;
   std::vector<GridCell> path;  // path[0] = start; path[i + 1] = target of action i
+  bool operator==(const RobotPlan&) const = default;
 };
 
 struct FleetPlan {
@@ -138,6 +146,7 @@ struct FleetPlan {
   double planning_ms = 0;
   int64_t flowtime = 0;
   std::vector<RobotPlan> robots;
+  bool operator==(const FleetPlan&) const = default;
 };
 
 // Something an operator wants to know happened (kinds: see idl/fleet.idl).
@@ -148,6 +157,7 @@ struct FleetEvent {
   std::string robot_id;
   std::string text;
   double value = 0;
+  bool operator==(const FleetEvent&) const = default;
 };
 
 enum class TaskAction { kAdd, kCancel, kList };
@@ -160,6 +170,7 @@ struct TaskRequest {
   int y = 0;
   std::string robot_id;  // "" = any robot
   int task = -1;
+  bool operator==(const TaskRequest&) const = default;
 };
 
 struct TaskReply {
@@ -170,6 +181,7 @@ struct TaskReply {
   int task = -1;
   std::string robot_id;
   std::string listing;
+  bool operator==(const TaskReply&) const = default;
 };
 
 // Longest strings the wire types carry (longer ones are cut).
