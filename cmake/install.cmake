@@ -85,7 +85,7 @@ endif()
 
 # planner_core for other CMake projects.
 install(TARGETS planner_core ctsfleet_common EXPORT ctsfleetTargets ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
-install(DIRECTORY planner_core/include/planner_core planner_core/common/include/planner_core
+install(DIRECTORY planner_core/include/planner_core common/include/planner_core
         DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
 set(CTSFLEET_CMAKE_DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/ctsfleet)
 install(EXPORT ctsfleetTargets NAMESPACE ctsfleet:: DESTINATION ${CTSFLEET_CMAKE_DESTINATION})

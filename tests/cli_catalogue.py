@@ -412,7 +412,7 @@ def exit_code_table_problems(cases):
     if not block:
         return ["README.md has no exit-code table between <!-- exit-codes --> markers"]
     table = {int(m.group(1)) for m in re.finditer(r"^\| (\d+) \|", block.group(1), re.M)}
-    with open(os.path.join(ROOT, "planner_core/program/include/ctsfleet/program.hpp")) as f:
+    with open(os.path.join(ROOT, "common/program/include/ctsfleet/program.hpp")) as f:
         header = {int(m.group(1)) for m in re.finditer(r"constexpr int kExit\w+ = (\d+);", f.read())}
     problems = []
     if table != header:
