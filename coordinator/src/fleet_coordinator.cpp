@@ -34,128 +34,122 @@ FleetCoordinator::FleetCoordinator(const FleetConfig& config, planner_core::Inst
     : config_(config),
       mission_(std::move(mission)),
       options_(options),
-      incarnation_(new_incarnation()),
-      claimed_ms_(fleet_transport::wall_clock_ms()),
-      mission_id_(mission_fingerprint(mission_)),
+      identity_{new_incarnation(), 1, fleet_transport::wall_clock_ms(), fleet_transport::CoordinatorRole::kActive,
+                mission_fingerprint(mission_)},
       progress_(mission_),
+      follower_(config_.lease_s, config_.silence_timeout_s, PublishSchedule::kStatusPeriodS),
+      desk_(identity_.incarnation),
       started_(Clock::now()),
       last_silence_check_(started_) {
-  summary_.tasks_total = mission_.task_count();
   mission_task_count_ = mission_.task_count();
   if (options_.standby) {
-    role_ = fleet_transport::CoordinatorRole::kStandby;
+    identity_.role = fleet_transport::CoordinatorRole::kStandby;
     phase_ = Phase::kStandby;
   }
   if (MissionJournal* journal = options_.journal) {
-    term_ = journal->highest_term() + 1;
-    if (const auto& resume = journal->resumable()) {
-      for (const JournalResume::AddedTask& added : resume->added_tasks) {
-        const Vertex cell = mission_vertex(added.x, added.y);
-        if (added.task != mission_.task_count() || cell == planner_core::kNoVertex || added.role < 0 ||
-            added.role >= mission_.agent_count()) {
-          throw JournalError("--journal " + journal->path() + ": added task " + std::to_string(added.task) +
-                             " does not fit the mission (task count " + std::to_string(mission_.task_count()) +
-                             ", cell (" + std::to_string(added.x) + "," + std::to_string(added.y) + "))");
-        }
-        mission_.tasks.push_back({cell, {added.role}});
-        mission_.index_tasks();
-        progress_.add_task();
-      }
-      const auto does_not_fit = [&](const std::string& what) {
-        return JournalError("--journal " + journal->path() + ": " + what + " does not fit mission " + mission_id_ +
-                            " (" + std::to_string(mission_.task_count()) + " tasks, " +
-                            std::to_string(mission_.agent_count()) + " roles); it is left as it is");
-      };
-      for (int task : resume->cancelled_tasks) {
-        if (task >= mission_.task_count()) throw does_not_fit("cancelled task " + std::to_string(task));
-        progress_.cancel(task);
-      }
-      for (const fleet_transport::TaskVisit& visit : resume->visits) {
-        const auto& roles = visit.task < mission_.task_count() ? mission_.tasks[visit.task].agents : std::vector<int>{};
-        if (std::find(roles.begin(), roles.end(), visit.role) == roles.end()) {
-          throw does_not_fit("the visit of task " + std::to_string(visit.task) + " by role " + std::to_string(visit.role));
-        }
-        progress_.mark(visit);
-      }
-      for (const auto& [role, robot] : resume->bindings) {
-        if (role >= mission_.agent_count()) throw does_not_fit("the binding of role " + std::to_string(role));
-      }
-      epoch_ = resume->last_epoch;
-      resumed_bindings_ = resume->bindings;
-      spdlog::info("journal {}: resuming run {} of mission {}: {} task visits and {} of {} tasks done, last epoch {}, "
-                   "term {}",
-                   journal->path(), resume->run, mission_id_, resume->visits.size(), progress_.tasks_done(),
-                   progress_.task_count(), epoch_, resume->last_term);
-    }
-    if (!options_.standby) journal->claim(term_, incarnation_, claimed_ms_);
+    identity_.term = journal->highest_term() + 1;
+    resume(*journal);
+    if (!options_.standby) journal->claim(identity_.term, identity_.incarnation, identity_.claimed_ms);
   }
   summary_.tasks_done = summary_.tasks_done_before = progress_.tasks_done();
   summary_.tasks_total = progress_.tasks_to_do();
   journaled_tasks_ = mission_.task_count();
-  summary_.term = term_;
-  spdlog::info("coordinator {} ({}), term {}, mission {}", hex(incarnation_), fleet_transport::to_string(role_), term_,
-               mission_id_);
+  summary_.term = identity_.term;
+  spdlog::info("coordinator {} ({}), term {}, mission {}", hex(identity_.incarnation),
+               fleet_transport::to_string(identity_.role), identity_.term, identity_.mission_id);
 }
 
-void FleetCoordinator::queue(inputs::Input input) {
-  const std::lock_guard<std::mutex> lock(inputs_mutex_);
-  inputs_.push_back(std::move(input));
+void FleetCoordinator::resume(MissionJournal& journal) {
+  const auto& resume = journal.resumable();
+  if (!resume) return;
+  for (const JournalResume::AddedTask& added : resume->added_tasks) {
+    const Vertex cell = mission_vertex(added.x, added.y);
+    if (added.task != mission_.task_count() || cell == planner_core::kNoVertex || added.role < 0 ||
+        added.role >= mission_.agent_count()) {
+      throw JournalError("--journal " + journal.path() + ": added task " + std::to_string(added.task) +
+                         " does not fit the mission (task count " + std::to_string(mission_.task_count()) +
+                         ", cell (" + std::to_string(added.x) + "," + std::to_string(added.y) + "))");
+    }
+    mission_.tasks.push_back({cell, {added.role}});
+    mission_.index_tasks();
+    progress_.add_task();
+  }
+  const auto does_not_fit = [&](const std::string& what) {
+    return JournalError("--journal " + journal.path() + ": " + what + " does not fit mission " + identity_.mission_id +
+                        " (" + std::to_string(mission_.task_count()) + " tasks, " +
+                        std::to_string(mission_.agent_count()) + " roles); it is left as it is");
+  };
+  for (int task : resume->cancelled_tasks) {
+    if (task >= mission_.task_count()) throw does_not_fit("cancelled task " + std::to_string(task));
+    progress_.cancel(task);
+  }
+  for (const fleet_transport::TaskVisit& visit : resume->visits) {
+    const auto& roles = visit.task < mission_.task_count() ? mission_.tasks[visit.task].agents : std::vector<int>{};
+    if (std::find(roles.begin(), roles.end(), visit.role) == roles.end()) {
+      throw does_not_fit("the visit of task " + std::to_string(visit.task) + " by role " + std::to_string(visit.role));
+    }
+    progress_.mark(visit);
+  }
+  for (const auto& [role, robot] : resume->bindings) {
+    if (role >= mission_.agent_count()) throw does_not_fit("the binding of role " + std::to_string(role));
+  }
+  epoch_ = resume->last_epoch;
+  resumed_bindings_ = resume->bindings;
+  spdlog::info("journal {}: resuming run {} of mission {}: {} task visits and {} of {} tasks done, last epoch {}, "
+               "term {}",
+               journal.path(), resume->run, identity_.mission_id, resume->visits.size(), progress_.tasks_done(),
+               progress_.task_count(), epoch_, resume->last_term);
 }
 
 void FleetCoordinator::on_coordinator_status(const fleet_transport::CoordinatorStatus& status) {
-  if (status.coordinator == incarnation_) return;  // our own, heard back
-  queue(inputs::CoordinatorHeard{status, Clock::now()});
+  if (status.coordinator == identity_.incarnation) return;  // our own, heard back
+  inputs_.push(inputs::CoordinatorHeard{status, Clock::now()});
 }
 
 void FleetCoordinator::on_fleet_status(const fleet_transport::FleetStatus& progress) {
-  if (progress.coordinator == incarnation_ || role_ != fleet_transport::CoordinatorRole::kStandby) return;
-  queue(inputs::ProgressHeard{progress});
+  if (progress.coordinator == identity_.incarnation || identity_.role != fleet_transport::CoordinatorRole::kStandby) {
+    return;
+  }
+  inputs_.push(inputs::ProgressHeard{progress});
 }
 
 void FleetCoordinator::on_mission_info(const fleet_transport::MissionInfo& info) {
-  if (info.coordinator == incarnation_ || role_ != fleet_transport::CoordinatorRole::kStandby) return;
-  queue(inputs::MissionHeard{info});
+  if (info.coordinator == identity_.incarnation || identity_.role != fleet_transport::CoordinatorRole::kStandby) return;
+  inputs_.push(inputs::MissionHeard{info});
 }
 
-void FleetCoordinator::on_refused(const std::string& what) { queue(inputs::Refused{what}); }
+void FleetCoordinator::on_refused(const std::string& what) { inputs_.push(inputs::Refused{what}); }
 
 void FleetCoordinator::on_task_request(const fleet_transport::TaskRequest& request) {
-  queue(inputs::TaskRequested{request});
+  inputs_.push(inputs::TaskRequested{request});
 }
 
 void FleetCoordinator::on_announcement(const fleet_transport::Announcement& announcement) {
-  queue(inputs::Announced{announcement});
+  inputs_.push(inputs::Announced{announcement});
 }
 
 void FleetCoordinator::on_state(const fleet_transport::RobotState& state) {
-  queue(inputs::StateHeard{state, Clock::now()});
+  inputs_.push(inputs::StateHeard{state, Clock::now()});
 }
 
 void FleetCoordinator::on_robot_gone(const std::string& robot_id, fleet_transport::GoneReason reason) {
-  queue(inputs::RobotGone{robot_id, reason});
+  inputs_.push(inputs::RobotGone{robot_id, reason});
 }
 
 Vertex FleetCoordinator::mission_vertex(int x, int y) const { return mission_.graph->vertex_at({x, y}); }
 
 fleet_transport::CoordinatorStatus FleetCoordinator::own_status() const {
-  fleet_transport::CoordinatorStatus status;
-  status.coordinator = incarnation_;
-  status.term = term_;
-  status.claimed_ms = claimed_ms_;
-  status.role = role_;
-  status.mission_id = mission_id_;
-  status.plan_epoch = epoch_;
-  return status;
+  return {identity_.incarnation, identity_.term, identity_.claimed_ms, identity_.role, identity_.mission_id, epoch_};
 }
 
 void FleetCoordinator::publish_status(fleet_transport::Transport& transport) {
   transport.publish_coordinator_status(own_status());
-  next_status_ = Clock::now() + seconds(kStatusPeriodS);
+  schedule_.status_sent(Clock::now());
 }
 
 void FleetCoordinator::publish_progress(fleet_transport::Transport& transport) {
   fleet_transport::FleetStatus status;
-  status.coordinator = incarnation_;
+  status.coordinator = identity_.incarnation;
   status.plan_epoch = epoch_;
   status.tasks_total = summary_.tasks_total;
   status.tasks_done = progress_.tasks_done();
@@ -175,15 +169,13 @@ void FleetCoordinator::publish_progress(fleet_transport::Transport& transport) {
     status.round_trip_p50_ms = recent[recent.size() / 2];
     status.round_trip_p99_ms = recent[std::min(recent.size() - 1, recent.size() * 99 / 100)];
   }
-  status.last_planning_ms = last_planning_ms_;
+  status.last_planning_ms = summary_.last_planning_ms;
   if (!summary_.replan_latencies_s.empty()) status.last_replan_latency_ms = 1000 * summary_.replan_latencies_s.back();
   status.steps_done = steps_of_earlier_plans_;
   for (int a = 0; plan_ && a < plan_->agent_count(); ++a) status.steps_done += plan_->agent(a).finished;
-  status.steps_planned = steps_planned_;
+  status.steps_planned = summary_.steps_planned;
   transport.publish_fleet_status(status);
-  progress_changed_ = false;
-  last_progress_ = Clock::now();
-  next_progress_ = last_progress_ + seconds(kProgressPeriodS);
+  schedule_.progress_sent(Clock::now());
 }
 
 std::string FleetCoordinator::progress_line() const {
@@ -197,8 +189,9 @@ bool FleetCoordinator::step(fleet_transport::Transport& transport) {
   take_in_inputs(transport);
   const Clock::time_point now = Clock::now();
   if (interrupt_ != nullptr && interrupt_->load()) planning_.cancel();
-  if (role_ == fleet_transport::CoordinatorRole::kActive) {
-    if (const OtherCoordinator* other = stronger_active(now)) {
+  if (identity_.role == fleet_transport::CoordinatorRole::kActive) {
+    const double gone_after_s = fleet_transport::LeaseTimeouts{config_.lease_s}.coordinator_gone_s();
+    if (const OtherCoordinator* other = others_.stronger_active(own_status(), now, gone_after_s)) {
       stand_down(*other, transport);
       return false;
     }
@@ -213,7 +206,7 @@ bool FleetCoordinator::step(fleet_transport::Transport& transport) {
     case Phase::kDone: break;
   }
   publish(transport, now);
-  if (first_command_sent_) summary_.seconds = seconds_between(first_command_, now);
+  if (first_command_) summary_.seconds = seconds_between(*first_command_, now);
   if (phase_ == Phase::kDone) return false;
   if (phase_ != Phase::kStandby && !config_.lifelong && seconds_between(started_, now) > config_.mission_timeout_s) {
     spdlog::error("mission timeout after {} s", config_.mission_timeout_s);
@@ -224,12 +217,7 @@ bool FleetCoordinator::step(fleet_transport::Transport& transport) {
 }
 
 void FleetCoordinator::take_in_inputs(fleet_transport::Transport& transport) {
-  std::deque<inputs::Input> heard;
-  {
-    const std::lock_guard<std::mutex> lock(inputs_mutex_);
-    heard.swap(inputs_);
-  }
-  for (const inputs::Input& input : heard) {
+  for (const inputs::Input& input : inputs_.take_all()) {
     std::visit([&](const auto& one) { handle(one, transport); }, input);
   }
 }
@@ -252,7 +240,7 @@ void FleetCoordinator::step_waiting(Clock::time_point now) {
 
 void FleetCoordinator::step_executing(fleet_transport::Transport& transport, Clock::time_point now) {
   update_progress();
-  if (replan_requested_) {
+  if (replans_.pending()) {
     phase_ = Phase::kSettling;
     settle_deadline_ = now + seconds(config_.replan_settle_s);
     return;
@@ -272,8 +260,8 @@ void FleetCoordinator::step_executing(fleet_transport::Transport& transport, Clo
     }
   } else if (plan_finished()) {
     wait_for_a_robot_or_replan(now);
-  } else if (waiting_for_robot_since_) {
-    waiting_for_robot_since_.reset();  // a robot joined: the work goes on
+  } else if (waiting_for_robot_) {
+    waiting_for_robot_.reset();  // a robot joined: the work goes on
     summary_.pending.clear();
   }
 }
@@ -285,9 +273,8 @@ void FleetCoordinator::wait_for_a_robot_or_replan(Clock::time_point now) {
   if (!waiting_for_robot) {
     replanned_after_finish_ = true;
     request_replan("plan finished with tasks left");
-  } else if (!waiting_for_robot_since_) {
-    waiting_for_robot_since_ = now;
-    last_waiting_log_ = now;
+  } else if (!waiting_for_robot_) {
+    waiting_for_robot_ = WaitForRobot{now, now};
     if (config_.replacement_timeout_s) {
       spdlog::warn("what is left cannot be done by the robots here: waiting {} s for a robot to join",
                    *config_.replacement_timeout_s);
@@ -298,35 +285,31 @@ void FleetCoordinator::wait_for_a_robot_or_replan(Clock::time_point now) {
     list_pending();
     for (const std::string& line : summary_.pending) spdlog::warn("  left: {}", line);
   } else if (config_.replacement_timeout_s &&
-             seconds_between(*waiting_for_robot_since_, now) > *config_.replacement_timeout_s) {
+             seconds_between(waiting_for_robot_->since, now) > *config_.replacement_timeout_s) {
     spdlog::error("no robot joined within timing.replacement_timeout_s ({} s): the mission ends",
                   *config_.replacement_timeout_s);
     list_pending();
     phase_ = Phase::kDone;
-  } else if (seconds_between(last_waiting_log_, now) >= 10) {
-    last_waiting_log_ = now;
-    spdlog::warn("still waiting for a robot to join ({:.0f} s so far)", seconds_between(*waiting_for_robot_since_, now));
+  } else if (seconds_between(waiting_for_robot_->last_log, now) >= 10) {
+    waiting_for_robot_->last_log = now;
+    spdlog::warn("still waiting for a robot to join ({:.0f} s so far)", seconds_between(waiting_for_robot_->since, now));
   }
 }
 
 void FleetCoordinator::publish(fleet_transport::Transport& transport, Clock::time_point now) {
-  if (role_ == fleet_transport::CoordinatorRole::kActive && phase_ != Phase::kStandby &&
-      (!mission_published_ || mission_changed_)) {
+  if (identity_.role == fleet_transport::CoordinatorRole::kActive && phase_ != Phase::kStandby && desk_.mission_due()) {
     publish_mission(transport);
   }
-  for_operators("events", [&] {
-    for (const fleet_transport::FleetEvent& event : events_to_publish_) transport.publish_fleet_event(event);
-  });
-  events_to_publish_.clear();
-  if (now >= next_status_) publish_status(transport);
-  if (now >= next_progress_ || (progress_changed_ && seconds_between(last_progress_, now) >= kProgressGapS)) {
-    publish_progress(transport);
-  }
+  desk_.publish_events(transport);
+  if (schedule_.status_due(now)) publish_status(transport);
+  if (schedule_.progress_due(now)) publish_progress(transport);
 }
 
 void FleetCoordinator::finish(fleet_transport::Transport& transport) {
-  if (role_ == fleet_transport::CoordinatorRole::kActive) role_ = fleet_transport::CoordinatorRole::kEnded;
-  if (role_ == fleet_transport::CoordinatorRole::kStandby) role_ = fleet_transport::CoordinatorRole::kEnded;
+  if (identity_.role == fleet_transport::CoordinatorRole::kActive ||
+      identity_.role == fleet_transport::CoordinatorRole::kStandby) {
+    identity_.role = fleet_transport::CoordinatorRole::kEnded;
+  }
   publish_status(transport);
   publish_progress(transport);
   if (options_.journal && summary_.completed) {

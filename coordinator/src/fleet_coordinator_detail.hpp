@@ -1,5 +1,5 @@
 // What the parts of FleetCoordinator's implementation share (not part of its interface): time
-// arithmetic, the periods it keeps, and how it writes ids.
+// arithmetic, the waits it allows, and how it writes ids (its publishing periods: PublishSchedule).
 #pragma once
 
 #include <spdlog/fmt/fmt.h>
@@ -31,11 +31,6 @@ inline uint64_t new_incarnation() {
 
 inline std::string hex(uint64_t value) { return fmt::format("{:016x}", value); }
 
-// How often the heartbeat goes out, and the progress when nothing changed; progress changes go out
-// at most every kProgressGapS.
-constexpr double kStatusPeriodS = 0.25;
-constexpr double kProgressPeriodS = 0.5;
-constexpr double kProgressGapS = 0.05;
 constexpr double kStoodStillS = 1.0;  // a step this long after the last one heard nobody
 // How long a step waits for a plan it just started before it lets the loop go on (see step()).
 constexpr std::chrono::milliseconds kQuickPlanWait{50};

@@ -17,7 +17,6 @@ using planner_core::Vertex;
 
 namespace {
 
-constexpr size_t kRepliesKept = 256;  // answers remembered for requests sent again
 constexpr int kMaxPendingAddedTasks = 1000;  // tasks added at runtime and not done yet: more is refused
 
 std::string cell_text(int x, int y) { return fmt::format("({},{})", x, y); }
@@ -42,34 +41,30 @@ TaskReply acceptance(const TaskRequest& request, int task, const std::string& re
 
 }  // namespace
 
-// What operators see never stops the fleet: a refused writer (access control of a fleet enrolled
-// before these topics existed) or a middleware error is logged once and the mission goes on.
-void FleetCoordinator::for_operators(const char* what, const std::function<void()>& publish) {
-  try {
-    publish();
-  } catch (const std::exception& e) {
-    if (operator_topics_failed_.insert(what).second) {
-      spdlog::warn("cannot publish the {} for operators ({}); the mission goes on without it. With DDS Security, "
-                   "re-enrol the coordinator with this version's ctsfleet-ca", what, e.what());
-    }
-  }
-}
-
-void FleetCoordinator::report(const std::string& kind, const std::string& robot_id, const std::string& text,
-                              double value) {
-  events_to_publish_.push_back({incarnation_, fleet_transport::wall_clock_ms(), kind, robot_id, text, value});
-}
-
 void FleetCoordinator::handle_task_request(const TaskRequest& request, fleet_transport::Transport& transport) {
-  if (role_ != fleet_transport::CoordinatorRole::kActive) return;  // the active coordinator answers
+  if (identity_.role != fleet_transport::CoordinatorRole::kActive) return;  // the active coordinator answers
   if (request.request_id.empty()) {
     spdlog::warn("task request without a request id ignored (it could not be answered)");
     return;
   }
-  if (const auto known = replies_.find(request.request_id); known != replies_.end()) {
-    for_operators("task replies", [&] { transport.reply_task(known->second); });  // unheard: say it again
+  if (const TaskReply* known = desk_.answer_to(request.request_id)) {
+    desk_.publish("task replies", [&] { transport.reply_task(*known); });  // unheard: say it again
     return;
   }
+  const TaskReply reply = answer(request);
+  if (request.action != TaskAction::kList) {
+    if (reply.accepted) {
+      spdlog::info("task request {} ({}): {}", request.request_id, to_string(request.action), reply.reason);
+    } else {
+      spdlog::warn("task request {} ({}) refused: {}", request.request_id, to_string(request.action), reply.reason);
+      report("task_refused", request.robot_id, reply.reason);
+    }
+  }
+  desk_.remember(reply);
+  desk_.publish("task replies", [&] { transport.reply_task(reply); });
+}
+
+TaskReply FleetCoordinator::answer(const TaskRequest& request) {
   TaskReply reply;
   const int action = static_cast<int>(request.action);
   if (action < static_cast<int>(TaskAction::kAdd) || action > static_cast<int>(TaskAction::kList)) {
@@ -82,22 +77,8 @@ void FleetCoordinator::handle_task_request(const TaskRequest& request, fleet_tra
       reply.listing = task_listing();
       break;
   }
-  reply.coordinator = incarnation_;
-  if (request.action != TaskAction::kList) {
-    if (reply.accepted) {
-      spdlog::info("task request {} ({}): {}", request.request_id, to_string(request.action), reply.reason);
-    } else {
-      spdlog::warn("task request {} ({}) refused: {}", request.request_id, to_string(request.action), reply.reason);
-      report("task_refused", request.robot_id, reply.reason);
-    }
-  }
-  replies_[reply.request_id] = reply;
-  reply_order_.push_back(reply.request_id);
-  if (reply_order_.size() > kRepliesKept) {
-    replies_.erase(reply_order_.front());
-    reply_order_.pop_front();
-  }
-  for_operators("task replies", [&] { transport.reply_task(reply); });
+  reply.coordinator = identity_.incarnation;
+  return reply;
 }
 
 std::vector<Tour> FleetCoordinator::current_tours() const {
@@ -134,48 +115,52 @@ std::vector<Tour> FleetCoordinator::current_tours() const {
   return tours;
 }
 
-TaskReply FleetCoordinator::add_task(const TaskRequest& request) {
+std::string FleetCoordinator::add_task_refusal(const TaskRequest& request, std::vector<Tour>& tours) const {
   if (!driving()) {
-    return refusal(request, phase_ == Phase::kWaiting
-                                ? "the mission has not started: robots are not bound to roles yet; add tasks once it runs"
-                                : "the mission has ended");
+    return phase_ == Phase::kWaiting
+               ? "the mission has not started: robots are not bound to roles yet; add tasks once it runs"
+               : "the mission has ended";
   }
-  if (const std::string wrong = task_cell_refusal(mission_, request.x, request.y); !wrong.empty()) {
-    return refusal(request, wrong);
-  }
+  if (const std::string wrong = task_cell_refusal(mission_, request.x, request.y); !wrong.empty()) return wrong;
   int pending_added = 0;
   for (int t = mission_task_count_; t < progress_.task_count(); ++t) {
     pending_added += !progress_.task_done(t) && !progress_.cancelled(t) ? 1 : 0;
   }
   if (pending_added >= kMaxPendingAddedTasks) {
-    return refusal(request, "already " + std::to_string(pending_added) + " tasks added at runtime wait to be done (at "
-                            "most " + std::to_string(kMaxPendingAddedTasks) + "): add more once some are done");
+    return "already " + std::to_string(pending_added) + " tasks added at runtime wait to be done (at most " +
+           std::to_string(kMaxPendingAddedTasks) + "): add more once some are done";
   }
-  const Vertex cell = mission_vertex(request.x, request.y);
-  std::vector<Tour> tours = current_tours();
   if (!request.robot_id.empty()) {
     const RobotRecord* robot = robots_.find(request.robot_id);
-    if (robot == nullptr || !robot->announced) return refusal(request, "unknown robot '" + request.robot_id + "'");
-    if (!robot->active) return refusal(request, "robot " + request.robot_id + " is out (lost, in fault or off its plan)");
+    if (robot == nullptr || !robot->announced) return "unknown robot '" + request.robot_id + "'";
+    if (!robot->active) return "robot " + request.robot_id + " is out (lost, in fault or off its plan)";
     if (robot->role < 0) {
-      return refusal(request, "robot " + request.robot_id + " has no role (an extra robot, parked): give the task to a "
-                              "robot with a role, or to any");
+      return "robot " + request.robot_id + " has no role (an extra robot, parked): give the task to a robot with a "
+             "role, or to any";
     }
     std::erase_if(tours, [&](const Tour& tour) { return tour.robot_id != request.robot_id; });
-    if (tours.empty()) return refusal(request, "robot " + request.robot_id + " has not reported a cell yet");
+    if (tours.empty()) return "robot " + request.robot_id + " has not reported a cell yet";
   }
-  if (tours.empty()) return refusal(request, "no robot with a role is active to take it");
+  if (tours.empty()) return "no robot with a role is active to take it";
   // The same cell pending for the same robot (or, for any robot, for anyone) is a duplicate.
+  const Vertex cell = mission_vertex(request.x, request.y);
   for (int t = 0; t < mission_.task_count(); ++t) {
     if (mission_.tasks[t].at != cell || progress_.cancelled(t) || progress_.task_done(t)) continue;
     for (int role : mission_.tasks[t].agents) {
       if (request.robot_id.empty() || progress_.robot_of(role) == request.robot_id) {
-        return refusal(request, "duplicate: task " + std::to_string(t) + " at " + cell_text(request.x, request.y) +
-                                    " is already pending" +
-                                    (progress_.robot_of(role).empty() ? "" : " for robot " + progress_.robot_of(role)));
+        return "duplicate: task " + std::to_string(t) + " at " + cell_text(request.x, request.y) +
+               " is already pending" +
+               (progress_.robot_of(role).empty() ? "" : " for robot " + progress_.robot_of(role));
       }
     }
   }
+  return "";
+}
+
+TaskReply FleetCoordinator::add_task(const TaskRequest& request) {
+  std::vector<Tour> tours = current_tours();
+  if (const std::string why = add_task_refusal(request, tours); !why.empty()) return refusal(request, why);
+  const Vertex cell = mission_vertex(request.x, request.y);
   planner_core::DistTable distances(*mission_.graph);
   const TaskPlacement placement = cheapest_insertion(distances, cell, tours);
   if (placement.tour < 0) {
@@ -192,8 +177,8 @@ TaskReply FleetCoordinator::add_task(const TaskRequest& request) {
   progress_.add_task();
   if (options_.journal && journaled) journaled_tasks_ = mission_.task_count();
   summary_.tasks_total = progress_.tasks_to_do();
-  mission_changed_ = true;
-  progress_changed_ = true;
+  desk_.mission_changed();
+  schedule_.progress_changed();
   lifelong_idle_ = false;
   replanned_after_finish_ = false;
   const TaskReply reply = acceptance(
@@ -218,8 +203,8 @@ TaskReply FleetCoordinator::cancel_task(const TaskRequest& request) {
   journal_write("task cancelled", [&](MissionJournal& journal) { journal.record_task_cancelled(task, request.request_id); });
   progress_.cancel(task);
   summary_.tasks_total = progress_.tasks_to_do();
-  mission_changed_ = true;
-  progress_changed_ = true;
+  desk_.mission_changed();
+  schedule_.progress_changed();
   const TaskReply reply = acceptance(request, task, "task " + std::to_string(task) + " cancelled");
   report("task_cancelled", "", reply.reason, task);
   request_replan(reply.reason);
@@ -227,7 +212,7 @@ TaskReply FleetCoordinator::cancel_task(const TaskRequest& request) {
 }
 
 void FleetCoordinator::adopt_tasks(const fleet_transport::MissionInfo& info) {
-  if (info.mission_id != mission_id_) return;
+  if (info.mission_id != identity_.mission_id) return;
   for (size_t t = mission_.tasks.size(); t < info.tasks.size(); ++t) {
     const fleet_transport::MissionTask& task = info.tasks[t];
     const Vertex cell = mission_vertex(task.x, task.y);
@@ -285,8 +270,8 @@ std::string FleetCoordinator::task_listing() const {
 void FleetCoordinator::publish_mission(fleet_transport::Transport& transport) {
   const planner_core::Graph& map = *mission_.graph;
   fleet_transport::MissionInfo info;
-  info.coordinator = incarnation_;
-  info.mission_id = mission_id_;
+  info.coordinator = identity_.incarnation;
+  info.mission_id = identity_.mission_id;
   info.width = map.width();
   info.height = map.height();
   for (int y = 0; y < map.height(); ++y) {
@@ -302,14 +287,13 @@ void FleetCoordinator::publish_mission(fleet_transport::Transport& transport) {
     info.tasks.push_back({cell.x, cell.y, mission_.tasks[t].agents, progress_.cancelled(t)});
   }
   info.lifelong = config_.lifelong;
-  for_operators("mission", [&] { transport.publish_mission_info(info); });
-  mission_published_ = true;
-  mission_changed_ = false;
+  desk_.publish("mission", [&] { transport.publish_mission_info(info); });
+  desk_.mission_published();
 }
 
 void FleetCoordinator::publish_plan(fleet_transport::Transport& transport, int64_t flowtime, double planning_ms) {
   fleet_transport::FleetPlan plan;
-  plan.coordinator = incarnation_;
+  plan.coordinator = identity_.incarnation;
   plan.plan_epoch = epoch_;
   plan.made_ms = fleet_transport::wall_clock_ms();
   plan.planning_ms = planning_ms;
@@ -327,7 +311,7 @@ void FleetCoordinator::publish_plan(fleet_transport::Transport& transport, int64
     }
     plan.robots.push_back(std::move(robot));
   }
-  for_operators("plan", [&] { transport.publish_fleet_plan(plan); });
+  desk_.publish("plan", [&] { transport.publish_fleet_plan(plan); });
 }
 
 }  // namespace coordinator

@@ -30,13 +30,15 @@ using namespace fleet_coordinator_detail;
 FleetCoordinator::PlanningInputs FleetCoordinator::planning_inputs() const {
   PlanningInputs inputs;
   for (const auto& [cell, robot_id] : blocked_) inputs.blocked.insert(cell);
-  for (const auto& [id, cell] : unknown_cells_) inputs.blocked.insert(cell);
+  for (const auto& [id, robot] : robots_) {
+    if (robot.unannounced_at) inputs.blocked.insert(*robot.unannounced_at);
+  }
   for (planner_core::Vertex cell : refused_processes_.cells()) inputs.blocked.insert(cell);
   for (const RobotRecord* robot : robots_.ready_robots()) {
     inputs.members.push_back({robot->id, {robot->last.cell_x, robot->last.cell_y}, robot->role});
     inputs.incarnations.push_back(robot->incarnation);
   }
-  inputs.replan_requests = replan_requests_;
+  inputs.replan_requests = replans_.count();
   inputs.tasks = mission_.task_count();
   inputs.tasks_done = progress_.tasks_done();
   return inputs;
@@ -73,43 +75,63 @@ void FleetCoordinator::start_planning() {
   if (!extras.empty() && progress_.any_role_free()) bind_roles(extras);
 
   // Plan from where the robots stand, around lost robots and robots that cannot be commanded.
-  planned_from_ = planning_inputs();
+  plan_under_way_.from = planning_inputs();
   PlanningRequest request;
-  request.built = build_plan_instance(mission_, progress_, planned_from_.members, planned_from_.blocked);
+  request.built =
+      build_plan_instance(mission_, progress_, plan_under_way_.from.members, plan_under_way_.from.blocked);
   for (const std::string& note : request.built.notes) spdlog::error("{}", note);
   // The mission's first plan gets the full solver and budget; a resumed or taken-over mission is a
   // replan (robots wait meanwhile), so it gets the fast one.
   const bool first_plan = plans_made_ == 0 && epoch_ == 0 && !summary_.took_over;
   request.solver = config_.solver_config(first_plan);
   // After a failure the robots hold (no new moves) and the next try gets a longer limit, up to 8x.
-  request.time_limit_s = config_.plan_limit_s(first_plan) * plan_limit_factor_;
+  request.time_limit_s = config_.plan_limit_s(first_plan) * plan_retry_.limit_factor;
   request.iterations = config_.iterations;
-  planning_first_plan_ = first_plan;
+  plan_under_way_.first_plan = first_plan;
   planning_.start(std::move(request));
 }
 
+bool FleetCoordinator::planning_failed(const std::string& why) {
+  plan_retry_.limit_factor = std::min(8.0, plan_retry_.limit_factor * 2);
+  report("plan_failed", "", why);
+  spdlog::error("planning failed ({}); the robots hold; retrying in 1 s with a limit of {:.1f} s", why,
+                config_.plan_limit_s(plan_under_way_.first_plan) * plan_retry_.limit_factor);
+  return false;
+}
+
 bool FleetCoordinator::finish_planning(PlanningOutcome outcome, fleet_transport::Transport& transport) {
-  const bool first_plan = planning_first_plan_;
-  const auto failed = [&](const std::string& why) {
-    plan_limit_factor_ = std::min(8.0, plan_limit_factor_ * 2);
-    report("plan_failed", "", why);
-    spdlog::error("planning failed ({}); the robots hold; retrying in 1 s with a limit of {:.1f} s", why,
-                  config_.plan_limit_s(first_plan) * plan_limit_factor_);
-    return false;
-  };
-  last_planning_ms_ = outcome.planning_ms;
-  if (!outcome.error.empty()) return failed(outcome.error);
-  if (!outcome.result.solved) return failed(outcome.result.failure_reason);
+  summary_.last_planning_ms = outcome.planning_ms;
+  if (!outcome.error.empty()) return planning_failed(outcome.error);
+  if (!outcome.result.solved) return planning_failed(outcome.result.failure_reason);
   if (!outcome.report.ok()) {
     spdlog::critical("the plan failed validation; it is not sent:\n{}", outcome.report.summary());
-    return failed("invalid plan");
+    return planning_failed("invalid plan");
   }
-  plan_limit_factor_ = 1;
+  plan_retry_.limit_factor = 1;
+  take_plan(outcome);
+  const planner_core::Instance& instance = outcome.built.instance;
+  const planner_core::ValidationReport& report = outcome.report;
+  const planner_core::SolverConfig solver_config = config_.solver_config(plan_under_way_.first_plan);
+  int visits = 0;
+  for (const auto& task : instance.tasks) visits += static_cast<int>(task.agents.size());
+  spdlog::info("plan epoch {}: {} robots, {} task visits, flowtime {}, makespan {} ({}, seed {}, planned in {:.0f} ms)",
+               epoch_, instance.agent_count(), visits, report.flowtime, report.makespan, solver_config.solver,
+               solver_config.seed, summary_.last_planning_ms);
+  this->report("replan", "",
+               fmt::format("epoch {}: {} robots, {} task visits, flowtime {}, planned in {:.0f} ms", epoch_,
+                           instance.agent_count(), visits, report.flowtime, summary_.last_planning_ms),
+               summary_.last_planning_ms);
+  publish_plan(transport, report.flowtime, summary_.last_planning_ms);
+  replans_.answered();
+  phase_ = Phase::kExecuting;
+  publish_status(transport);  // agents take only epochs their coordinator has announced
+  dispatch(transport);
+  return true;
+}
+
+void FleetCoordinator::take_plan(const PlanningOutcome& outcome) {
   const PlanInstance& built = outcome.built;
   const planner_core::Instance& instance = built.instance;
-  const planner_core::SolveResult& result = outcome.result;
-  const planner_core::ValidationReport& report = outcome.report;
-  const planner_core::SolverConfig solver_config = config_.solver_config(first_plan);
   for (auto& [id, robot] : robots_) robot.plan_agent = -1;
   for (int a = 0; a < instance.agent_count(); ++a) {
     RobotRecord& robot = robots_[built.robots[a]];
@@ -119,36 +141,22 @@ bool FleetCoordinator::finish_planning(PlanningOutcome outcome, fleet_transport:
   ++epoch_;
   if (plans_made_ > 0) ++summary_.replans;
   if (plans_made_ == 0) {
-    summary_.first_plan_makespan = report.makespan;
-    summary_.first_plan_flowtime = report.flowtime;
+    summary_.first_plan_makespan = outcome.report.makespan;
+    summary_.first_plan_flowtime = outcome.report.flowtime;
   }
   ++plans_made_;
-  journal_write("plan epoch", [&](MissionJournal& journal) { journal.record_epoch(epoch_, term_); });
+  journal_write("plan epoch", [&](MissionJournal& journal) { journal.record_epoch(epoch_, identity_.term); });
   if (plan_) {
     for (int a = 0; a < plan_->agent_count(); ++a) steps_of_earlier_plans_ += plan_->agent(a).finished;
   }
-  plan_ = std::make_unique<PlanExecution>(epoch_, instance.graph, result.solution, built.robots, incarnation_);
+  plan_ = std::make_unique<PlanExecution>(epoch_, instance.graph, outcome.result.solution, built.robots,
+                                          identity_.incarnation);
+  for (int a = 0; a < plan_->agent_count(); ++a) summary_.steps_planned += static_cast<int64_t>(plan_->moves(a).size());
   // Task visits count only when made under a plan: a start counts, being the plan's first step.
   for (int a = 0; a < instance.agent_count(); ++a) {
     const RobotRecord& robot = robots_[built.robots[a]];
     if (robot.role >= 0) credit_visits(robot.role, mission_vertex(robot.last.cell_x, robot.last.cell_y), robot.id);
   }
-  int visits = 0;
-  for (const auto& task : instance.tasks) visits += static_cast<int>(task.agents.size());
-  spdlog::info("plan epoch {}: {} robots, {} task visits, flowtime {}, makespan {} ({}, seed {}, planned in {:.0f} ms)",
-               epoch_, instance.agent_count(), visits, report.flowtime, report.makespan, solver_config.solver,
-               solver_config.seed, last_planning_ms_);
-  for (int a = 0; a < plan_->agent_count(); ++a) steps_planned_ += static_cast<int64_t>(plan_->moves(a).size());
-  this->report("replan", "",
-               fmt::format("epoch {}: {} robots, {} task visits, flowtime {}, planned in {:.0f} ms", epoch_,
-                           instance.agent_count(), visits, report.flowtime, last_planning_ms_),
-               last_planning_ms_);
-  publish_plan(transport, report.flowtime, last_planning_ms_);
-  replan_requested_ = false;
-  phase_ = Phase::kExecuting;
-  publish_status(transport);  // agents take only epochs their coordinator has announced
-  dispatch(transport);
-  return true;
 }
 
 void FleetCoordinator::update_progress() {
@@ -174,7 +182,7 @@ void FleetCoordinator::dispatch(fleet_transport::Transport& transport, bool rese
     if (plan_->done(a)) {
       if (!robot.finished_plan) {
         robot.finished_plan = true;
-        summary_.sum_of_finish_s += first_command_sent_ ? seconds_between(first_command_, now) : 0;
+        summary_.sum_of_finish_s += first_command_ ? seconds_between(*first_command_, now) : 0;
       }
       continue;
     }
@@ -184,18 +192,19 @@ void FleetCoordinator::dispatch(fleet_transport::Transport& transport, bool rese
     if (!command) continue;
     command->robot_incarnation = robot.incarnation;  // only that process of the id obeys it
     transport.send_command(*command);
-    ++summary_.commands_sent;
-    if (!first_command_sent_) {
-      first_command_sent_ = true;
-      first_command_ = now;
-      summary_.first_command_wall_ms = fleet_transport::wall_clock_ms();
-      spdlog::info("first command of term {} sent at wall-clock ms {}", term_, summary_.first_command_wall_ms);
-    }
-    if (awaiting_replan_latency_ && !resend_only) {
-      awaiting_replan_latency_ = false;
-      summary_.replan_latencies_s.push_back(seconds_between(replan_requested_at_, now));
-    }
+    note_command_sent(now, resend_only);
   }
+}
+
+void FleetCoordinator::note_command_sent(Clock::time_point now, bool resend_only) {
+  ++summary_.commands_sent;
+  if (!first_command_) {
+    first_command_ = now;
+    summary_.first_command_wall_ms = fleet_transport::wall_clock_ms();
+    spdlog::info("first command of term {} sent at wall-clock ms {}", identity_.term, summary_.first_command_wall_ms);
+  }
+  if (resend_only) return;
+  if (const auto latency_s = replans_.latency_until(now)) summary_.replan_latencies_s.push_back(*latency_s);
 }
 
 bool FleetCoordinator::plan_finished() const {
@@ -218,28 +227,32 @@ bool FleetCoordinator::mission_complete() const {
   return plan_finished();
 }
 
-void FleetCoordinator::step_settling(fleet_transport::Transport& transport, Clock::time_point now) {
-  update_progress();
-  bool moves_in_flight = false;
+bool FleetCoordinator::moves_in_flight() {
   for (int a = 0; plan_ && a < plan_->agent_count(); ++a) {
     const RobotRecord* robot = robot_of_agent(a);
-    if (plan_->in_flight(a) && robot != nullptr && robot->active) moves_in_flight = true;
+    if (plan_->in_flight(a) && robot != nullptr && robot->active) return true;
   }
   // Robots still carrying out another coordinator's last command (after a takeover or a restart).
   for (RobotRecord* robot : robots_.ready_robots()) {
-    if (plans_made_ == 0 && robot->last.status == RobotStatus::kMoving) moves_in_flight = true;
+    if (plans_made_ == 0 && robot->last.status == RobotStatus::kMoving) return true;
   }
+  return false;
+}
+
+void FleetCoordinator::step_settling(fleet_transport::Transport& transport, Clock::time_point now) {
+  update_progress();
   // Plan only from where robots really stand: every move in flight must have ended (a robot
   // that never finishes is taken out by the silence timeout or its lease).
-  if (moves_in_flight) dispatch(transport, /*resend_only=*/true);
-  if (moves_in_flight && now >= settle_deadline_) {
+  const bool in_flight = moves_in_flight();
+  if (in_flight) dispatch(transport, /*resend_only=*/true);
+  if (in_flight && now >= settle_deadline_) {
     spdlog::warn("replanning waits for moves still in flight");
     settle_deadline_ = now + seconds(config_.replan_settle_s);
   }
   // The plan is made on the worker while this loop goes on; it is used only if the fleet is
   // still as it was planned from (robots, cells, roles, incarnations, walls, tasks).
   std::optional<PlanningOutcome> outcome = planning_.poll();
-  if (!outcome && planning_.idle() && !moves_in_flight && now >= retry_plan_at_) {
+  if (!outcome && planning_.idle() && !in_flight && now >= plan_retry_.not_before) {
     start_planning();
     // A quick plan is used in this very step, as when planning ran inside it; a long one goes
     // on beside the loop. The wait is far below a heartbeat period.
@@ -248,11 +261,11 @@ void FleetCoordinator::step_settling(fleet_transport::Transport& transport, Cloc
   if (!outcome) return;
   if (outcome->cancelled) {
     spdlog::info("planning was interrupted");
-  } else if (const std::string change = what_changed_since(planned_from_); !change.empty()) {
+  } else if (const std::string change = what_changed_since(plan_under_way_.from); !change.empty()) {
     ++summary_.plans_discarded;
     spdlog::info("the fleet changed while planning ({}): the plan is dropped and made again", change);
   } else if (!finish_planning(std::move(*outcome), transport)) {
-    retry_plan_at_ = now + seconds(1.0);
+    plan_retry_.not_before = now + seconds(1.0);
   }
 }
 

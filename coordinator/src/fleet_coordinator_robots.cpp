@@ -40,13 +40,8 @@ RobotRecord* FleetCoordinator::robot_of_agent(int a) {
 
 void FleetCoordinator::request_replan(const std::string& why) {
   if (!driving()) return;
-  ++replan_requests_;  // a plan under way no longer fits
+  replans_.ask(Clock::now());  // a plan under way no longer fits
   spdlog::info("replanning: {}", why);
-  if (!replan_requested_) {
-    replan_requested_at_ = Clock::now();
-    awaiting_replan_latency_ = true;
-  }
-  replan_requested_ = true;
 }
 
 void FleetCoordinator::lose(RobotRecord& robot, const std::string& why, const char* kind) {
@@ -99,15 +94,10 @@ void FleetCoordinator::take_out_robots_deaf_to_commands(Clock::time_point now) {
 }
 
 RobotRecord* FleetCoordinator::record_of(const std::string& robot_id) {
-  if (fleet_transport::is_valid_robot_id(robot_id)) return &robots_[robot_id];
-  // A name, not markup: refused before it becomes a record, a role or an event's robot.
-  if (bad_robot_ids_.size() < kBadRobotIdsReported && bad_robot_ids_.insert(robot_id).second) {
-    const std::string why = fmt::format("a message from robot id '{}' refused: robot ids are {}",
-                                        fleet_transport::printable(robot_id, 40), fleet_transport::kRobotIdRule);
+  return robots_.valid_record(robot_id, [&](const std::string& why) {
     spdlog::error("{}", why);
     report("refused", "", why);
-  }
-  return nullptr;
+  });
 }
 
 void FleetCoordinator::handle(const inputs::Announced& input, fleet_transport::Transport& transport) {
@@ -130,15 +120,15 @@ void FleetCoordinator::handle(const inputs::RobotGone& input, fleet_transport::T
 }
 
 void FleetCoordinator::handle(const inputs::CoordinatorHeard& input, fleet_transport::Transport&) {
-  handle_status(input.status, input.received);
+  others_.heard_status(input.status, input.received);
 }
 
 void FleetCoordinator::handle(const inputs::ProgressHeard& input, fleet_transport::Transport&) {
-  others_[input.progress.coordinator].progress = input.progress;
+  others_.heard_progress(input.progress);
 }
 
 void FleetCoordinator::handle(const inputs::MissionHeard& input, fleet_transport::Transport&) {
-  others_[input.mission.coordinator].mission = input.mission;
+  others_.heard_mission(input.mission);
 }
 
 void FleetCoordinator::handle(const inputs::TaskRequested& input, fleet_transport::Transport& transport) {
@@ -180,14 +170,10 @@ void FleetCoordinator::handle_state(RobotRecord& robot, const fleet_transport::R
                                     Clock::time_point received) {
   ++summary_.states_received;
   if (!robot.announced) {
-    if (warned_unknown_.insert(robot.id).second) {
-      spdlog::warn("state from unknown robot {} ignored until it announces itself; its cell is kept clear", robot.id);
-    }
-    const Vertex cell = mission_vertex(state.cell_x, state.cell_y);
-    if (cell != planner_core::kNoVertex) unknown_cells_[robot.id] = cell;
+    heard_unannounced(robot, state);
     return;
   }
-  unknown_cells_.erase(robot.id);
+  robot.unannounced_at.reset();
   if (robot.refused) return;
   const Vertex cell = mission_vertex(state.cell_x, state.cell_y);
   if (cell == planner_core::kNoVertex) {
@@ -197,10 +183,9 @@ void FleetCoordinator::handle_state(RobotRecord& robot, const fleet_transport::R
     lose(robot, "reported a cell off the map");
     return;
   }
-  const Clock::time_point now = Clock::now();
   if (!accept_incarnation(robot, state, received)) return;
   if (robot.has_state && state.seq_number <= robot.last.seq_number) return;  // stale, within one incarnation
-  robot.last_heard = now;
+  robot.last_heard = Clock::now();
   robot.last_state_received = std::max(robot.last_state_received, received);
   robot.said_goodbye = false;
   if (state.status == RobotStatus::kFault) {
@@ -214,42 +199,59 @@ void FleetCoordinator::handle_state(RobotRecord& robot, const fleet_transport::R
   robot.has_state = true;
   robot.last = state;
   const int a = robot.plan_agent;
-  const bool in_plan = a >= 0 && plan_ && a < plan_->agent_count();
-  if (in_plan) {
+  if (a >= 0 && plan_ && a < plan_->agent_count()) {
     if (const auto round_trip = plan_->acknowledge(a, state, received)) summary_.round_trips_ms.push_back(*round_trip);
   }
-  // Every report is checked against the plan: a robot on a cell the plan does not have it on (moved
-  // by hand, or by commands from elsewhere) is taken out at once and planned around.
-  if (robot.active && in_plan && !plan_->allows(a, {state.cell_x, state.cell_y})) {
-    const Cell expected = plan_->position(a);
-    if (had_state) {  // it may be anywhere between where it was and where it is
-      const Vertex before = mission_vertex(previous.cell_x, previous.cell_y);
-      if (before != planner_core::kNoVertex) blocked_[before] = robot.id;
-    }
-    ++summary_.off_plan;
-    lose(robot, "off its plan: reports (" + std::to_string(state.cell_x) + "," + std::to_string(state.cell_y) +
-                    "), the plan has it on (" + std::to_string(expected.x) + "," + std::to_string(expected.y) + ")",
-         "off_plan");
-    return;
+  if (took_out_off_plan(robot, previous, had_state)) return;
+  // A robot (re)joins once it stands still on a cell.
+  if (!robot.active && state.status != RobotStatus::kMoving && Clock::now() >= robot.rejoin_not_before) {
+    rejoin(robot, cell);
   }
-  if (!robot.active) {
-    // A robot (re)joins once it stands still on a cell.
-    if (state.status == RobotStatus::kMoving || now < robot.rejoin_not_before) return;
-    robot.active = true;
-    // The current plan was made without it (or with it elsewhere): its reports are not checked
-    // against that plan, nor is it commanded by it, until the replan places it.
-    robot.plan_agent = -1;
-    // It is where it reports, no longer where it was lost.
-    std::erase_if(blocked_, [&](const auto& entry) { return entry.second == robot.id || entry.first == cell; });
-    if (driving()) {
-      ++summary_.robots_joined;
-      replanned_after_finish_ = false;
-      bind_roles({&robot});
-      report("join", robot.id, "back on the grid at (" + std::to_string(state.cell_x) + "," +
-                                   std::to_string(state.cell_y) + ")");
-      request_replan("robot " + robot.id + " joined");
-    }
+}
+
+void FleetCoordinator::heard_unannounced(RobotRecord& robot, const fleet_transport::RobotState& state) {
+  if (!robot.warned_unannounced) {
+    robot.warned_unannounced = true;
+    spdlog::warn("state from unknown robot {} ignored until it announces itself; its cell is kept clear", robot.id);
   }
+  const Vertex cell = mission_vertex(state.cell_x, state.cell_y);
+  if (cell != planner_core::kNoVertex) robot.unannounced_at = cell;
+}
+
+// Every report is checked against the plan: a robot on a cell the plan does not have it on (moved
+// by hand, or by commands from elsewhere) is taken out at once and planned around.
+bool FleetCoordinator::took_out_off_plan(RobotRecord& robot, const fleet_transport::RobotState& previous,
+                                         bool had_state) {
+  const int a = robot.plan_agent;
+  const fleet_transport::RobotState& state = robot.last;
+  if (!robot.active || a < 0 || !plan_ || a >= plan_->agent_count()) return false;
+  if (plan_->allows(a, {state.cell_x, state.cell_y})) return false;
+  const Cell expected = plan_->position(a);
+  if (had_state) {  // it may be anywhere between where it was and where it is
+    const Vertex before = mission_vertex(previous.cell_x, previous.cell_y);
+    if (before != planner_core::kNoVertex) blocked_[before] = robot.id;
+  }
+  ++summary_.off_plan;
+  lose(robot, "off its plan: reports (" + std::to_string(state.cell_x) + "," + std::to_string(state.cell_y) +
+                  "), the plan has it on (" + std::to_string(expected.x) + "," + std::to_string(expected.y) + ")",
+       "off_plan");
+  return true;
+}
+
+void FleetCoordinator::rejoin(RobotRecord& robot, Vertex cell) {
+  robot.active = true;
+  // The current plan was made without it (or with it elsewhere): its reports are not checked
+  // against that plan, nor is it commanded by it, until the replan places it.
+  robot.plan_agent = -1;
+  // It is where it reports, no longer where it was lost.
+  std::erase_if(blocked_, [&](const auto& entry) { return entry.second == robot.id || entry.first == cell; });
+  if (!driving()) return;
+  ++summary_.robots_joined;
+  replanned_after_finish_ = false;
+  bind_roles({&robot});
+  report("join", robot.id, "back on the grid at (" + std::to_string(robot.last.cell_x) + "," +
+                               std::to_string(robot.last.cell_y) + ")");
+  request_replan("robot " + robot.id + " joined");
 }
 
 // Sequence numbers count within one incarnation of a robot's process. A state from another
@@ -270,20 +272,7 @@ bool FleetCoordinator::accept_incarnation(RobotRecord& robot, const fleet_transp
   // keeps the id for as long as it is heard.
   const double driven_quiet_s = seconds_between(robot.last_state_received, received);
   if (robot.active && driven_quiet_s <= kQuietS) {
-    if (robot.refused_incarnations.insert(state.incarnation).second) {
-      spdlog::error("duplicate robot id {}: a second process (incarnation {:016x}) at ({},{}) is refused while "
-                    "incarnation {:016x} at ({},{}) is driven; it is told so and kept clear of where it is heard",
-                    robot.id, state.incarnation, state.cell_x, state.cell_y, robot.incarnation, robot.last.cell_x,
-                    robot.last.cell_y);
-      report("duplicate", robot.id,
-             fmt::format("a second process (incarnation {:016x}) claims this id at ({},{}): refused",
-                         state.incarnation, state.cell_x, state.cell_y));
-    }
-    // It stands somewhere all the same: its cell is kept clear, wherever it is heard.
-    const Cell cell{state.cell_x, state.cell_y};
-    if (refused_processes_.heard(robot.id, state.incarnation, cell, mission_vertex(cell.x, cell.y), received)) {
-      request_replan("a duplicate of robot " + robot.id + " stands on " + planner_core::to_string(cell));
-    }
+    refuse_second_process(robot, state, received);
     return false;
   }
   spdlog::warn("robot {} restarted: incarnation {:016x} replaces {:016x} (not heard for {:.1f} s)", robot.id,
@@ -296,12 +285,30 @@ bool FleetCoordinator::accept_incarnation(RobotRecord& robot, const fleet_transp
   return true;
 }
 
+void FleetCoordinator::refuse_second_process(RobotRecord& robot, const fleet_transport::RobotState& state,
+                                             Clock::time_point received) {
+  if (robot.refused_incarnations.insert(state.incarnation).second) {
+    spdlog::error("duplicate robot id {}: a second process (incarnation {:016x}) at ({},{}) is refused while "
+                  "incarnation {:016x} at ({},{}) is driven; it is told so and kept clear of where it is heard",
+                  robot.id, state.incarnation, state.cell_x, state.cell_y, robot.incarnation, robot.last.cell_x,
+                  robot.last.cell_y);
+    report("duplicate", robot.id,
+           fmt::format("a second process (incarnation {:016x}) claims this id at ({},{}): refused", state.incarnation,
+                       state.cell_x, state.cell_y));
+  }
+  // It stands somewhere all the same: its cell is kept clear, wherever it is heard.
+  const Cell cell{state.cell_x, state.cell_y};
+  if (refused_processes_.heard(robot.id, state.incarnation, cell, mission_vertex(cell.x, cell.y), received)) {
+    request_replan("a duplicate of robot " + robot.id + " stands on " + planner_core::to_string(cell));
+  }
+}
+
 void FleetCoordinator::tell_refused_processes(fleet_transport::Transport& transport, Clock::time_point now) {
   for (const RefusedProcess& gone : refused_processes_.forget_silent(now, config_.silence_timeout_s)) {
     spdlog::info("the refused second process of robot {} (incarnation {:016x}) is no longer heard", gone.robot_id,
                  gone.incarnation);
   }
-  if (role_ != fleet_transport::CoordinatorRole::kActive || !driving()) return;
+  if (identity_.role != fleet_transport::CoordinatorRole::kActive || !driving()) return;
   constexpr double kRefusalEveryS = 2.0;
   for (const RefusedProcess& process : refused_processes_.refusals_due(now, kRefusalEveryS)) {
     fleet_transport::StepCommand refusal;
@@ -312,7 +319,7 @@ void FleetCoordinator::tell_refused_processes(fleet_transport::Transport& transp
     refusal.target_y = refusal.target_pose_y = process.cell.y;
     refusal.deadline_ms = fleet_transport::wall_clock_ms() + static_cast<int64_t>(1000 * config_.command_lifetime_s());
     refusal.sent_ms = fleet_transport::wall_clock_ms();
-    refusal.coordinator = incarnation_;
+    refusal.coordinator = identity_.incarnation;
     refusal.robot_incarnation = process.incarnation;
     refusal.refused = true;
     transport.send_command(refusal);

@@ -30,8 +30,8 @@ using namespace fleet_coordinator_detail;
 void FleetCoordinator::bind_role(int role, RobotRecord& robot) {
   robot.role = role;
   progress_.bind(role, robot.id);
-  progress_changed_ = true;
-  if (role_ == fleet_transport::CoordinatorRole::kActive) {
+  schedule_.progress_changed();
+  if (identity_.role == fleet_transport::CoordinatorRole::kActive) {
     journal_write("role binding", [&](MissionJournal& journal) { journal.record_binding(role, robot.id); });
   }
 }
@@ -55,14 +55,13 @@ bool FleetCoordinator::journal_write(const char* what, const std::function<void(
 
 void FleetCoordinator::unbind_role(int role) {
   progress_.unbind(role);
-  progress_changed_ = true;
-  if (role_ == fleet_transport::CoordinatorRole::kActive) {
+  schedule_.progress_changed();
+  if (identity_.role == fleet_transport::CoordinatorRole::kActive) {
     journal_write("role binding", [&](MissionJournal& journal) { journal.record_binding(role, ""); });
   }
 }
 
-void FleetCoordinator::bind_roles(const std::vector<RobotRecord*>& robots) {
-  std::vector<RobotRecord*> unbound;
+std::vector<RobotRecord*> FleetCoordinator::bind_resumed_and_on_start(const std::vector<RobotRecord*>& robots) {
   std::vector<RobotRecord*> candidates;
   // A resumed mission gives each robot back the role the journal has for it.
   for (RobotRecord* robot : robots) {
@@ -78,6 +77,7 @@ void FleetCoordinator::bind_roles(const std::vector<RobotRecord*>& robots) {
     }
   }
   resumed_bindings_.clear();
+  std::vector<RobotRecord*> unbound;
   for (RobotRecord* robot : candidates) {
     const Vertex cell = mission_vertex(robot->last.cell_x, robot->last.cell_y);
     int taken = -1;
@@ -91,6 +91,13 @@ void FleetCoordinator::bind_roles(const std::vector<RobotRecord*>& robots) {
       unbound.push_back(robot);
     }
   }
+  return unbound;
+}
+
+// The robots left are bound to the free roles by a minimum-cost assignment (steps from each
+// robot's cell to each role's start).
+void FleetCoordinator::bind_roles(const std::vector<RobotRecord*>& robots) {
+  const std::vector<RobotRecord*> unbound = bind_resumed_and_on_start(robots);
   std::vector<int> free_roles;
   for (int role = 0; role < mission_.agent_count(); ++role) {
     if (progress_.robot_of(role).empty()) free_roles.push_back(role);
@@ -123,7 +130,7 @@ void FleetCoordinator::credit_visits(int role, Vertex cell, const std::string& r
     // Committed to the journal before it counts; a journal that failed no longer stops it counting.
     journal_write("task visit", [&](MissionJournal& journal) { journal.record_visit(visit, robot_id, epoch_); });
     progress_.mark(visit);
-    progress_changed_ = true;
+    schedule_.progress_changed();
     if (progress_.task_done(visit.task)) {
       report("task_done", robot_id, fmt::format("task {} done", visit.task), visit.task);
     }

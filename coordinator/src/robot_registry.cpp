@@ -1,5 +1,7 @@
 #include "coordinator/robot_registry.hpp"
 
+#include <spdlog/fmt/fmt.h>
+
 #include <utility>
 
 namespace coordinator {
@@ -8,6 +10,16 @@ RobotRecord& RobotRegistry::operator[](const std::string& id) {
   RobotRecord& robot = robots_[id];
   robot.id = id;
   return robot;
+}
+
+RobotRecord* RobotRegistry::valid_record(const std::string& id,
+                                         const std::function<void(const std::string& why)>& refused) {
+  if (fleet_transport::is_valid_robot_id(id)) return &(*this)[id];
+  if (bad_ids_reported_.size() < kBadIdsReported && bad_ids_reported_.insert(id).second) {
+    refused(fmt::format("a message from robot id '{}' refused: robot ids are {}", fleet_transport::printable(id, 40),
+                        fleet_transport::kRobotIdRule));
+  }
+  return nullptr;
 }
 
 const RobotRecord* RobotRegistry::find(const std::string& id) const {

@@ -4,6 +4,8 @@
 #pragma once
 
 #include <chrono>
+#include <deque>
+#include <mutex>
 #include <string>
 #include <variant>
 
@@ -44,5 +46,25 @@ struct Refused {  // a message the transport refused (e.g. a robot writing as an
 
 using Input = std::variant<Announced, StateHeard, RobotGone, CoordinatorHeard, ProgressHeard, MissionHeard,
                            TaskRequested, Refused>;
+
+// The hand-over between the transport's threads (push) and the loop (take_all).
+class InputQueue {
+ public:
+  void push(Input input) {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    inputs_.push_back(std::move(input));
+  }
+  // Every input queued so far, oldest first.
+  std::deque<Input> take_all() {
+    std::deque<Input> taken;
+    const std::lock_guard<std::mutex> lock(mutex_);
+    taken.swap(inputs_);
+    return taken;
+  }
+
+ private:
+  std::mutex mutex_;
+  std::deque<Input> inputs_;
+};
 
 }  // namespace coordinator::inputs

@@ -31,11 +31,16 @@
 #include "coordinator/fleet_config.hpp"
 #include "coordinator/mission_journal.hpp"
 #include "coordinator/mission_progress.hpp"
+#include "coordinator/operators_desk.hpp"
+#include "coordinator/other_coordinators.hpp"
 #include "coordinator/plan_builder.hpp"
 #include "coordinator/plan_execution.hpp"
 #include "coordinator/planning_worker.hpp"
+#include "coordinator/publish_schedule.hpp"
 #include "coordinator/refused_processes.hpp"
+#include "coordinator/replan_requests.hpp"
 #include "coordinator/robot_registry.hpp"
+#include "coordinator/standby_follower.hpp"
 #include "coordinator/task_assignment.hpp"
 #include "fleet_transport/transport.hpp"
 #include "planner_core/instance.hpp"
@@ -67,6 +72,8 @@ struct MissionSummary {
   bool took_over = false;                  // a standby that became active
   int tasks_done_before = 0;               // done when it started driving (resumed or taken over)
   int64_t first_command_wall_ms = 0;       // wall clock of its first command (0: none)
+  double last_planning_ms = 0;             // how long the latest plan took to make
+  int64_t steps_planned = 0;               // moves of every plan made, each from its start
 };
 
 struct CoordinatorOptions {
@@ -105,22 +112,49 @@ class FleetCoordinator {
   // completed, closes the run in the journal.
   void finish(fleet_transport::Transport& transport);
 
-  uint64_t incarnation() const { return incarnation_; }
-  const std::string& mission_id() const { return mission_id_; }
-  fleet_transport::CoordinatorRole role() const { return role_; }
+  uint64_t incarnation() const { return identity_.incarnation; }
+  const std::string& mission_id() const { return identity_.mission_id; }
+  fleet_transport::CoordinatorRole role() const { return identity_.role; }
   // What is left belongs to roles without a robot: the robots hold until one joins.
-  bool waiting_for_robot() const { return waiting_for_robot_since_.has_value(); }
+  bool waiting_for_robot() const { return waiting_for_robot_.has_value(); }
 
  private:
   enum class Phase { kWaiting, kStandby, kExecuting, kSettling, kDone };
-  struct OtherCoordinator {
-    fleet_transport::CoordinatorStatus status;
-    fleet_transport::FleetStatus progress;  // its last progress report
-    std::optional<fleet_transport::MissionInfo> mission;  // its last mission info (tasks added at runtime)
-    Clock::time_point heard;                // its last heartbeat
+  // Who this coordinator is on the domain: what its heartbeat says of it.
+  struct Identity {
+    uint64_t incarnation = 0;  // random per process
+    uint32_t term = 1;
+    int64_t claimed_ms = 0;    // when it claimed the fleet (wall clock)
+    fleet_transport::CoordinatorRole role = fleet_transport::CoordinatorRole::kActive;
+    std::string mission_id;
+  };
+  // What a plan is made from; a plan is used only while these are unchanged.
+  struct PlanningInputs {
+    std::vector<PlanMember> members;      // the ready robots, where they stand, their roles
+    std::vector<uint64_t> incarnations;   // of the same robots
+    std::set<planner_core::Vertex> blocked;
+    int64_t replan_requests = 0;          // replans asked for (a loss, a join, a task) so far
+    int tasks = 0;
+    int tasks_done = 0;
+  };
+  // The plan the worker is making: what from, and whether it is the mission's first.
+  struct PlanUnderWay {
+    PlanningInputs from;
+    bool first_plan = false;
+  };
+  // After a failed plan the robots hold and the next try waits a second, with a longer limit.
+  struct PlanRetry {
+    double limit_factor = 1;  // doubles after each failure, up to 8; back to 1 on success
+    Clock::time_point not_before{};
+  };
+  // Everyone active is done but work is left for roles without a robot: since when it waits.
+  struct WaitForRobot {
+    Clock::time_point since;
+    Clock::time_point last_log;
   };
 
-  void queue(inputs::Input input);  // from the transport's threads; handled by the loop
+  // The journal's unfinished run, taken up by the constructor.
+  void resume(MissionJournal& journal);
   // The phases of step(), in order: the inputs queued since the last step; robots silent, deaf to
   // their commands, or a second process with a driven robot's id; the phase's own work; what
   // robots and operators are told (mission, events, heartbeat, progress).
@@ -132,6 +166,7 @@ class FleetCoordinator {
   void wait_for_a_robot_or_replan(Clock::time_point now);
   // Waits for moves in flight, plans on the worker, uses the plan if the fleet is still as planned from.
   void step_settling(fleet_transport::Transport& transport, Clock::time_point now);
+  bool moves_in_flight();
   void publish(fleet_transport::Transport& transport, Clock::time_point now);
   // One input, on the loop's thread (step() visits each queued one).
   void handle(const inputs::Announced& input, fleet_transport::Transport& transport);
@@ -145,20 +180,12 @@ class FleetCoordinator {
   // The record of the robot a message names; nullptr (refused with an event) when the id breaks
   // the rule for robot ids.
   RobotRecord* record_of(const std::string& robot_id);
-  void handle_status(const fleet_transport::CoordinatorStatus& status, Clock::time_point received);
   fleet_transport::CoordinatorStatus own_status() const;
-  // An active coordinator that outranks this one and was heard lately, or nullptr.
-  const OtherCoordinator* stronger_active(Clock::time_point now) const;
   void stand_down(const OtherCoordinator& other, fleet_transport::Transport& transport);
-  // Standby: the active coordinator followed, or nullptr.
-  const OtherCoordinator* followed() const;
+  // Standby: mirrors the active coordinator's progress, takes over when it falls silent.
   void follow(fleet_transport::Transport& transport, Clock::time_point now);
-  // Standby: the robots the followed coordinator drove, or this one knows, that it has not heard
-  // since `since` (when that coordinator was last heard).
-  std::vector<std::string> robots_unheard_since(Clock::time_point since) const;
-  // Standby: says once (per episode) of each robot the followed coordinator drives that this host
-  // has not heard for a silence timeout: it would keep this standby from taking over.
-  void warn_of_driven_robots_not_heard(Clock::time_point now);
+  // Standby: the followed coordinator ended the mission; so does the standby.
+  void end_with(const OtherCoordinator& ended);
   void take_over(fleet_transport::Transport& transport, const OtherCoordinator& old, Clock::time_point now);
   void bind_role(int role, RobotRecord& robot);
   // Writes to the journal, if any. The first failure (a full disk...) raises journal_failed once;
@@ -170,10 +197,17 @@ class FleetCoordinator {
   bool driving() const { return phase_ == Phase::kExecuting || phase_ == Phase::kSettling; }
   void handle_announcement(RobotRecord& robot, const fleet_transport::Announcement& announcement);
   void handle_state(RobotRecord& robot, const fleet_transport::RobotState& state, Clock::time_point received);
+  // A robot heard before it announced itself: its cell is kept clear meanwhile.
+  void heard_unannounced(RobotRecord& robot, const fleet_transport::RobotState& state);
+  // Takes out an active robot whose report the plan does not allow; true if it did.
+  bool took_out_off_plan(RobotRecord& robot, const fleet_transport::RobotState& previous, bool had_state);
+  // An inactive robot standing still on a cell comes (back) into the fleet.
+  void rejoin(RobotRecord& robot, planner_core::Vertex cell);
   // Whether `state` (arrived at `received`) comes from the process that drives robot's id: the
   // first one heard keeps it while it is heard; another is refused (RefusedProcesses), unless the
   // driven one has been quiet a while (a restart).
   bool accept_incarnation(RobotRecord& robot, const fleet_transport::RobotState& state, Clock::time_point received);
+  void refuse_second_process(RobotRecord& robot, const fleet_transport::RobotState& state, Clock::time_point received);
   // Forgets refused processes no longer heard; tells the others (again) that they are refused.
   void tell_refused_processes(fleet_transport::Transport& transport, Clock::time_point now);
   // Takes a robot out; `kind` is the operators' event (lost, fault, off_plan, unresponsive).
@@ -181,15 +215,8 @@ class FleetCoordinator {
   // Takes out the robots that have not acknowledged their move for command_timeout_s.
   void take_out_robots_deaf_to_commands(Clock::time_point now);
   void bind_roles(const std::vector<RobotRecord*>& robots);
-  // What a plan is made from; a plan is used only while these are unchanged.
-  struct PlanningInputs {
-    std::vector<PlanMember> members;      // the ready robots, where they stand, their roles
-    std::vector<uint64_t> incarnations;   // of the same robots
-    std::set<planner_core::Vertex> blocked;
-    int64_t replan_requests = 0;          // replans asked for (a loss, a join, a task) so far
-    int tasks = 0;
-    int tasks_done = 0;
-  };
+  // Binds by the journal's bindings, then by start cells; returns the robots still without a role.
+  std::vector<RobotRecord*> bind_resumed_and_on_start(const std::vector<RobotRecord*>& robots);
   PlanningInputs planning_inputs() const;
   // "" when the fleet is as `then`; else what changed, for the log.
   std::string what_changed_since(const PlanningInputs& then) const;
@@ -198,11 +225,15 @@ class FleetCoordinator {
   // Uses a finished plan (validated, and made from the fleet as it still is): a new epoch, sent.
   // False when planning failed (the robots hold; the caller retries).
   bool finish_planning(PlanningOutcome outcome, fleet_transport::Transport& transport);
+  bool planning_failed(const std::string& why);
+  // The robots of a new plan, its figures, its epoch in the journal; then it is carried out.
+  void take_plan(const PlanningOutcome& outcome);
   void update_progress();
   // Sends every command that is due. With `resend_only`, only the repeats of moves already sent
   // and not yet done: while a replan waits for moves in flight, a command that was lost must
   // still reach its robot, or the wait never ends.
   void dispatch(fleet_transport::Transport& transport, bool resend_only = false);
+  void note_command_sent(Clock::time_point now, bool resend_only);
   bool mission_complete() const;
   bool plan_finished() const;
   // The heartbeat (at once: a new epoch or role must be announced before it is used).
@@ -213,7 +244,11 @@ class FleetCoordinator {
   planner_core::Vertex mission_vertex(int x, int y) const;
   // Operators' tasks (see on_task_request).
   void handle_task_request(const fleet_transport::TaskRequest& request, fleet_transport::Transport& transport);
+  fleet_transport::TaskReply answer(const fleet_transport::TaskRequest& request);
   fleet_transport::TaskReply add_task(const fleet_transport::TaskRequest& request);
+  // Why a task at `request`'s cell cannot be added now ("" when it can); `tours` keeps the tours
+  // that may take it.
+  std::string add_task_refusal(const fleet_transport::TaskRequest& request, std::vector<Tour>& tours) const;
   fleet_transport::TaskReply cancel_task(const fleet_transport::TaskRequest& request);
   std::string task_listing() const;
   // Each planned robot with a role: where it stands, its task visits to make in its plan's order, its goal.
@@ -226,80 +261,55 @@ class FleetCoordinator {
   void adopt_tasks(const fleet_transport::MissionInfo& info);
   // Journals the tasks added at runtime that the journal does not have yet (after a takeover).
   void journal_added_tasks();
-  void report(const std::string& kind, const std::string& robot_id, const std::string& text, double value = 0);
-  void for_operators(const char* what, const std::function<void()>& publish);
+  void report(const std::string& kind, const std::string& robot_id, const std::string& text, double value = 0) {
+    desk_.report(kind, robot_id, text, value);
+  }
   RobotRecord* robot_of_agent(int a);
   const RobotRecord* robot_of_agent(int a) const;
 
   FleetConfig config_;
   planner_core::Instance mission_;
   CoordinatorOptions options_;
-  uint64_t incarnation_ = 0;
-  uint32_t term_ = 1;
-  int64_t claimed_ms_ = 0;
-  fleet_transport::CoordinatorRole role_ = fleet_transport::CoordinatorRole::kActive;
-  std::string mission_id_;
-  std::map<uint64_t, OtherCoordinator> others_;
-  uint64_t mirrored_ = 0;                          // standby: the coordinator whose progress it mirrors
-  std::map<std::string, int> mirrored_roles_;      // standby: robot -> role, from that coordinator
-  // Standby: every robot that coordinator drives, and when it was first among them.
-  std::map<std::string, Clock::time_point> mirrored_since_;
-  std::set<std::string> warned_not_heard_;         // standby: driven robots it said it does not hear
-  Clock::time_point next_not_heard_check_{};
-  bool logged_unheard_robots_ = false;             // standby: said why it does not take over yet
-  std::optional<Clock::time_point> every_robot_heard_since_;  // standby: with the active one silent
-  bool active_fell_silent_ = false;                // standby: for two status periods or more
-  std::map<int, std::string> resumed_bindings_;    // from the journal: role -> robot, for the first binding
-  bool progress_changed_ = false;
-  bool logged_no_active_ = false;
+  Identity identity_;
   int command_strength_ = -1;  // of this process's command writers (a standby starts with 0)
-  int plans_made_ = 0;
-  std::mutex inputs_mutex_;
-  std::deque<inputs::Input> inputs_;
+  inputs::InputQueue inputs_;
 
+  // The fleet and the mission.
   RobotRegistry robots_;
   MissionProgress progress_;
+  std::map<int, std::string> resumed_bindings_;           // from the journal: role -> robot, for the first binding
   std::map<planner_core::Vertex, std::string> blocked_;  // cells of lost robots (mission graph ids) -> robot
-  std::set<std::string> warned_unknown_;
-  static constexpr size_t kBadRobotIdsReported = 64;  // then refused without a word (a flood)
-  std::set<std::string> bad_robot_ids_;               // refused ids already reported
-  std::map<std::string, planner_core::Vertex> unknown_cells_;  // robots heard but not announced
-  RefusedProcesses refused_processes_;  // second processes claiming a driven robot's id
+  RefusedProcesses refused_processes_;                   // second processes claiming a driven robot's id
 
+  // Other coordinators, and operators.
+  OtherCoordinators others_;
+  StandbyFollower follower_;
+  OperatorsDesk desk_;
+  PublishSchedule schedule_;
+
+  // The loop's phase and clocks.
   Phase phase_ = Phase::kWaiting;
-  Clock::time_point started_, first_command_, settle_deadline_, next_status_, next_progress_, last_progress_,
-      replan_requested_at_;
-  Clock::time_point last_silence_check_;  // see step(): a coordinator that stood still blames no robot
-  bool replan_requested_ = false;
-  bool first_command_sent_ = false;
-  bool awaiting_replan_latency_ = false;
-  Clock::time_point retry_plan_at_;
-  std::optional<Clock::time_point> waiting_for_robot_since_;
-  Clock::time_point last_waiting_log_;
+  Clock::time_point started_, settle_deadline_;
+  std::optional<Clock::time_point> first_command_;
+  Clock::time_point last_silence_check_;  // see check_robots(): a coordinator that stood still blames no robot
+  std::optional<WaitForRobot> waiting_for_robot_;
   bool replanned_after_finish_ = false;  // the plan in hand was made because the last one left work
+  bool lifelong_idle_ = false;           // lifelong: every task done, waiting for tasks
+  const std::atomic<bool>* interrupt_ = nullptr;
 
+  // Plans.
   int epoch_ = 0;  // grows across restarts (journal) and takeovers (the mirrored epoch)
-  double plan_limit_factor_ = 1;
-  const std::atomic<bool>* interrupt_ = nullptr;  // grows after each failed planning attempt, back to 1 on success
+  int plans_made_ = 0;
   std::unique_ptr<PlanExecution> plan_;  // the plan being executed
   PlanningWorker planning_;              // makes the next plan on a thread of its own
-  PlanningInputs planned_from_;          // what the plan under way is made from
-  bool planning_first_plan_ = false;     // the plan under way is the mission's first
-  int64_t replan_requests_ = 0;
-  MissionSummary summary_;
-
-  std::map<std::string, fleet_transport::TaskReply> replies_;  // request id -> the answer given
-  std::deque<std::string> reply_order_;                       // oldest first, to forget old ones
-  std::vector<fleet_transport::FleetEvent> events_to_publish_;
-  std::set<std::string> operator_topics_failed_;  // logged once each
-  bool mission_published_ = false;
-  bool mission_changed_ = false;
-  bool lifelong_idle_ = false;       // lifelong: every task done, waiting for tasks
-  double last_planning_ms_ = 0;
-  int mission_task_count_ = 0;       // the mission's own tasks (those added at runtime come after)
-  int journaled_tasks_ = 0;          // tasks the journal knows: the mission's and those it recorded
+  PlanUnderWay plan_under_way_;
+  PlanRetry plan_retry_;
+  ReplanRequests replans_;
   int64_t steps_of_earlier_plans_ = 0;  // moves confirmed under plans replaced since
-  int64_t steps_planned_ = 0;           // moves of every plan made, each from its start
+
+  MissionSummary summary_;
+  int mission_task_count_ = 0;  // the mission's own tasks (those added at runtime come after)
+  int journaled_tasks_ = 0;     // tasks the journal knows: the mission's and those it recorded
 };
 
 }  // namespace coordinator

@@ -5,13 +5,16 @@
 #pragma once
 
 #include <chrono>
+#include <functional>
 #include <map>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
 
 #include "coordinator/fleet_config.hpp"
 #include "fleet_transport/messages.hpp"
+#include "planner_core/graph.hpp"
 
 namespace coordinator {
 
@@ -35,6 +38,9 @@ struct RobotRecord {
   bool finished_plan = false;
   uint64_t incarnation = 0;               // of the process whose states are accepted
   std::set<uint64_t> refused_incarnations;  // other live processes claiming this id (reported once each)
+  // Heard but not announced: its cell is kept clear until it announces itself.
+  std::optional<planner_core::Vertex> unannounced_at;
+  bool warned_unannounced = false;
 };
 
 class RobotRegistry {
@@ -51,6 +57,11 @@ class RobotRegistry {
 
   // The record of `id`, created empty on first use.
   RobotRecord& operator[](const std::string& id);
+  // The same, or nullptr when `id` breaks the rule for robot ids (a name, not markup: refused
+  // before it becomes a record, a role or an event's robot). `refused(why)` is called the first
+  // time each such id is heard, for the first kBadIdsReported of them; later ones are refused
+  // without a word (a flood).
+  RobotRecord* valid_record(const std::string& id, const std::function<void(const std::string& why)>& refused);
   const RobotRecord* find(const std::string& id) const;
   // Applies the admission rules of `config` to an announcement (not a goodbye).
   Admission admit(const fleet_transport::Announcement& announcement, const FleetConfig& config);
@@ -71,7 +82,9 @@ class RobotRegistry {
   std::map<std::string, RobotRecord>::const_iterator end() const { return robots_.end(); }
 
  private:
+  static constexpr size_t kBadIdsReported = 64;
   std::map<std::string, RobotRecord> robots_;
+  std::set<std::string> bad_ids_reported_;
 };
 
 }  // namespace coordinator
