@@ -41,7 +41,6 @@ FleetCoordinator::FleetCoordinator(const FleetConfig& config, planner_core::Inst
       desk_(identity_.incarnation),
       started_(Clock::now()),
       last_silence_check_(started_) {
-  mission_task_count_ = mission_.task_count();
   if (options_.standby) {
     identity_.role = fleet_transport::CoordinatorRole::kStandby;
     phase_ = Phase::kStandby;
@@ -171,7 +170,7 @@ void FleetCoordinator::publish_progress(fleet_transport::Transport& transport) {
   }
   status.last_planning_ms = summary_.last_planning_ms;
   if (!summary_.replan_latencies_s.empty()) status.last_replan_latency_ms = 1000 * summary_.replan_latencies_s.back();
-  status.steps_done = steps_of_earlier_plans_;
+  status.steps_done = summary_.steps_of_replaced_plans;
   for (int a = 0; plan_ && a < plan_->agent_count(); ++a) status.steps_done += plan_->agent(a).finished;
   status.steps_planned = summary_.steps_planned;
   transport.publish_fleet_status(status);

@@ -123,7 +123,7 @@ std::string FleetCoordinator::add_task_refusal(const TaskRequest& request, std::
   }
   if (const std::string wrong = task_cell_refusal(mission_, request.x, request.y); !wrong.empty()) return wrong;
   int pending_added = 0;
-  for (int t = mission_task_count_; t < progress_.task_count(); ++t) {
+  for (int t = progress_.mission_task_count(); t < progress_.task_count(); ++t) {
     pending_added += !progress_.task_done(t) && !progress_.cancelled(t) ? 1 : 0;
   }
   if (pending_added >= kMaxPendingAddedTasks) {

@@ -147,7 +147,7 @@ void FleetCoordinator::take_plan(const PlanningOutcome& outcome) {
   ++plans_made_;
   journal_write("plan epoch", [&](MissionJournal& journal) { journal.record_epoch(epoch_, identity_.term); });
   if (plan_) {
-    for (int a = 0; a < plan_->agent_count(); ++a) steps_of_earlier_plans_ += plan_->agent(a).finished;
+    for (int a = 0; a < plan_->agent_count(); ++a) summary_.steps_of_replaced_plans += plan_->agent(a).finished;
   }
   plan_ = std::make_unique<PlanExecution>(epoch_, instance.graph, outcome.result.solution, built.robots,
                                           identity_.incarnation);

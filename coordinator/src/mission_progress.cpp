@@ -8,6 +8,7 @@ MissionProgress::MissionProgress(const planner_core::Instance& mission)
     : mission_(mission), robot_of_role_(mission.agent_count()) {
   for (const planner_core::Task& task : mission.tasks) task_done_.emplace_back(task.agents.size(), 0);
   cancelled_.assign(task_done_.size(), 0);
+  mission_task_count_ = task_count();
 }
 
 void MissionProgress::add_task() {

@@ -14,11 +14,37 @@
 #include "cyclone_codec.hpp"
 #include "fleet.h"
 #include "middleware_log.hpp"
+#include "topic_qos.hpp"
 #include "transport_factories.hpp"
 
 namespace fleet_transport {
 
 namespace {
+
+// A reader's and writer's QoS from the topic's (topic_qos.hpp); the caller deletes it.
+dds_qos_t* cyclone_qos(const TopicQos& topic, const TransportConfig& config) {
+  dds_qos_t* qos = dds_create_qos();
+  if (topic.reliable) {
+    dds_qset_reliability(qos, DDS_RELIABILITY_RELIABLE, DDS_SECS(1));
+  } else {
+    dds_qset_reliability(qos, DDS_RELIABILITY_BEST_EFFORT, 0);
+  }
+  dds_qset_history(qos, DDS_HISTORY_KEEP_LAST, topic.depth);
+  if (topic.transient_local) {
+    dds_qset_durability(qos, DDS_DURABILITY_TRANSIENT_LOCAL);
+    dds_qset_durability_service(qos, 0, DDS_HISTORY_KEEP_LAST, topic.depth, DDS_LENGTH_UNLIMITED, DDS_LENGTH_UNLIMITED,
+                                DDS_LENGTH_UNLIMITED);
+  }
+  const dds_duration_t lease = static_cast<dds_duration_t>(DDS_SECS(1) * config.lease_s);
+  if (topic.liveliness) dds_qset_liveliness(qos, DDS_LIVELINESS_AUTOMATIC, lease);
+  if (topic.deadline) dds_qset_deadline(qos, 2 * lease);
+  if (topic.exclusive) {
+    dds_qset_ownership(qos, DDS_OWNERSHIP_EXCLUSIVE);
+    dds_qset_ownership_strength(qos, config.command_strength);
+  }
+  if (!topic.dispose_on_unregister) dds_qset_writer_data_lifecycle(qos, false);
+  return qos;
+}
 
 void check(dds_return_t rc, const char* what) {
   if (rc < 0) throw std::runtime_error(std::string("Cyclone DDS: ") + what + ": " + dds_strretcode(rc));
@@ -114,43 +140,17 @@ class CycloneTransport : public Transport {
                                "its certificate, permissions or governance the plugins refused");
     }
     check(participant_, "create participant");
-    const dds_duration_t lease = DDS_SECS(1) * config.lease_s;
-
-    dds_qos_t* registry = registry_qos_ = dds_create_qos();
-    dds_qset_reliability(registry, DDS_RELIABILITY_RELIABLE, DDS_SECS(1));
-    dds_qset_durability(registry, DDS_DURABILITY_TRANSIENT_LOCAL);
-    dds_qset_history(registry, DDS_HISTORY_KEEP_LAST, 1);
-    dds_qset_durability_service(registry, 0, DDS_HISTORY_KEEP_LAST, 1, DDS_LENGTH_UNLIMITED, DDS_LENGTH_UNLIMITED,
-                                DDS_LENGTH_UNLIMITED);
-    dds_qset_liveliness(registry, DDS_LIVELINESS_AUTOMATIC, lease);
-    // A writer that dies leaves its instances "no writers", not "disposed": only a goodbye disposes.
-    dds_qset_writer_data_lifecycle(registry, false);
-    dds_qos_t* state = state_qos_ = dds_create_qos();
-    dds_qset_reliability(state, DDS_RELIABILITY_BEST_EFFORT, 0);
-    dds_qset_history(state, DDS_HISTORY_KEEP_LAST, 1);
-    dds_qset_liveliness(state, DDS_LIVELINESS_AUTOMATIC, lease);
-    dds_qset_deadline(state, 2 * lease);  // robots publish state several times per second
-    dds_qos_t* command = command_qos_ = dds_create_qos();
-    dds_qset_reliability(command, DDS_RELIABILITY_RELIABLE, DDS_SECS(1));
-    dds_qset_history(command, DDS_HISTORY_KEEP_LAST, 8);
-    dds_qset_ownership(command, DDS_OWNERSHIP_EXCLUSIVE);
-    dds_qset_ownership_strength(command, config.command_strength);
-    dds_qset_liveliness(command, DDS_LIVELINESS_AUTOMATIC, lease);  // a dead owner is replaced after a lease
+    registry_qos_ = cyclone_qos(kRegistryQos, config);
+    state_qos_ = cyclone_qos(kStateQos, config);
+    command_qos_ = cyclone_qos(kCommandQos, config);
+    events_qos_ = cyclone_qos(kEventsQos, config);
+    requests_qos_ = cyclone_qos(kRequestsQos, config);
 
     announcement_topic_ = make_topic(&fleet_Announcement_desc, "rt/fleet/announcement");
     state_topic_ = make_topic(&fleet_RobotState_desc, "rt/fleet/robot_state");
     command_topic_ = make_topic(&fleet_StepCommand_desc, "rt/fleet/step_command");
     status_topic_ = make_topic(&fleet_FleetStatus_desc, "rt/fleet/fleet_status");
     coordinator_topic_ = make_topic(&fleet_CoordinatorStatus_desc, "rt/fleet/coordinator_status");
-    dds_qos_t* events = events_qos_ = dds_create_qos();
-    dds_qset_reliability(events, DDS_RELIABILITY_RELIABLE, DDS_SECS(1));
-    dds_qset_durability(events, DDS_DURABILITY_TRANSIENT_LOCAL);
-    dds_qset_history(events, DDS_HISTORY_KEEP_LAST, kEventHistory);
-    dds_qset_durability_service(events, 0, DDS_HISTORY_KEEP_LAST, kEventHistory, DDS_LENGTH_UNLIMITED,
-                                DDS_LENGTH_UNLIMITED, DDS_LENGTH_UNLIMITED);
-    dds_qos_t* requests = requests_qos_ = dds_create_qos();
-    dds_qset_reliability(requests, DDS_RELIABILITY_RELIABLE, DDS_SECS(1));
-    dds_qset_history(requests, DDS_HISTORY_KEEP_LAST, 16);
 
     // Writers are made on first use: a process writes few of the topics, and every idle writer
     // would still be matched with every reader of the fleet. The ones a role surely writes are
@@ -161,26 +161,31 @@ class CycloneTransport : public Transport {
       robot_writers(commands_for_);
     }
 
+    listen_for_the_handlers();
+  }
+
+  // A reader for each topic the handlers take, in the partitions they read.
+  void listen_for_the_handlers() {
     const bool reads_robots = handlers_.on_announcement || handlers_.on_robot_gone || handlers_.on_state;
     const dds_entity_t every_robot = reads_robots ? subscriber_in(kEveryRobotPartition) : 0;
     if (handlers_.on_announcement || handlers_.on_robot_gone) {
-      make_reader(announcement_topic_, registry, &CycloneTransport::announcements_available, every_robot);
+      make_reader(announcement_topic_, registry_qos_, &CycloneTransport::announcements_available, every_robot);
     }
-    if (handlers_.on_state) make_reader(state_topic_, state, &CycloneTransport::states_available, every_robot);
+    if (handlers_.on_state) make_reader(state_topic_, state_qos_, &CycloneTransport::states_available, every_robot);
     if (handlers_.on_command) {
       const std::string partition =
           commands_for_.empty() ? std::string(kEveryRobotPartition) : command_partition(commands_for_);
-      make_reader(command_topic_, command, &CycloneTransport::commands_available, subscriber_in(partition));
+      make_reader(command_topic_, command_qos_, &CycloneTransport::commands_available, subscriber_in(partition));
     }
-    if (handlers_.on_fleet_status) make_reader(status_topic_, registry, &CycloneTransport::statuses_available);
+    if (handlers_.on_fleet_status) make_reader(status_topic_, registry_qos_, &CycloneTransport::statuses_available);
     if (handlers_.on_coordinator_status) {
-      make_reader(coordinator_topic_, registry, &CycloneTransport::coordinator_statuses_available);
+      make_reader(coordinator_topic_, registry_qos_, &CycloneTransport::coordinator_statuses_available);
     }
-    if (handlers_.on_mission_info) make_reader(mission_topic(), registry, &CycloneTransport::missions_available);
-    if (handlers_.on_fleet_plan) make_reader(plan_topic(), registry, &CycloneTransport::plans_available);
-    if (handlers_.on_fleet_event) make_reader(event_topic(), events, &CycloneTransport::events_available);
-    if (handlers_.on_task_request) make_reader(request_topic(), requests, &CycloneTransport::requests_available);
-    if (handlers_.on_task_reply) make_reader(reply_topic(), requests, &CycloneTransport::replies_available);
+    if (handlers_.on_mission_info) make_reader(mission_topic(), registry_qos_, &CycloneTransport::missions_available);
+    if (handlers_.on_fleet_plan) make_reader(plan_topic(), registry_qos_, &CycloneTransport::plans_available);
+    if (handlers_.on_fleet_event) make_reader(event_topic(), events_qos_, &CycloneTransport::events_available);
+    if (handlers_.on_task_request) make_reader(request_topic(), requests_qos_, &CycloneTransport::requests_available);
+    if (handlers_.on_task_reply) make_reader(reply_topic(), requests_qos_, &CycloneTransport::replies_available);
   }
 
 
@@ -251,8 +256,6 @@ class CycloneTransport : public Transport {
   }
 
  private:
-  static constexpr int kEventHistory = 64;
-
   // The operators' topics are made on first use: DDS Security refuses a participant even the
   // creation of a topic its permissions do not name (a robot's name none of them).
   dds_entity_t lazy_topic(dds_entity_t& slot, const dds_topic_descriptor_t* descriptor, const char* name) {

@@ -26,6 +26,7 @@
 #include "fastdds_participant.hpp"
 #include "fleet.h"
 #include "middleware_log.hpp"
+#include "topic_qos.hpp"
 #include "fleetPubSubTypes.h"
 #include "transport_factories.hpp"
 
@@ -59,6 +60,47 @@ void room_for_the_fleet(ResourceLimitsQosPolicy& limits, int32_t depth) {
   limits.max_instances = kMaxRobots;
   limits.max_samples_per_instance = depth;
   limits.max_samples = kMaxRobots * depth;
+}
+
+// A writer's QoS from the topic's (topic_qos.hpp).
+DataWriterQos writer_qos(const TopicQos& topic, const TransportConfig& config) {
+  DataWriterQos qos = DATAWRITER_QOS_DEFAULT;
+  qos.reliability().kind = topic.reliable ? RELIABLE_RELIABILITY_QOS : BEST_EFFORT_RELIABILITY_QOS;
+  qos.durability().kind = topic.transient_local ? TRANSIENT_LOCAL_DURABILITY_QOS : VOLATILE_DURABILITY_QOS;
+  qos.history().kind = KEEP_LAST_HISTORY_QOS;
+  qos.history().depth = topic.depth;
+  // 100 ms: late joiners (Cyclone's readers among them) are prompted soon.
+  if (topic.reliable) qos.reliable_writer_qos().times.heartbeatPeriod = eprosima::fastrtps::Duration_t(0, 100000000);
+  if (topic.liveliness) {
+    qos.liveliness().kind = AUTOMATIC_LIVELINESS_QOS;
+    qos.liveliness().lease_duration = eprosima::fastrtps::Duration_t(config.lease_s);
+    qos.liveliness().announcement_period = eprosima::fastrtps::Duration_t(config.lease_s / 3);
+  }
+  if (topic.deadline) qos.deadline().period = eprosima::fastrtps::Duration_t(2 * config.lease_s);
+  if (topic.exclusive) {
+    qos.ownership().kind = EXCLUSIVE_OWNERSHIP_QOS;
+    qos.ownership_strength().value = static_cast<uint32_t>(config.command_strength);
+  }
+  if (!topic.dispose_on_unregister) qos.writer_data_lifecycle().autodispose_unregistered_instances = false;
+  if (topic.per_robot) room_for_the_fleet(qos.resource_limits(), topic.depth);
+  return qos;
+}
+
+// A reader's QoS from the topic's (topic_qos.hpp).
+DataReaderQos reader_qos(const TopicQos& topic, const TransportConfig& config) {
+  DataReaderQos qos = DATAREADER_QOS_DEFAULT;
+  qos.reliability().kind = topic.reliable ? RELIABLE_RELIABILITY_QOS : BEST_EFFORT_RELIABILITY_QOS;
+  qos.durability().kind = topic.transient_local ? TRANSIENT_LOCAL_DURABILITY_QOS : VOLATILE_DURABILITY_QOS;
+  qos.history().kind = KEEP_LAST_HISTORY_QOS;
+  qos.history().depth = topic.depth;
+  if (topic.liveliness) {
+    qos.liveliness().kind = AUTOMATIC_LIVELINESS_QOS;
+    qos.liveliness().lease_duration = eprosima::fastrtps::Duration_t(config.lease_s);
+  }
+  if (topic.deadline) qos.deadline().period = eprosima::fastrtps::Duration_t(2 * config.lease_s);
+  if (topic.exclusive) qos.ownership().kind = EXCLUSIVE_OWNERSHIP_QOS;
+  if (topic.per_robot) room_for_the_fleet(qos.resource_limits(), topic.depth);
+  return qos;
 }
 
 // Remembers the partitions of every writer the participant discovers, so that a state or
@@ -158,125 +200,48 @@ class FastDdsTransport : public Transport {
     subscriber_ = participant_->create_subscriber(SUBSCRIBER_QOS_DEFAULT);
     if (!publisher_ || !subscriber_) throw std::runtime_error("Fast DDS: cannot create publisher/subscriber");
 
-    const eprosima::fastrtps::Duration_t lease(config.lease_s);
-    const eprosima::fastrtps::Duration_t announce_every(config.lease_s / 3);
-    const eprosima::fastrtps::Duration_t heartbeat(0, 100000000);  // 100 ms: prompt late joiners (Cyclone)
+    registry_w_ = writer_qos(kRegistryQos, config);
+    state_w_ = writer_qos(kStateQos, config);
+    command_w_ = writer_qos(kCommandQos, config);
+    events_w_ = writer_qos(kEventsQos, config);
+    requests_w_ = writer_qos(kRequestsQos, config);
 
-    DataWriterQos& registry_w = registry_w_;
-    registry_w.reliability().kind = RELIABLE_RELIABILITY_QOS;
-    registry_w.durability().kind = TRANSIENT_LOCAL_DURABILITY_QOS;
-    registry_w.history().kind = KEEP_LAST_HISTORY_QOS;
-    registry_w.history().depth = 1;
-    registry_w.liveliness().kind = AUTOMATIC_LIVELINESS_QOS;
-    registry_w.liveliness().lease_duration = lease;
-    registry_w.liveliness().announcement_period = announce_every;
-    registry_w.reliable_writer_qos().times.heartbeatPeriod = heartbeat;
-    registry_w.writer_data_lifecycle().autodispose_unregistered_instances = false;
-    DataReaderQos registry_r = DATAREADER_QOS_DEFAULT;
-    registry_r.reliability().kind = RELIABLE_RELIABILITY_QOS;
-    registry_r.durability().kind = TRANSIENT_LOCAL_DURABILITY_QOS;
-    registry_r.history().kind = KEEP_LAST_HISTORY_QOS;
-    registry_r.history().depth = 1;
-    registry_r.liveliness().kind = AUTOMATIC_LIVELINESS_QOS;
-    registry_r.liveliness().lease_duration = lease;
-
-    DataWriterQos& state_w = state_w_;
-    state_w.reliability().kind = BEST_EFFORT_RELIABILITY_QOS;
-    state_w.durability().kind = VOLATILE_DURABILITY_QOS;
-    state_w.history().kind = KEEP_LAST_HISTORY_QOS;
-    state_w.history().depth = 1;
-    state_w.liveliness().kind = AUTOMATIC_LIVELINESS_QOS;
-    state_w.liveliness().lease_duration = lease;
-    state_w.liveliness().announcement_period = announce_every;
-    state_w.deadline().period = eprosima::fastrtps::Duration_t(2 * config.lease_s);
-    DataReaderQos state_r = DATAREADER_QOS_DEFAULT;
-    state_r.reliability().kind = BEST_EFFORT_RELIABILITY_QOS;
-    state_r.durability().kind = VOLATILE_DURABILITY_QOS;
-    state_r.history().kind = KEEP_LAST_HISTORY_QOS;
-    state_r.history().depth = 1;
-    state_r.liveliness().kind = AUTOMATIC_LIVELINESS_QOS;
-    state_r.liveliness().lease_duration = lease;
-    state_r.deadline().period = eprosima::fastrtps::Duration_t(2 * config.lease_s);
-
-    DataWriterQos& command_w = command_w_;
-    command_w.reliability().kind = RELIABLE_RELIABILITY_QOS;
-    command_w.durability().kind = VOLATILE_DURABILITY_QOS;
-    command_w.history().kind = KEEP_LAST_HISTORY_QOS;
-    command_w.history().depth = 8;
-    command_w.reliable_writer_qos().times.heartbeatPeriod = heartbeat;
-    command_w.ownership().kind = EXCLUSIVE_OWNERSHIP_QOS;
-    command_w.ownership_strength().value = static_cast<uint32_t>(config.command_strength);
-    command_w.liveliness().kind = AUTOMATIC_LIVELINESS_QOS;  // a dead owner is replaced after a lease
-    command_w.liveliness().lease_duration = lease;
-    command_w.liveliness().announcement_period = announce_every;
-    DataReaderQos command_r = DATAREADER_QOS_DEFAULT;
-    command_r.reliability().kind = RELIABLE_RELIABILITY_QOS;
-    command_r.durability().kind = VOLATILE_DURABILITY_QOS;
-    command_r.history().kind = KEEP_LAST_HISTORY_QOS;
-    command_r.history().depth = 8;
-    command_r.ownership().kind = EXCLUSIVE_OWNERSHIP_QOS;
-    command_r.liveliness().kind = AUTOMATIC_LIVELINESS_QOS;
-    command_r.liveliness().lease_duration = lease;
-
-    room_for_the_fleet(registry_w.resource_limits(), 1);
-    room_for_the_fleet(registry_r.resource_limits(), 1);
-    room_for_the_fleet(state_w.resource_limits(), 1);
-    room_for_the_fleet(state_r.resource_limits(), 1);
-    room_for_the_fleet(command_w.resource_limits(), 8);
-    room_for_the_fleet(command_r.resource_limits(), 8);
-
-    Topic* announcement = make_topic<fleet::AnnouncementPubSubType>("rt/fleet/announcement");
-    Topic* state = make_topic<fleet::RobotStatePubSubType>("rt/fleet/robot_state");
-    Topic* command = make_topic<fleet::StepCommandPubSubType>("rt/fleet/step_command");
-    Topic* status = make_topic<fleet::FleetStatusPubSubType>("rt/fleet/fleet_status");
+    // Writers are made on first use: a process writes few of the topics, and every idle writer
+    // would still be matched with every reader of the fleet.
+    announcement_topic_ = make_topic<fleet::AnnouncementPubSubType>("rt/fleet/announcement");
+    state_topic_ = make_topic<fleet::RobotStatePubSubType>("rt/fleet/robot_state");
+    command_topic_ = make_topic<fleet::StepCommandPubSubType>("rt/fleet/step_command");
+    status_topic_ = make_topic<fleet::FleetStatusPubSubType>("rt/fleet/fleet_status");
     coordinator_topic_ = make_topic<fleet::CoordinatorStatusPubSubType>("rt/fleet/coordinator_status");
     mission_topic_ = make_topic<fleet::MissionInfoPubSubType>("rt/fleet/mission_info");
     plan_topic_ = make_topic<fleet::FleetPlanPubSubType>("rt/fleet/fleet_plan");
     event_topic_ = make_topic<fleet::FleetEventPubSubType>("rt/fleet/fleet_event");
     request_topic_ = make_topic<fleet::TaskRequestPubSubType>("rt/fleet/task_request");
     reply_topic_ = make_topic<fleet::TaskReplyPubSubType>("rt/fleet/task_reply");
-    DataWriterQos& events_w = events_w_;
-    events_w.reliability().kind = RELIABLE_RELIABILITY_QOS;
-    events_w.durability().kind = TRANSIENT_LOCAL_DURABILITY_QOS;
-    events_w.history().kind = KEEP_LAST_HISTORY_QOS;
-    events_w.history().depth = kEventHistory;
-    events_w.reliable_writer_qos().times.heartbeatPeriod = heartbeat;
-    DataReaderQos events_r = DATAREADER_QOS_DEFAULT;
-    events_r.reliability().kind = RELIABLE_RELIABILITY_QOS;
-    events_r.durability().kind = TRANSIENT_LOCAL_DURABILITY_QOS;
-    events_r.history().kind = KEEP_LAST_HISTORY_QOS;
-    events_r.history().depth = kEventHistory;
-    DataWriterQos& requests_w = requests_w_;
-    requests_w.reliability().kind = RELIABLE_RELIABILITY_QOS;
-    requests_w.durability().kind = VOLATILE_DURABILITY_QOS;
-    requests_w.history().kind = KEEP_LAST_HISTORY_QOS;
-    requests_w.history().depth = 16;
-    requests_w.reliable_writer_qos().times.heartbeatPeriod = heartbeat;
-    DataReaderQos requests_r = DATAREADER_QOS_DEFAULT;
-    requests_r.reliability().kind = RELIABLE_RELIABILITY_QOS;
-    requests_r.durability().kind = VOLATILE_DURABILITY_QOS;
-    requests_r.history().kind = KEEP_LAST_HISTORY_QOS;
-    requests_r.history().depth = 16;
-    // Writers are made on first use: a process writes few of the topics, and every idle writer
-    // would still be matched with every reader of the fleet.
-    announcement_topic_ = announcement;
-    state_topic_ = state;
-    command_topic_ = command;
-    status_topic_ = status;
     // The writers a role surely uses are made now, so readers match them before the first sample.
     if (handlers_.on_command && !commands_for_.empty()) robot_writers(commands_for_);
+    listen_for_the_handlers(config);
+  }
+
+  // A reader for each topic the handlers take, in the partitions they read.
+  void listen_for_the_handlers(const TransportConfig& config) {
+    const DataReaderQos registry_r = reader_qos(kRegistryQos, config);
+    const DataReaderQos state_r = reader_qos(kStateQos, config);
+    const DataReaderQos command_r = reader_qos(kCommandQos, config);
+    const DataReaderQos events_r = reader_qos(kEventsQos, config);
+    const DataReaderQos requests_r = reader_qos(kRequestsQos, config);
 
     Subscriber* every_robot = nullptr;
     if (handlers_.on_announcement || handlers_.on_robot_gone || handlers_.on_state) {
       every_robot = subscriber_in(kEveryRobotPartition);
     }
     if (handlers_.on_announcement || handlers_.on_robot_gone) {
-      listen<fleet::Announcement>(announcement, registry_r, [this](const fleet::Announcement& w, const SampleInfo& info) {
+      listen<fleet::Announcement>(announcement_topic_, registry_r, [this](const fleet::Announcement& w, const SampleInfo& info) {
         on_announcement(w, info);
       }, every_robot);
     }
     if (handlers_.on_state) {
-      listen<fleet::RobotState>(state, state_r, [this](const fleet::RobotState& w, const SampleInfo& info) {
+      listen<fleet::RobotState>(state_topic_, state_r, [this](const fleet::RobotState& w, const SampleInfo& info) {
         if (!info.valid_data || !from_own_partition(info, w.robot_id().to_string())) return;
         handlers_.on_state(fastdds_codec::from_wire(w));
       }, every_robot);
@@ -284,7 +249,7 @@ class FastDdsTransport : public Transport {
     if (handlers_.on_command) {
       Subscriber* command_subscriber =
           subscriber_in(commands_for_.empty() ? std::string(kEveryRobotPartition) : command_partition(commands_for_));
-      listen<fleet::StepCommand>(command, command_r, [this](const fleet::StepCommand& w, const SampleInfo& info) {
+      listen<fleet::StepCommand>(command_topic_, command_r, [this](const fleet::StepCommand& w, const SampleInfo& info) {
         if (!info.valid_data) return;
         if (!commands_for_.empty() && commands_for_ != w.robot_id().to_string()) return;
         handlers_.on_command(fastdds_codec::from_wire(w));
@@ -296,7 +261,7 @@ class FastDdsTransport : public Transport {
       });
     }
     if (handlers_.on_fleet_status) {
-      listen<fleet::FleetStatus>(status, registry_r, [this](const fleet::FleetStatus& w, const SampleInfo& info) {
+      listen<fleet::FleetStatus>(status_topic_, registry_r, [this](const fleet::FleetStatus& w, const SampleInfo& info) {
         if (info.valid_data) handlers_.on_fleet_status(fastdds_codec::from_wire(w));
       });
     }
@@ -401,8 +366,6 @@ class FastDdsTransport : public Transport {
   }
 
  private:
-  static constexpr int kEventHistory = 64;
-
   template <typename PubSubType>
   Topic* make_topic(const std::string& name) {
     TypeSupport type(new PubSubType());

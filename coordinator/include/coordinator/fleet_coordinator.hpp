@@ -74,6 +74,7 @@ struct MissionSummary {
   int64_t first_command_wall_ms = 0;       // wall clock of its first command (0: none)
   double last_planning_ms = 0;             // how long the latest plan took to make
   int64_t steps_planned = 0;               // moves of every plan made, each from its start
+  int64_t steps_of_replaced_plans = 0;     // moves confirmed under plans replaced since
 };
 
 struct CoordinatorOptions {
@@ -305,10 +306,8 @@ class FleetCoordinator {
   PlanUnderWay plan_under_way_;
   PlanRetry plan_retry_;
   ReplanRequests replans_;
-  int64_t steps_of_earlier_plans_ = 0;  // moves confirmed under plans replaced since
 
   MissionSummary summary_;
-  int mission_task_count_ = 0;  // the mission's own tasks (those added at runtime come after)
   int journaled_tasks_ = 0;     // tasks the journal knows: the mission's and those it recorded
 };
 

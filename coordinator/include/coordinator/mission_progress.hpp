@@ -34,6 +34,8 @@ class MissionProgress {
   // Whether task t's k-th role (mission.tasks[t].agents[k]) has visited, or need not (cancelled).
   bool visited(int task, size_t k) const { return task_done_[task][k] != 0 || cancelled_[task]; }
   int task_count() const { return static_cast<int>(task_done_.size()); }
+  // The mission's own tasks, those it was made with; tasks added at runtime (add_task) come after.
+  int mission_task_count() const { return mission_task_count_; }
   // The mission has a new task, appended to its tasks (mission.tasks.back()), none of it done.
   void add_task();
   // No visit to `task` is owed any more; it counts neither as done nor as to do. False when it
@@ -58,6 +60,7 @@ class MissionProgress {
   std::vector<std::string> robot_of_role_;
   std::vector<std::vector<char>> task_done_;  // [task][index in task.agents]
   std::vector<char> cancelled_;               // [task]
+  int mission_task_count_ = 0;
 };
 
 }  // namespace coordinator
