@@ -11,6 +11,7 @@
 
 #include "ctsfleet/data_dir.hpp"
 #include "ctsfleet/program.hpp"
+#include "lifelong_experiment.hpp"
 #include "mapf_scale_experiment.hpp"
 #include "paper_experiments.hpp"
 #include "planner_core/benchmark_runner.hpp"
@@ -68,8 +69,20 @@ int main(int argc, char** argv) {
   ctsfleet_bench::ExperimentSettings experiment_settings;
   app.add_option("inputs", inputs, "instance files, folders (searched for .yaml) or .txt lists")->check(CLI::ExistingPath);
   app.add_option("--experiment", experiment,
-                 "reproduce the CTS-PLL paper's experiments side by side: dense, sparse, scale or all")
-      ->check(CLI::IsMember({"dense", "sparse", "scale", "all", "mapf-scale"}));
+                 "reproduce the CTS-PLL paper's experiments side by side: dense, sparse, scale or all; "
+                 "mapf-scale; lifelong (League of Robot Runners problems, a time budget per step)")
+      ->check(CLI::IsMember({"dense", "sparse", "scale", "all", "mapf-scale", "lifelong"}));
+  ctsfleet_bench::LifelongExperimentSettings lifelong;
+  app.add_option("--problem", lifelong.problems,
+                 "experiment lifelong: a League of Robot Runners problem (JSON; repeatable; default: every one under "
+                 "benchmarks/lorr-2023)")
+      ->check(CLI::ExistingFile);
+  app.add_option("--steps", lifelong.steps, "experiment lifelong: the horizon in steps")
+      ->check(ctsfleet::count_in(1, 1'000'000))
+      ->capture_default_str();
+  app.add_option("--step-time", lifelong.step_time_s, "experiment lifelong: seconds to decide each step")
+      ->check(ctsfleet::positive_seconds(3600))
+      ->capture_default_str();
   ctsfleet_bench::MapfScaleSettings mapf_scale;
   app.add_option("--scale-suite", mapf_scale.suite,
                  "experiment mapf-scale: the plain MAPF scale suite folder (default: the installed benchmarks/mapf-scale)")
@@ -118,6 +131,12 @@ int main(int argc, char** argv) {
       } else if (sample > 0) {
         experiment_settings.dense_per_setting = experiment_settings.sparse_per_setting = sample;
         experiment_settings.scale_per_setting = sample;
+      }
+      if (experiment == "lifelong") {
+        lifelong.benchmarks = experiment_settings.benchmarks;
+        lifelong.out_dir = experiment_settings.out_dir;
+        lifelong.seed = config.seed;
+        return ctsfleet_bench::run_lifelong_experiment(lifelong);
       }
       if (experiment == "mapf-scale") {
         mapf_scale.out_dir = experiment_settings.out_dir;

@@ -104,7 +104,7 @@ Graph Graph::with_walls(const std::set<Vertex>& walls) const {
   return walled;
 }
 
-Graph load_movingai_map(const std::string& path) {
+Graph load_movingai_map(const std::string& path, MapSymbols symbols) {
   require_regular_file(path, "map file");
   std::ifstream in(path);
   if (!in) throw InputError(path + ": cannot open map file");
@@ -148,7 +148,15 @@ Graph load_movingai_map(const std::string& path) {
     }
     line.resize(width);
     for (int x = 0; x < width; ++x) {
-      const char c = line[x];
+      char& c = line[x];
+      if (symbols == MapSymbols::kLeagueOfRobotRunners) {
+        if (c == 'E' || c == 'S') {
+          c = '.';
+        } else if (c != '.' && c != '@' && c != 'T') {
+          throw InputError(path + ":" + std::to_string(line_no) + ": unknown map symbol '" + std::string(1, c) +
+                           "' at column " + std::to_string(x) + " (a League of Robot Runners map has . E S @ T)");
+        }
+      }
       if (!is_free_symbol(c) && c != '@' && c != 'O' && c != 'T' && c != 'S' && c != 'W') {
         throw InputError(path + ":" + std::to_string(line_no) + ": unknown map symbol '" + std::string(1, c) +
                          "' at column " + std::to_string(x));

@@ -77,6 +77,10 @@ class Graph {
 };
 
 // Reads a MovingAI .map file; throws InputError naming the file and line.
-Graph load_movingai_map(const std::string& path);
+// Which symbols a map file's cells may hold: MovingAI's ('.' and 'G' free; '@', 'O', 'T', 'S'
+// (swamp), 'W' blocked), or the League of Robot Runners' ('.', 'E' emitter and 'S' service point
+// free; '@' and 'T' blocked).
+enum class MapSymbols { kMovingAi, kLeagueOfRobotRunners };
+Graph load_movingai_map(const std::string& path, MapSymbols symbols = MapSymbols::kMovingAi);
 
 }  // namespace planner_core

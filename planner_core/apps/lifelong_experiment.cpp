@@ -1,0 +1,84 @@
+#include "lifelong_experiment.hpp"
+
+#include <sys/resource.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include "planner_core/input_error.hpp"
+#include "planner_core/lifelong.hpp"
+#include "planner_core/lorr_problem.hpp"
+
+namespace ctsfleet_bench {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::vector<std::string> default_problems(const std::string& benchmarks) {
+  std::vector<std::string> found;
+  const fs::path root = fs::path(benchmarks) / "lorr-2023";
+  if (!fs::is_directory(root)) throw planner_core::InputError(root.string() + ": no such folder (give --problem)");
+  for (const auto& entry : fs::recursive_directory_iterator(root)) {
+    if (entry.is_regular_file() && entry.path().extension() == ".json") found.push_back(entry.path().string());
+  }
+  std::sort(found.begin(), found.end());
+  return found;
+}
+
+double quantile(std::vector<double> values, double q) {
+  if (values.empty()) return 0;
+  std::sort(values.begin(), values.end());
+  return values[std::min(values.size() - 1, static_cast<size_t>(q * values.size()))];
+}
+
+double peak_memory_mb() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return usage.ru_maxrss / 1024.0;
+}
+
+}  // namespace
+
+int run_lifelong_experiment(const LifelongExperimentSettings& settings) {
+  const std::vector<std::string> problems =
+      settings.problems.empty() ? default_problems(settings.benchmarks) : settings.problems;
+  fs::create_directories(settings.out_dir);
+  const fs::path table_path = fs::path(settings.out_dir) / "lifelong.csv";
+  const fs::path steps_path = fs::path(settings.out_dir) / "lifelong_steps.csv";
+  std::ofstream table(table_path), per_step(steps_path);
+  table << "problem,agents,steps,step_time_s,planner,errands,tasks,errands_per_step,step_ms_p50,step_ms_p99,"
+           "step_ms_max,over_budget,invalid,peak_mb\n";
+  per_step << "problem,step,errands\n";
+  std::printf("lifelong: %d steps, %.3f s per step, planner pibt (seed %u)\n", settings.steps, settings.step_time_s,
+              settings.seed);
+  std::printf("%-28s %6s %9s %8s %9s %9s %9s %6s %7s %8s\n", "problem", "agents", "errands", "per step", "p50 ms",
+              "p99 ms", "max ms", "over", "invalid", "peak MB");
+  for (const std::string& path : problems) {
+    const planner_core::LorrProblem problem = planner_core::load_lorr_problem(path);
+    planner_core::PibtLifelong planner(*problem.graph, settings.seed);
+    planner_core::LifelongSettings lifelong{settings.steps, settings.step_time_s};
+    const planner_core::LifelongResult result = planner_core::run_lifelong(problem, planner, lifelong);
+    const std::string name = fs::path(path).stem().string();
+    const double per = static_cast<double>(result.errands_finished) / settings.steps;
+    std::printf("%-28s %6zu %9lld %8.2f %9.3f %9.3f %9.3f %6d %7d %8.0f\n", name.c_str(), problem.starts.size(),
+                static_cast<long long>(result.errands_finished), per, quantile(result.step_ms, 0.5),
+                quantile(result.step_ms, 0.99), quantile(result.step_ms, 1.0), result.steps_over_budget,
+                result.invalid_steps, peak_memory_mb());
+    if (!result.first_invalid.empty()) std::printf("  first invalid step: %s\n", result.first_invalid.c_str());
+    table << name << "," << problem.starts.size() << "," << settings.steps << "," << settings.step_time_s << ",pibt,"
+          << result.errands_finished << "," << result.tasks_finished << "," << per << ","
+          << quantile(result.step_ms, 0.5) << "," << quantile(result.step_ms, 0.99) << ","
+          << quantile(result.step_ms, 1.0) << "," << result.steps_over_budget << "," << result.invalid_steps << ","
+          << peak_memory_mb() << "\n";
+    for (size_t s = 0; s < result.errands_per_step.size(); ++s) {
+      per_step << name << "," << s << "," << result.errands_per_step[s] << "\n";
+    }
+  }
+  std::printf("wrote %s and %s\n", table_path.c_str(), steps_path.c_str());
+  return 0;
+}
+
+}  // namespace ctsfleet_bench

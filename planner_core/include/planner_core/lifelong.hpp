@@ -1,0 +1,90 @@
+// Lifelong MAPF as the League of Robot Runners runs it (docs/FORMATS.md, "League of Robot Runners
+// problems"): agents never finish. Each has a queue of revealed tasks; a task is a list of errands
+// (locations) visited in order; when an agent reaches the errand it heads for, that errand is
+// finished, and when its last errand is, the task is, and the next task is revealed. Every step a
+// planner decides each agent's next cell within a time budget; a step that takes longer, or that
+// is not a valid step (a move to a non-neighbouring cell, two agents on one cell, two agents
+// swapping), is replaced by everyone waiting, as the league does. An agent finishes at most one
+// errand per step. The figure is errands finished within the horizon.
+#pragma once
+
+#include <cstdint>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "planner_core/deadline.hpp"
+#include "planner_core/dist_table.hpp"
+#include "planner_core/instance.hpp"
+#include "planner_core/lorr_problem.hpp"
+
+namespace planner_core {
+
+// Decides every agent's next cell from where they stand and the errand each heads for (its
+// current cell when it has none).
+class LifelongPlanner {
+ public:
+  virtual ~LifelongPlanner() = default;
+  virtual Config next_step(const Config& positions, const Config& goals, const Deadline& deadline) = 0;
+};
+
+// PIBT (Okumura et al., 2022), one step at a time: agents decide in the order of their priority,
+// which grows with the time since their goal last changed; an agent takes the free neighbouring
+// cell nearest its goal and pushes the agent standing there to decide next (priority inheritance),
+// or stays. Never two agents on one cell, never a swap.
+//
+// Plain PIBT can lock for ever off a biconnected map: an agent at the end of a dead end whose way
+// out is the cell of an agent that wants the dead end, the latter ahead in priority at every step
+// (both priorities grow alike). So an agent that has stood still for kStuckSteps steps while it
+// has somewhere to go is put ahead of every other, in a random order among such agents drawn
+// afresh after each kStuckSteps it stays stuck, and it keeps that place until its goal changes:
+// the one in the dead end, once drawn first, pushes the other aside and keeps going (a place it
+// lost at its first move would send it straight back in).
+class PibtLifelong : public LifelongPlanner {
+ public:
+  PibtLifelong(const Graph& graph, uint32_t seed);
+  Config next_step(const Config& positions, const Config& goals, const Deadline& deadline) override;
+
+ private:
+  bool decide(int agent, int pushed_by, const Config& positions, const Config& goals);
+
+  const Graph& graph_;
+  DistTable distances_;
+  std::mt19937 rng_;
+  Config last_goals_;
+  static constexpr int kStuckSteps = 8;
+  std::vector<double> priority_;   // steps since the goal changed, plus a fixed fraction per agent
+  std::vector<int> still_;         // steps the agent stood still (since it last moved, or was drawn)
+  std::vector<double> boost_;      // a stuck agent's place ahead of the others (0: none)
+  std::vector<int> standing_on_;   // vertex -> agent there now, or -1
+  std::vector<int> entering_;      // vertex -> agent there next, or -1
+  Config next_;
+};
+
+struct LifelongSettings {
+  int steps = 500;            // the horizon
+  double step_time_s = 1.0;   // the budget to decide one step
+};
+
+struct LifelongResult {
+  int64_t errands_finished = 0;
+  int64_t tasks_finished = 0;
+  std::vector<int> errands_per_step;  // finished at each step
+  std::vector<double> step_ms;        // time the planner took to decide each step
+  int steps_over_budget = 0;          // replaced by waiting: the planner took longer than its budget
+  int invalid_steps = 0;              // replaced by waiting: not a valid step
+  std::string first_invalid;          // what the first invalid step did
+  int64_t moves = 0;                  // agent-steps spent off their current cell
+};
+
+// Why `next` is no valid step from `positions` on `graph` ("" when it is one).
+std::string invalid_step(const Graph& graph, const Config& positions, const Config& next);
+
+// Runs `problem` for settings.steps steps with `planner`. The task file is read in order and
+// started over at its end. Round-robin: agent a's tasks are a, a + teamSize, a + 2 teamSize...,
+// tasks_revealed_per_agent (rounded up) of them revealed at a time, done in order. Greedy: a pool
+// of tasks_revealed_per_agent x teamSize revealed tasks; an agent without a task takes the one
+// whose first errand is nearest, and the pool is refilled.
+LifelongResult run_lifelong(const LorrProblem& problem, LifelongPlanner& planner, const LifelongSettings& settings);
+
+}  // namespace planner_core

@@ -1,0 +1,225 @@
+#include "planner_core/lifelong.hpp"
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <deque>
+#include <limits>
+
+#include "planner_core/input_error.hpp"
+
+namespace planner_core {
+
+PibtLifelong::PibtLifelong(const Graph& graph, uint32_t seed)
+    : graph_(graph),
+      distances_(graph),
+      rng_(seed),
+      standing_on_(graph.vertex_count(), -1),
+      entering_(graph.vertex_count(), -1) {}
+
+Config PibtLifelong::next_step(const Config& positions, const Config& goals, const Deadline&) {
+  const int n = static_cast<int>(positions.size());
+  if (priority_.empty()) {
+    std::uniform_real_distribution<double> fraction(0, 1);
+    priority_.resize(n);
+    for (double& p : priority_) p = fraction(rng_);
+    still_.assign(n, 0);
+    boost_.assign(n, 0);
+    last_goals_ = goals;
+  }
+  std::uniform_real_distribution<double> draw(0, 1);
+  for (int a = 0; a < n; ++a) {
+    if (goals[a] != last_goals_[a] || positions[a] == goals[a]) {
+      priority_[a] -= std::floor(priority_[a]);  // back to its fraction
+      boost_[a] = 0;
+    } else {
+      priority_[a] += 1;
+    }
+    if (still_[a] >= kStuckSteps && positions[a] != goals[a]) {
+      boost_[a] = 1e12 + draw(rng_);
+      still_[a] = 0;
+    }
+  }
+  last_goals_ = goals;
+  next_.assign(n, kNoVertex);
+  for (int a = 0; a < n; ++a) standing_on_[positions[a]] = a;
+  // Agents that were stuck first, in the order drawn; then by priority.
+  std::vector<double> rank(n);
+  for (int a = 0; a < n; ++a) rank[a] = boost_[a] > 0 ? boost_[a] : priority_[a];
+  std::vector<int> order(n);
+  for (int a = 0; a < n; ++a) order[a] = a;
+  std::sort(order.begin(), order.end(), [&](int x, int y) { return rank[x] > rank[y]; });
+  for (int a : order) {
+    if (next_[a] == kNoVertex) decide(a, -1, positions, goals);
+  }
+  for (int a = 0; a < n; ++a) {
+    standing_on_[positions[a]] = -1;
+    entering_[next_[a]] = -1;
+    still_[a] = next_[a] == positions[a] ? still_[a] + 1 : 0;
+  }
+  return next_;
+}
+
+bool PibtLifelong::decide(int agent, int pushed_by, const Config& positions, const Config& goals) {
+  const Vertex here = positions[agent];
+  std::array<Vertex, 5> candidates{};
+  int count = 0;
+  for (Vertex v : graph_.neighbours(here)) candidates[count++] = v;
+  candidates[count++] = here;
+  std::shuffle(candidates.begin(), candidates.begin() + count, rng_);  // ties broken at random
+  std::stable_sort(candidates.begin(), candidates.begin() + count, [&](Vertex x, Vertex y) {
+    return distances_.get(goals[agent], x) < distances_.get(goals[agent], y);
+  });
+  for (int k = 0; k < count; ++k) {
+    const Vertex v = candidates[k];
+    if (entering_[v] != -1) continue;
+    if (pushed_by != -1 && v == positions[pushed_by]) continue;  // no swap with the agent that pushed
+    entering_[v] = agent;
+    next_[agent] = v;
+    const int there = standing_on_[v];
+    if (there != -1 && there != agent && next_[there] == kNoVertex && !decide(there, agent, positions, goals)) {
+      continue;  // the agent there could not make way
+    }
+    return true;
+  }
+  entering_[here] = agent;
+  next_[agent] = here;
+  return false;
+}
+
+std::string invalid_step(const Graph& graph, const Config& positions, const Config& next) {
+  if (next.size() != positions.size()) return "a step for " + std::to_string(next.size()) + " agents, not " +
+                                              std::to_string(positions.size());
+  std::vector<int> entering(graph.vertex_count(), -1);
+  for (size_t a = 0; a < next.size(); ++a) {
+    const Vertex v = next[a];
+    if (v < 0 || v >= graph.vertex_count()) return "agent " + std::to_string(a) + " to no cell";
+    if (v != positions[a] && !graph.adjacent(positions[a], v)) {
+      return "agent " + std::to_string(a) + " jumps from " + to_string(graph.cell_of(positions[a])) + " to " +
+             to_string(graph.cell_of(v));
+    }
+    if (entering[v] != -1) {
+      return "agents " + std::to_string(entering[v]) + " and " + std::to_string(a) + " both on " +
+             to_string(graph.cell_of(v));
+    }
+    entering[v] = static_cast<int>(a);
+  }
+  std::vector<int> standing(graph.vertex_count(), -1);
+  for (size_t a = 0; a < positions.size(); ++a) standing[positions[a]] = static_cast<int>(a);
+  for (size_t a = 0; a < next.size(); ++a) {
+    const int other = standing[next[a]];
+    if (other != -1 && other != static_cast<int>(a) && next[other] == positions[a]) {
+      return "agents " + std::to_string(a) + " and " + std::to_string(other) + " swap";
+    }
+  }
+  return "";
+}
+
+namespace {
+
+// Which tasks each agent holds, and how tasks are revealed and handed out.
+class TaskBoard {
+ public:
+  TaskBoard(const LorrProblem& problem, const Config& starts)
+      : problem_(problem), in_hand_(starts.size()), errand_(starts.size(), 0) {
+    const int team = static_cast<int>(starts.size());
+    reveal_ = std::max(1, static_cast<int>(std::ceil(problem.tasks_revealed_per_agent)));
+    if (problem.assignment == TaskAssignment::kRoundRobin) {
+      next_of_agent_.resize(team);
+      for (int a = 0; a < team; ++a) next_of_agent_[a] = a;
+      for (int a = 0; a < team; ++a) refill(a, starts[a]);
+    } else {
+      for (int k = 0; k < reveal_ * team; ++k) pool_.push_back(next_task_++);
+      for (int a = 0; a < team; ++a) refill(a, starts[a]);
+    }
+  }
+
+  // The errand agent a heads for, or kNoVertex.
+  Vertex goal(int a) const {
+    if (in_hand_[a].empty()) return kNoVertex;
+    return task(in_hand_[a].front())[errand_[a]];
+  }
+
+  // Agent a stands on `cell`: finishes its errand there, if it is one; returns whether it did,
+  // and counts a finished task in `tasks_finished`.
+  bool arrive(int a, Vertex cell, DistTable& distances, int64_t& tasks_finished) {
+    if (in_hand_[a].empty() || goal(a) != cell) return false;
+    if (++errand_[a] == static_cast<int>(task(in_hand_[a].front()).size())) {
+      ++tasks_finished;
+      errand_[a] = 0;
+      in_hand_[a].pop_front();
+      refill(a, cell, &distances);
+    }
+    return true;
+  }
+
+ private:
+  const std::vector<Vertex>& task(int64_t k) const { return problem_.tasks[k % problem_.tasks.size()]; }
+
+  void refill(int a, Vertex here, DistTable* distances = nullptr) {
+    if (problem_.assignment == TaskAssignment::kRoundRobin) {
+      while (static_cast<int>(in_hand_[a].size()) < reveal_) {
+        in_hand_[a].push_back(next_of_agent_[a]);
+        next_of_agent_[a] += static_cast<int64_t>(in_hand_.size());
+      }
+      return;
+    }
+    if (!in_hand_[a].empty() || pool_.empty()) return;
+    size_t best = 0;
+    int best_distance = std::numeric_limits<int>::max();
+    for (size_t k = 0; k < pool_.size(); ++k) {
+      const int d = distances ? distances->get(task(pool_[k]).front(), here) : static_cast<int>(k);
+      if (d < best_distance) best_distance = d, best = k;
+    }
+    in_hand_[a].push_back(pool_[best]);
+    pool_[best] = next_task_++;  // the pool is refilled from the file
+  }
+
+  const LorrProblem& problem_;
+  int reveal_ = 1;
+  std::vector<std::deque<int64_t>> in_hand_;  // per agent, its tasks in order
+  std::vector<int> errand_;                   // per agent, the errand of its first task it heads for
+  std::vector<int64_t> next_of_agent_;        // round-robin: the next task each agent gets
+  std::vector<int64_t> pool_;                 // greedy: revealed tasks nobody holds
+  int64_t next_task_ = 0;
+};
+
+}  // namespace
+
+LifelongResult run_lifelong(const LorrProblem& problem, LifelongPlanner& planner, const LifelongSettings& settings) {
+  const Graph& graph = *problem.graph;
+  Config positions = problem.starts;
+  DistTable distances(graph);
+  TaskBoard board(problem, positions);
+  LifelongResult result;
+  const int team = static_cast<int>(positions.size());
+  for (int step = 0; step < settings.steps; ++step) {
+    Config goals(team);
+    for (int a = 0; a < team; ++a) goals[a] = board.goal(a) == kNoVertex ? positions[a] : board.goal(a);
+    const auto started = std::chrono::steady_clock::now();
+    Config next = planner.next_step(positions, goals, Deadline::in_seconds(settings.step_time_s));
+    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
+    result.step_ms.push_back(ms);
+    if (ms > 1000 * settings.step_time_s) {
+      ++result.steps_over_budget;
+      next = positions;
+    } else if (const std::string why = invalid_step(graph, positions, next); !why.empty()) {
+      if (result.invalid_steps++ == 0) result.first_invalid = "step " + std::to_string(step) + ": " + why;
+      next = positions;
+    }
+    int finished = 0;
+    for (int a = 0; a < team; ++a) {
+      result.moves += next[a] != positions[a] ? 1 : 0;
+      positions[a] = next[a];
+      // One errand per agent and step, as the league counts: a next errand on the same cell is
+      // finished at the next step.
+      if (board.arrive(a, positions[a], distances, result.tasks_finished)) ++finished;
+    }
+    result.errands_finished += finished;
+    result.errands_per_step.push_back(finished);
+  }
+  return result;
+}
+
+}  // namespace planner_core

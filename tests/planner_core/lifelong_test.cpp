@@ -1,0 +1,213 @@
+// League of Robot Runners problems read as the league writes them, and the lifelong run: every
+// step valid, the errands counted as the rules say, the same seed the same run.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "planner_core/input_error.hpp"
+#include "planner_core/lifelong.hpp"
+#include "planner_core/lorr_problem.hpp"
+
+namespace planner_core {
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::string kRandom = std::string(CTSFLEET_BENCHMARKS_DIR) + "/lorr-2023/random.domain/";
+
+// A problem of our own in a fresh folder: map rows, agent locations, tasks (errands per line).
+class TinyProblem {
+ public:
+  TinyProblem(const std::vector<std::string>& rows, const std::vector<std::string>& agents,
+              const std::vector<std::string>& tasks, const std::string& extra = "\"taskAssignmentStrategy\": \"roundrobin\"") {
+    dir_ = fs::temp_directory_path() / ("ctsfleet-lorr-" + std::to_string(::getpid()) + "-" + std::to_string(counter_++));
+    fs::create_directories(dir_);
+    std::ofstream map(dir_ / "tiny.map");
+    map << "type octile\nheight " << rows.size() << "\nwidth " << rows[0].size() << "\nmap\n";
+    for (const std::string& row : rows) map << row << "\n";
+    write("tiny.agents", agents);
+    write("tiny.tasks", tasks);
+    std::ofstream json(dir_ / "tiny.json");
+    json << "{\"mapFile\": \"tiny.map\", \"agentFile\": \"tiny.agents\", \"teamSize\": " << agents.size() - 1
+         << ", \"taskFile\": \"tiny.tasks\", \"numTasksReveal\": 1" << (extra.empty() ? "" : ", " + extra) << "}";
+  }
+  ~TinyProblem() { fs::remove_all(dir_); }
+  std::string path() const { return (dir_ / "tiny.json").string(); }
+  std::string file(const std::string& name) const { return (dir_ / name).string(); }
+  void write(const std::string& name, const std::vector<std::string>& lines) const {
+    std::ofstream out(dir_ / name);
+    for (const std::string& line : lines) out << line << "\n";
+  }
+
+ private:
+  static inline int counter_ = 0;
+  fs::path dir_;
+};
+
+std::string error_of(const std::string& path) {
+  try {
+    load_lorr_problem(path);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(LorrProblem, TheLeaguesExampleReadsWhole) {
+  const LorrProblem problem = load_lorr_problem(kRandom + "random_20.json");
+  EXPECT_EQ(problem.graph->width(), 32);
+  EXPECT_EQ(problem.graph->height(), 32);
+  EXPECT_EQ(problem.starts.size(), 20u);
+  EXPECT_EQ(problem.tasks.size(), 2000u);
+  EXPECT_EQ(problem.assignment, TaskAssignment::kRoundRobin);
+  // The first agent: location 134 = row 4, column 6.
+  EXPECT_EQ(problem.graph->cell_of(problem.starts[0]), (Cell{6, 4}));
+}
+
+TEST(LorrProblem, TasksMayHaveSeveralErrandsAndTheMapTheLeaguesSymbols) {
+  TinyProblem tiny({"E...S", ".@@@.", "....."}, {"2", "0", "4"}, {"2", "2,10,14", "12"},
+                   "\"numTasksReveal\": 1.5");
+  const LorrProblem problem = load_lorr_problem(tiny.path());
+  ASSERT_EQ(problem.tasks.size(), 2u);
+  ASSERT_EQ(problem.tasks[0].size(), 3u);
+  EXPECT_EQ(problem.graph->cell_of(problem.tasks[0][1]), (Cell{0, 2}));
+  EXPECT_EQ(problem.tasks_revealed_per_agent, 1.5);
+}
+
+TEST(LorrProblem, EveryFaultNamesItsFileAndLine) {
+  TinyProblem tiny({".....", ".@@@.", "....."}, {"2", "0", "4"}, {"2", "2", "12"});
+  EXPECT_EQ(error_of(tiny.path()), "");
+  tiny.write("tiny.agents", {"2", "0", "6"});
+  EXPECT_NE(error_of(tiny.path()).find("tiny.agents:3: location 6 (row 1, column 1) is a wall"), std::string::npos)
+      << error_of(tiny.path());
+  tiny.write("tiny.agents", {"2", "0", "15"});
+  EXPECT_NE(error_of(tiny.path()).find("tiny.agents:3: location 15 is off the 5x3 map"), std::string::npos);
+  tiny.write("tiny.agents", {"2", "0", "0"});
+  EXPECT_NE(error_of(tiny.path()).find("tiny.agents:3: a second agent on location 0"), std::string::npos);
+  tiny.write("tiny.agents", {"3", "0", "4"});
+  EXPECT_NE(error_of(tiny.path()).find("the first line says 3 but 2 lines follow"), std::string::npos);
+  tiny.write("tiny.agents", {"1", "0"});
+  EXPECT_NE(error_of(tiny.path()).find("1 agents, but \"teamSize\" is 2"), std::string::npos);
+  tiny.write("tiny.agents", {"2", "0", "four"});
+  EXPECT_NE(error_of(tiny.path()).find("tiny.agents:3: expected integers, found 'four'"), std::string::npos);
+  tiny.write("tiny.agents", {"2", "0", "4"});
+  tiny.write("tiny.tasks", {"0"});
+  EXPECT_NE(error_of(tiny.path()).find("tiny.tasks: no task"), std::string::npos);
+  tiny.write("tiny.tasks", {"1", "7"});
+  EXPECT_NE(error_of(tiny.path()).find("tiny.tasks:2: location 7"), std::string::npos);
+  tiny.write("tiny.tasks", {"1", "2"});
+  tiny.write("tiny.map", {"type octile", "height 1", "width 3", "map", ".X."});
+  EXPECT_NE(error_of(tiny.path()).find("unknown map symbol 'X'"), std::string::npos);
+  tiny.write("tiny.map", {"type octile", "height 3", "width 5", "map", ".....", ".@@@.", "....."});
+  tiny.write("tiny.json", {"{\"mapFile\": \"tiny.map\", \"agentFile\": \"tiny.agents\", \"taskFile\": \"tiny.tasks\"}"});
+  EXPECT_NE(error_of(tiny.path()).find("\"teamSize\" missing"), std::string::npos);
+  tiny.write("tiny.json", {"{\"mapFile\": \"nowhere.map\""});
+  EXPECT_NE(error_of(tiny.path()).find("tiny.json: not JSON"), std::string::npos);
+  tiny.write("tiny.json", {"{\"mapFile\": \"nowhere.map\", \"teamSize\": 2}"});
+  EXPECT_NE(error_of(tiny.path()).find("nowhere.map"), std::string::npos);
+  tiny.write("tiny.json", {"[1, 2]"});
+  EXPECT_NE(error_of(tiny.path()).find("not a JSON object"), std::string::npos);
+}
+
+TEST(LorrProblem, BadSettingsAreNamed) {
+  TinyProblem greedy({"....."}, {"1", "0"}, {"1", "4"}, "\"taskAssignmentStrategy\": \"greedy\"");
+  EXPECT_EQ(load_lorr_problem(greedy.path()).assignment, TaskAssignment::kGreedy);
+  TinyProblem unknown({"....."}, {"1", "0"}, {"1", "4"}, "\"taskAssignmentStrategy\": \"nearest\"");
+  EXPECT_NE(error_of(unknown.path()).find("\"taskAssignmentStrategy\" must be"), std::string::npos);
+  TinyProblem reveal({"....."}, {"1", "0"}, {"1", "4"}, "\"numTasksReveal\": 0");
+  EXPECT_NE(error_of(reveal.path()).find("\"numTasksReveal\" must be a number in [1, 1000]"), std::string::npos);
+}
+
+TEST(LifelongStep, JumpsSharedCellsAndSwapsAreInvalid) {
+  const Graph graph(4, 1, {"...."});
+  const Config at{0, 1};
+  EXPECT_EQ(invalid_step(graph, at, {1, 2}), "");  // a train moving on
+  EXPECT_NE(invalid_step(graph, at, {2, 1}).find("jumps"), std::string::npos);
+  EXPECT_NE(invalid_step(graph, at, {1, 1}).find("both on"), std::string::npos);
+  EXPECT_NE(invalid_step(graph, at, {1, 0}).find("swap"), std::string::npos);
+  EXPECT_NE(invalid_step(graph, at, {0}).find("a step for 1 agents"), std::string::npos);
+}
+
+TEST(Lifelong, ErrandsAreCountedAsTheRulesSay) {
+  // One agent on a corridor; tasks at 4, 0, 4 (then the file starts over: 4, 0, ...).
+  TinyProblem tiny({"....."}, {"1", "0"}, {"3", "4", "0", "4"});
+  const LorrProblem problem = load_lorr_problem(tiny.path());
+  PibtLifelong planner(*problem.graph, 1);
+  const LifelongResult result = run_lifelong(problem, planner, {16, 1.0});
+  // At 4 after step 4, at 0 after 8, at 4 after 12; the next task is at 4 too: one errand per
+  // step, so it is finished after step 13, where the agent waited; then 0 is 4 steps away.
+  EXPECT_EQ(result.errands_finished, 4);
+  EXPECT_EQ(result.tasks_finished, 4);
+  EXPECT_EQ(result.errands_per_step[11], 1);
+  EXPECT_EQ(result.errands_per_step[12], 1);
+  EXPECT_EQ(result.moves, 15);
+}
+
+TEST(Lifelong, ATaskOfSeveralErrandsIsDoneWhenTheLastIs) {
+  TinyProblem tiny({"....."}, {"1", "0"}, {"1", "2,4,3"});
+  const LorrProblem problem = load_lorr_problem(tiny.path());
+  PibtLifelong planner(*problem.graph, 1);
+  const LifelongResult result = run_lifelong(problem, planner, {5, 1.0});
+  EXPECT_EQ(result.errands_finished, 3);  // 2 after step 2, 4 after 4, 3 after 5
+  EXPECT_EQ(result.tasks_finished, 1);
+}
+
+TEST(Lifelong, EightHundredAgentsStepValidlyAndTheSameSeedRunsTheSame) {
+  const LorrProblem problem = load_lorr_problem(kRandom + "random_800.json");
+  PibtLifelong first(*problem.graph, 7), second(*problem.graph, 7);
+  const LifelongResult a = run_lifelong(problem, first, {200, 5.0});
+  const LifelongResult b = run_lifelong(problem, second, {200, 5.0});
+  EXPECT_EQ(a.invalid_steps, 0) << a.first_invalid;
+  EXPECT_EQ(a.steps_over_budget, 0);
+  EXPECT_GT(a.errands_finished, 200);
+  EXPECT_EQ(a.errands_finished, b.errands_finished);
+  EXPECT_EQ(a.errands_per_step, b.errands_per_step);
+}
+
+TEST(Lifelong, GreedyAssignmentRunsAndFinishesErrands) {
+  LorrProblem problem = load_lorr_problem(kRandom + "random_100.json");
+  problem.assignment = TaskAssignment::kGreedy;
+  PibtLifelong planner(*problem.graph, 3);
+  const LifelongResult greedy = run_lifelong(problem, planner, {300, 5.0});
+  EXPECT_EQ(greedy.invalid_steps, 0) << greedy.first_invalid;
+  EXPECT_GT(greedy.errands_finished, 300);
+}
+
+// Plain PIBT locks here when the agent that wants the dead end outranks the one inside it: both
+// priorities grow alike, so it would for ever. Every seed must keep finishing errands.
+TEST(Lifelong, AnAgentInADeadEndIsLetOutWhateverTheSeed) {
+  // (0,0) is a dead end; agent 0 stands in it and must go to (4,1); agent 1 stands at its mouth
+  // and must go into it. Tasks alternate between the two agents (round robin).
+  TinyProblem tiny({".@...", "....."}, {"2", "0", "5"}, {"4", "9", "0", "3", "0"});
+  const LorrProblem problem = load_lorr_problem(tiny.path());
+  for (uint32_t seed = 0; seed < 20; ++seed) {
+    PibtLifelong planner(*problem.graph, seed);
+    const LifelongResult result = run_lifelong(problem, planner, {200, 1.0});
+    EXPECT_EQ(result.invalid_steps, 0) << result.first_invalid;
+    EXPECT_GE(result.errands_finished, 20) << "seed " << seed;
+  }
+}
+
+// A planner that breaks the rules is overruled: everyone waits, and the fault is named.
+class JumpingPlanner : public LifelongPlanner {
+ public:
+  Config next_step(const Config& positions, const Config&, const Deadline&) override {
+    Config next = positions;
+    next[0] = positions[1];
+    return next;
+  }
+};
+
+TEST(Lifelong, AnInvalidStepIsReplacedByWaiting) {
+  TinyProblem tiny({"....."}, {"2", "0", "4"}, {"1", "2"});
+  const LorrProblem problem = load_lorr_problem(tiny.path());
+  JumpingPlanner planner;
+  const LifelongResult result = run_lifelong(problem, planner, {3, 1.0});
+  EXPECT_EQ(result.invalid_steps, 3);
+  EXPECT_EQ(result.moves, 0);
+  EXPECT_NE(result.first_invalid.find("step 0: agent 0 jumps"), std::string::npos) << result.first_invalid;
+}
+
+}  // namespace
+}  // namespace planner_core
