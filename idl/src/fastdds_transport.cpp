@@ -62,33 +62,10 @@ void room_for_the_fleet(ResourceLimitsQosPolicy& limits, int32_t depth) {
   limits.max_samples = kMaxRobots * depth;
 }
 
-// A writer's QoS from the topic's (topic_qos.hpp).
-DataWriterQos writer_qos(const TopicQos& topic, const TransportConfig& config) {
-  DataWriterQos qos = DATAWRITER_QOS_DEFAULT;
-  qos.reliability().kind = topic.reliable ? RELIABLE_RELIABILITY_QOS : BEST_EFFORT_RELIABILITY_QOS;
-  qos.durability().kind = topic.transient_local ? TRANSIENT_LOCAL_DURABILITY_QOS : VOLATILE_DURABILITY_QOS;
-  qos.history().kind = KEEP_LAST_HISTORY_QOS;
-  qos.history().depth = topic.depth;
-  // 100 ms: late joiners (Cyclone's readers among them) are prompted soon.
-  if (topic.reliable) qos.reliable_writer_qos().times.heartbeatPeriod = eprosima::fastrtps::Duration_t(0, 100000000);
-  if (topic.liveliness) {
-    qos.liveliness().kind = AUTOMATIC_LIVELINESS_QOS;
-    qos.liveliness().lease_duration = eprosima::fastrtps::Duration_t(config.lease_s);
-    qos.liveliness().announcement_period = eprosima::fastrtps::Duration_t(config.lease_s / 3);
-  }
-  if (topic.deadline) qos.deadline().period = eprosima::fastrtps::Duration_t(2 * config.lease_s);
-  if (topic.exclusive) {
-    qos.ownership().kind = EXCLUSIVE_OWNERSHIP_QOS;
-    qos.ownership_strength().value = static_cast<uint32_t>(config.command_strength);
-  }
-  if (!topic.dispose_on_unregister) qos.writer_data_lifecycle().autodispose_unregistered_instances = false;
-  if (topic.per_robot) room_for_the_fleet(qos.resource_limits(), topic.depth);
-  return qos;
-}
-
-// A reader's QoS from the topic's (topic_qos.hpp).
-DataReaderQos reader_qos(const TopicQos& topic, const TransportConfig& config) {
-  DataReaderQos qos = DATAREADER_QOS_DEFAULT;
+// What writers and readers of a topic share: reliability, durability, history, deadline,
+// ownership, room for the fleet.
+template <typename Qos>
+void set_shared_qos(Qos& qos, const TopicQos& topic, const TransportConfig& config) {
   qos.reliability().kind = topic.reliable ? RELIABLE_RELIABILITY_QOS : BEST_EFFORT_RELIABILITY_QOS;
   qos.durability().kind = topic.transient_local ? TRANSIENT_LOCAL_DURABILITY_QOS : VOLATILE_DURABILITY_QOS;
   qos.history().kind = KEEP_LAST_HISTORY_QOS;
@@ -100,6 +77,24 @@ DataReaderQos reader_qos(const TopicQos& topic, const TransportConfig& config) {
   if (topic.deadline) qos.deadline().period = eprosima::fastrtps::Duration_t(2 * config.lease_s);
   if (topic.exclusive) qos.ownership().kind = EXCLUSIVE_OWNERSHIP_QOS;
   if (topic.per_robot) room_for_the_fleet(qos.resource_limits(), topic.depth);
+}
+
+// A writer's QoS from the topic's (topic_qos.hpp).
+DataWriterQos writer_qos(const TopicQos& topic, const TransportConfig& config) {
+  DataWriterQos qos = DATAWRITER_QOS_DEFAULT;
+  set_shared_qos(qos, topic, config);
+  // 100 ms: late joiners (Cyclone's readers among them) are prompted soon.
+  if (topic.reliable) qos.reliable_writer_qos().times.heartbeatPeriod = eprosima::fastrtps::Duration_t(0, 100000000);
+  if (topic.liveliness) qos.liveliness().announcement_period = eprosima::fastrtps::Duration_t(config.lease_s / 3);
+  if (topic.exclusive) qos.ownership_strength().value = static_cast<uint32_t>(config.command_strength);
+  if (!topic.dispose_on_unregister) qos.writer_data_lifecycle().autodispose_unregistered_instances = false;
+  return qos;
+}
+
+// A reader's QoS from the topic's (topic_qos.hpp).
+DataReaderQos reader_qos(const TopicQos& topic, const TransportConfig& config) {
+  DataReaderQos qos = DATAREADER_QOS_DEFAULT;
+  set_shared_qos(qos, topic, config);
   return qos;
 }
 
