@@ -38,9 +38,8 @@ FleetCoordinator::FleetCoordinator(const FleetConfig& config, planner_core::Inst
                 mission_fingerprint(mission_)},
       progress_(mission_),
       follower_(config_.lease_s, config_.silence_timeout_s, PublishSchedule::kStatusPeriodS),
-      desk_(identity_.incarnation),
-      started_(Clock::now()),
-      last_silence_check_(started_) {
+      desk_(identity_.incarnation) {
+  clocks_.started = clocks_.last_silence_check = Clock::now();
   if (options_.standby) {
     identity_.role = fleet_transport::CoordinatorRole::kStandby;
     phase_ = Phase::kStandby;
@@ -205,9 +204,9 @@ bool FleetCoordinator::step(fleet_transport::Transport& transport) {
     case Phase::kDone: break;
   }
   publish(transport, now);
-  if (first_command_) summary_.seconds = seconds_between(*first_command_, now);
+  if (clocks_.first_command) summary_.seconds = seconds_between(*clocks_.first_command, now);
   if (phase_ == Phase::kDone) return false;
-  if (phase_ != Phase::kStandby && !config_.lifelong && seconds_between(started_, now) > config_.mission_timeout_s) {
+  if (phase_ != Phase::kStandby && !config_.lifelong && seconds_between(clocks_.started, now) > config_.mission_timeout_s) {
     spdlog::error("mission timeout after {} s", config_.mission_timeout_s);
     list_pending();
     return false;
@@ -226,14 +225,14 @@ void FleetCoordinator::step_waiting(Clock::time_point now) {
   const bool all_expected = !config_.any_robots && !ready.empty() &&
                             static_cast<int>(ready.size()) == static_cast<int>(config_.expected_robots.size());
   const bool quorum = config_.any_robots && static_cast<int>(ready.size()) >= config_.quorum;
-  const bool timed_out = seconds_between(started_, now) > config_.wait_timeout_s && !ready.empty();
+  const bool timed_out = seconds_between(clocks_.started, now) > config_.wait_timeout_s && !ready.empty();
   // Listen for a lease first: another coordinator already active is heard, and this one stands down.
-  const bool listened = seconds_between(started_, now) >= config_.lease_s;
+  const bool listened = seconds_between(clocks_.started, now) >= config_.lease_s;
   if (listened && (all_expected || quorum || timed_out)) {
     spdlog::info("{} robots ready: binding roles and planning", ready.size());
     bind_roles(ready);
     phase_ = Phase::kSettling;
-    settle_deadline_ = now;
+    clocks_.settle_deadline = now;
   }
 }
 
@@ -241,26 +240,26 @@ void FleetCoordinator::step_executing(fleet_transport::Transport& transport, Clo
   update_progress();
   if (replans_.pending()) {
     phase_ = Phase::kSettling;
-    settle_deadline_ = now + seconds(config_.replan_settle_s);
+    clocks_.settle_deadline = now + seconds(config_.replan_settle_s);
     return;
   }
   dispatch(transport);
   if (mission_complete()) {
-    if (!lifelong_idle_) {
+    if (!plan_end_.lifelong_idle) {
       report("mission_done", "", fmt::format("every task done ({} of {}), every robot on its goal",
                                              progress_.tasks_done(), progress_.tasks_to_do()));
     }
     if (config_.lifelong) {
-      if (!lifelong_idle_) spdlog::info("every task done: the robots park on their goals; waiting for tasks (lifelong)");
-      lifelong_idle_ = true;
+      if (!plan_end_.lifelong_idle) spdlog::info("every task done: the robots park on their goals; waiting for tasks (lifelong)");
+      plan_end_.lifelong_idle = true;
     } else {
       phase_ = Phase::kDone;
       summary_.completed = true;
     }
   } else if (plan_finished()) {
     wait_for_a_robot_or_replan(now);
-  } else if (waiting_for_robot_) {
-    waiting_for_robot_.reset();  // a robot joined: the work goes on
+  } else if (plan_end_.waiting_for_robot) {
+    plan_end_.waiting_for_robot.reset();  // a robot joined: the work goes on
     summary_.pending.clear();
   }
 }
@@ -268,12 +267,12 @@ void FleetCoordinator::step_executing(fleet_transport::Transport& transport, Clo
 void FleetCoordinator::wait_for_a_robot_or_replan(Clock::time_point now) {
   // Everyone active is done. What is left belongs to roles without robots, or is blocked by a
   // lost robot (a replan from here changed nothing): wait for a robot, then end.
-  const bool waiting_for_robot = replanned_after_finish_ || progress_.work_waits_for_a_robot();
+  const bool waiting_for_robot = plan_end_.replanned || progress_.work_waits_for_a_robot();
   if (!waiting_for_robot) {
-    replanned_after_finish_ = true;
+    plan_end_.replanned = true;
     request_replan("plan finished with tasks left");
-  } else if (!waiting_for_robot_) {
-    waiting_for_robot_ = WaitForRobot{now, now};
+  } else if (!plan_end_.waiting_for_robot) {
+    plan_end_.waiting_for_robot = WaitForRobot{now, now};
     if (config_.replacement_timeout_s) {
       spdlog::warn("what is left cannot be done by the robots here: waiting {} s for a robot to join",
                    *config_.replacement_timeout_s);
@@ -284,14 +283,14 @@ void FleetCoordinator::wait_for_a_robot_or_replan(Clock::time_point now) {
     list_pending();
     for (const std::string& line : summary_.pending) spdlog::warn("  left: {}", line);
   } else if (config_.replacement_timeout_s &&
-             seconds_between(waiting_for_robot_->since, now) > *config_.replacement_timeout_s) {
+             seconds_between(plan_end_.waiting_for_robot->since, now) > *config_.replacement_timeout_s) {
     spdlog::error("no robot joined within timing.replacement_timeout_s ({} s): the mission ends",
                   *config_.replacement_timeout_s);
     list_pending();
     phase_ = Phase::kDone;
-  } else if (seconds_between(waiting_for_robot_->last_log, now) >= 10) {
-    waiting_for_robot_->last_log = now;
-    spdlog::warn("still waiting for a robot to join ({:.0f} s so far)", seconds_between(waiting_for_robot_->since, now));
+  } else if (seconds_between(plan_end_.waiting_for_robot->last_log, now) >= 10) {
+    plan_end_.waiting_for_robot->last_log = now;
+    spdlog::warn("still waiting for a robot to join ({:.0f} s so far)", seconds_between(plan_end_.waiting_for_robot->since, now));
   }
 }
 

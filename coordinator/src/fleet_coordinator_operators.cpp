@@ -179,8 +179,8 @@ TaskReply FleetCoordinator::add_task(const TaskRequest& request) {
   summary_.tasks_total = progress_.tasks_to_do();
   desk_.mission_changed();
   schedule_.progress_changed();
-  lifelong_idle_ = false;
-  replanned_after_finish_ = false;
+  plan_end_.lifelong_idle = false;
+  plan_end_.replanned = false;
   const TaskReply reply = acceptance(
       request, task,
       "task " + std::to_string(task) + " at " + cell_text(request.x, request.y) + " given to robot " + chosen.robot_id +

@@ -182,7 +182,7 @@ void FleetCoordinator::dispatch(fleet_transport::Transport& transport, bool rese
     if (plan_->done(a)) {
       if (!robot.finished_plan) {
         robot.finished_plan = true;
-        summary_.sum_of_finish_s += first_command_ ? seconds_between(*first_command_, now) : 0;
+        summary_.sum_of_finish_s += clocks_.first_command ? seconds_between(*clocks_.first_command, now) : 0;
       }
       continue;
     }
@@ -198,8 +198,8 @@ void FleetCoordinator::dispatch(fleet_transport::Transport& transport, bool rese
 
 void FleetCoordinator::note_command_sent(Clock::time_point now, bool resend_only) {
   ++summary_.commands_sent;
-  if (!first_command_) {
-    first_command_ = now;
+  if (!clocks_.first_command) {
+    clocks_.first_command = now;
     summary_.first_command_wall_ms = fleet_transport::wall_clock_ms();
     spdlog::info("first command of term {} sent at wall-clock ms {}", identity_.term, summary_.first_command_wall_ms);
   }
@@ -245,9 +245,9 @@ void FleetCoordinator::step_settling(fleet_transport::Transport& transport, Cloc
   // that never finishes is taken out by the silence timeout or its lease).
   const bool in_flight = moves_in_flight();
   if (in_flight) dispatch(transport, /*resend_only=*/true);
-  if (in_flight && now >= settle_deadline_) {
+  if (in_flight && now >= clocks_.settle_deadline) {
     spdlog::warn("replanning waits for moves still in flight");
-    settle_deadline_ = now + seconds(config_.replan_settle_s);
+    clocks_.settle_deadline = now + seconds(config_.replan_settle_s);
   }
   // The plan is made on the worker while this loop goes on; it is used only if the fleet is
   // still as it was planned from (robots, cells, roles, incarnations, walls, tasks).

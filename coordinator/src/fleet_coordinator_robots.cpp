@@ -48,7 +48,7 @@ void FleetCoordinator::lose(RobotRecord& robot, const std::string& why, const ch
   if (!robot.active) return;
   robot.active = false;
   report(kind, robot.id, why);
-  replanned_after_finish_ = false;
+  plan_end_.replanned = false;
   ++summary_.robots_lost;
   if (robot.has_state) {
     spdlog::warn("robot {} taken out: {} (last at ({},{}))", robot.id, why, robot.last.cell_x, robot.last.cell_y);
@@ -247,7 +247,7 @@ void FleetCoordinator::rejoin(RobotRecord& robot, Vertex cell) {
   std::erase_if(blocked_, [&](const auto& entry) { return entry.second == robot.id || entry.first == cell; });
   if (!driving()) return;
   ++summary_.robots_joined;
-  replanned_after_finish_ = false;
+  plan_end_.replanned = false;
   bind_roles({&robot});
   report("join", robot.id, "back on the grid at (" + std::to_string(robot.last.cell_x) + "," +
                                std::to_string(robot.last.cell_y) + ")");
@@ -331,13 +331,13 @@ void FleetCoordinator::check_robots(fleet_transport::Transport& transport, Clock
   // a 200-robot Fast DDS fleet coming together held it for 9 s) heard nobody meanwhile, through no
   // fault of the robots: their silence counts from now. A robot that died meanwhile is taken out
   // one silence timeout later; robots without commands stand still.
-  if (const double stood_still_s = seconds_between(last_silence_check_, now); stood_still_s > kStoodStillS) {
+  if (const double stood_still_s = seconds_between(clocks_.last_silence_check, now); stood_still_s > kStoodStillS) {
     robots_.restart_silence_clocks(now);
     if (stood_still_s > config_.silence_timeout_s) {
       spdlog::warn("this coordinator stood still for {:.1f} s: robots' silence is counted from now", stood_still_s);
     }
   }
-  last_silence_check_ = now;
+  clocks_.last_silence_check = now;
   for (RobotRecord* robot : robots_.silent_robots(now, config_.silence_timeout_s)) {
     lose(*robot, "no state for " + std::to_string(config_.silence_timeout_s) + " s");
   }

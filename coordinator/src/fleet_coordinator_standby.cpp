@@ -69,9 +69,9 @@ void FleetCoordinator::follow(fleet_transport::Transport& transport, Clock::time
   // The command writers get the strength of the term a takeover would have now, so that changing
   // it (which DDS announces per writer) is not on the takeover's path.
   const int next_term = static_cast<int>(active->status.term) + 1;
-  if (command_strength_ != next_term) {
+  if (identity_.command_strength != next_term) {
     transport.set_command_strength(next_term);
-    command_strength_ = next_term;
+    identity_.command_strength = next_term;
   }
   if (follower_.should_take_over(*active, robots_, now)) take_over(transport, *active, now);
 }
@@ -99,10 +99,10 @@ void FleetCoordinator::take_over(fleet_transport::Transport& transport, const Ot
                "and {} of {} tasks done",
                hex(old.status.coordinator), old.status.term, seconds_between(old.heard, now), identity_.term, epoch_,
                progress_.done_visits().size(), progress_.tasks_done(), progress_.task_count());
-  if (command_strength_ != static_cast<int>(identity_.term)) {  // set ahead while following, normally
+  if (identity_.command_strength != static_cast<int>(identity_.term)) {  // set ahead while following, normally
     const Clock::time_point before = Clock::now();
     transport.set_command_strength(static_cast<int>(identity_.term));
-    command_strength_ = static_cast<int>(identity_.term);
+    identity_.command_strength = static_cast<int>(identity_.term);
     spdlog::info("command strength set to {} in {:.0f} ms", identity_.term,
                  1000 * seconds_between(before, Clock::now()));
   }
@@ -133,7 +133,7 @@ void FleetCoordinator::take_over(fleet_transport::Transport& transport, const Ot
          fmt::format("coordinator {} silent for {:.2f} s: {} takes over as term {}", hex(old.status.coordinator),
                      seconds_between(old.heard, now), hex(identity_.incarnation), identity_.term));
   phase_ = Phase::kSettling;
-  settle_deadline_ = now;
+  clocks_.settle_deadline = now;
   replans_.start_latency(now);
   others_.forget(old.status.coordinator);  // last: `old` is its record
   publish_status(transport);

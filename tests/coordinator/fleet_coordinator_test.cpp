@@ -6,6 +6,7 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <functional>
 #include <map>
 #include <optional>
@@ -917,11 +918,13 @@ TEST(FleetCoordinator, TheHeartbeatGoesOnWhileAPlanIsMade) {
     return false;
   });
   ASSERT_GE(beats.size(), 2u) << "no plan was made";
-  double longest_gap_s = 0;
-  for (size_t k = 1; k < beats.size(); ++k) {
-    longest_gap_s = std::max(longest_gap_s, std::chrono::duration<double>(beats[k] - beats[k - 1]).count());
-  }
+  std::vector<double> gaps_s;
+  for (size_t k = 1; k < beats.size(); ++k) gaps_s.push_back(std::chrono::duration<double>(beats[k] - beats[k - 1]).count());
+  std::sort(gaps_s.begin(), gaps_s.end());
+  const double longest_gap_s = gaps_s.back();
   const double planning_s = std::chrono::duration<double>(beats.back() - beats.front()).count();
+  std::printf("heartbeats over %.2f s of planning: %zu, gap median %.3f s, longest %.3f s\n", planning_s, beats.size(),
+              gaps_s[gaps_s.size() / 2], longest_gap_s);
   EXPECT_GE(planning_s, 1.5) << "the plan took its whole limit";
   // 0.25 s nominal; the bound leaves room for a loaded test machine, far below the 2 s plan.
   EXPECT_LT(longest_gap_s, 0.75) << beats.size() << " heartbeats over " << planning_s << " s";

@@ -117,7 +117,7 @@ class FleetCoordinator {
   const std::string& mission_id() const { return identity_.mission_id; }
   fleet_transport::CoordinatorRole role() const { return identity_.role; }
   // What is left belongs to roles without a robot: the robots hold until one joins.
-  bool waiting_for_robot() const { return waiting_for_robot_.has_value(); }
+  bool waiting_for_robot() const { return plan_end_.waiting_for_robot.has_value(); }
 
  private:
   enum class Phase { kWaiting, kStandby, kExecuting, kSettling, kDone };
@@ -128,6 +128,7 @@ class FleetCoordinator {
     int64_t claimed_ms = 0;    // when it claimed the fleet (wall clock)
     fleet_transport::CoordinatorRole role = fleet_transport::CoordinatorRole::kActive;
     std::string mission_id;
+    int command_strength = -1;  // of this process's command writers (a standby sets it ahead of a takeover)
   };
   // What a plan is made from; a plan is used only while these are unchanged.
   struct PlanningInputs {
@@ -152,6 +153,18 @@ class FleetCoordinator {
   struct WaitForRobot {
     Clock::time_point since;
     Clock::time_point last_log;
+  };
+  // What happens when the plan in hand is done.
+  struct PlanEnd {
+    bool replanned = false;       // the plan in hand was made because the last one left work
+    bool lifelong_idle = false;   // lifelong: every task done, waiting for tasks
+    std::optional<WaitForRobot> waiting_for_robot;
+  };
+  struct LoopClocks {
+    Clock::time_point started;
+    Clock::time_point settle_deadline;     // when a replan stops waiting quietly for moves in flight
+    Clock::time_point last_silence_check;  // see check_robots(): a coordinator that stood still blames no robot
+    std::optional<Clock::time_point> first_command;
   };
 
   // The journal's unfinished run, taken up by the constructor.
@@ -272,7 +285,6 @@ class FleetCoordinator {
   planner_core::Instance mission_;
   CoordinatorOptions options_;
   Identity identity_;
-  int command_strength_ = -1;  // of this process's command writers (a standby starts with 0)
   inputs::InputQueue inputs_;
 
   // The fleet and the mission.
@@ -290,12 +302,8 @@ class FleetCoordinator {
 
   // The loop's phase and clocks.
   Phase phase_ = Phase::kWaiting;
-  Clock::time_point started_, settle_deadline_;
-  std::optional<Clock::time_point> first_command_;
-  Clock::time_point last_silence_check_;  // see check_robots(): a coordinator that stood still blames no robot
-  std::optional<WaitForRobot> waiting_for_robot_;
-  bool replanned_after_finish_ = false;  // the plan in hand was made because the last one left work
-  bool lifelong_idle_ = false;           // lifelong: every task done, waiting for tasks
+  LoopClocks clocks_;
+  PlanEnd plan_end_;
   const std::atomic<bool>* interrupt_ = nullptr;
 
   // Plans.
