@@ -136,6 +136,7 @@ int main(int argc, char** argv) {
         lifelong.benchmarks = experiment_settings.benchmarks;
         lifelong.out_dir = experiment_settings.out_dir;
         lifelong.seed = config.seed;
+        lifelong.interrupt = &ctsfleet::stop_requested();
         return ctsfleet_bench::run_lifelong_experiment(lifelong);
       }
       if (experiment == "mapf-scale") {

@@ -59,8 +59,13 @@ int run_lifelong_experiment(const LifelongExperimentSettings& settings) {
   for (const std::string& path : problems) {
     const planner_core::LorrProblem problem = planner_core::load_lorr_problem(path);
     planner_core::PibtLifelong planner(*problem.graph, settings.seed);
-    planner_core::LifelongSettings lifelong{settings.steps, settings.step_time_s};
+    planner_core::LifelongSettings lifelong{settings.steps, settings.step_time_s, settings.interrupt};
     const planner_core::LifelongResult result = planner_core::run_lifelong(problem, planner, lifelong);
+    if (result.interrupted) {
+      std::printf("%s: interrupted after %zu steps; nothing written for it\n", fs::path(path).stem().c_str(),
+                  result.step_ms.size());
+      return 130;  // ctsfleet::kExitInterrupted
+    }
     const std::string name = fs::path(path).stem().string();
     const double per = static_cast<double>(result.errands_finished) / settings.steps;
     std::printf("%-28s %6zu %9lld %8.2f %9.3f %9.3f %9.3f %6d %7d %8.0f\n", name.c_str(), problem.starts.size(),

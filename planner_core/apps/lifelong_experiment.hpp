@@ -5,6 +5,7 @@
 // errands finished at each step.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -18,6 +19,7 @@ struct LifelongExperimentSettings {
   int steps = 500;
   double step_time_s = 1.0;
   unsigned seed = 0;
+  const std::atomic<bool>* interrupt = nullptr;  // Ctrl-C: the run under way ends, nothing more runs
 };
 
 // Returns the process exit code.

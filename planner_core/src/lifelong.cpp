@@ -195,10 +195,14 @@ LifelongResult run_lifelong(const LorrProblem& problem, LifelongPlanner& planner
   LifelongResult result;
   const int team = static_cast<int>(positions.size());
   for (int step = 0; step < settings.steps; ++step) {
+    if (settings.interrupt != nullptr && settings.interrupt->load()) {
+      result.interrupted = true;
+      break;
+    }
     Config goals(team);
     for (int a = 0; a < team; ++a) goals[a] = board.goal(a) == kNoVertex ? positions[a] : board.goal(a);
     const auto started = std::chrono::steady_clock::now();
-    Config next = planner.next_step(positions, goals, Deadline::in_seconds(settings.step_time_s));
+    Config next = planner.next_step(positions, goals, Deadline::in_seconds(settings.step_time_s, settings.interrupt));
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
     result.step_ms.push_back(ms);
     if (ms > 1000 * settings.step_time_s) {

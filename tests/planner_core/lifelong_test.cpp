@@ -189,6 +189,15 @@ TEST(Lifelong, AnAgentInADeadEndIsLetOutWhateverTheSeed) {
   }
 }
 
+TEST(Lifelong, AnInterruptEndsTheRunAtOnce) {
+  const LorrProblem problem = load_lorr_problem(kRandom + "random_20.json");
+  PibtLifelong planner(*problem.graph, 1);
+  std::atomic<bool> interrupt{true};
+  const LifelongResult result = run_lifelong(problem, planner, {1'000'000, 1.0, &interrupt});
+  EXPECT_TRUE(result.interrupted);
+  EXPECT_TRUE(result.step_ms.empty());
+}
+
 // A planner that breaks the rules is overruled: everyone waits, and the fault is named.
 class JumpingPlanner : public LifelongPlanner {
  public:

@@ -8,6 +8,7 @@
 // errand per step. The figure is errands finished within the horizon.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <random>
 #include <string>
@@ -64,6 +65,7 @@ class PibtLifelong : public LifelongPlanner {
 struct LifelongSettings {
   int steps = 500;            // the horizon
   double step_time_s = 1.0;   // the budget to decide one step
+  const std::atomic<bool>* interrupt = nullptr;  // set (Ctrl-C): the run ends after the step under way
 };
 
 struct LifelongResult {
@@ -75,6 +77,7 @@ struct LifelongResult {
   int invalid_steps = 0;              // replaced by waiting: not a valid step
   std::string first_invalid;          // what the first invalid step did
   int64_t moves = 0;                  // agent-steps spent off their current cell
+  bool interrupted = false;           // ended by settings.interrupt before the horizon
 };
 
 // Why `next` is no valid step from `positions` on `graph` ("" when it is one).
