@@ -83,6 +83,9 @@ int main(int argc, char** argv) {
   app.add_option("--step-time", lifelong.step_time_s, "experiment lifelong: seconds to decide each step")
       ->check(ctsfleet::positive_seconds(3600))
       ->capture_default_str();
+  app.add_flag("--league-output", lifelong.league_output,
+               "experiment lifelong: also write each run as the league's output file, <out-dir>/<problem>.lorr.json "
+               "(for PlanViz; about 4 bytes per agent and step)");
   ctsfleet_bench::MapfScaleSettings mapf_scale;
   app.add_option("--scale-suite", mapf_scale.suite,
                  "experiment mapf-scale: the plain MAPF scale suite folder (default: the installed benchmarks/mapf-scale)")

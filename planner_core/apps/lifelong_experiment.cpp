@@ -9,6 +9,7 @@
 
 #include "planner_core/input_error.hpp"
 #include "planner_core/lifelong.hpp"
+#include "planner_core/lorr_output.hpp"
 #include "planner_core/lorr_problem.hpp"
 
 namespace ctsfleet_bench {
@@ -50,16 +51,21 @@ int run_lifelong_experiment(const LifelongExperimentSettings& settings) {
   const fs::path steps_path = fs::path(settings.out_dir) / "lifelong_steps.csv";
   std::ofstream table(table_path), per_step(steps_path);
   table << "problem,agents,steps,step_time_s,planner,errands,tasks,errands_per_step,step_ms_p50,step_ms_p99,"
-           "step_ms_max,over_budget,invalid,peak_mb\n";
+           "step_ms_max,over_budget,invalid,peak_mb,preprocess_ms\n";
   per_step << "problem,step,errands\n";
   std::printf("lifelong: %d steps, %.3f s per step, planner pibt (seed %u)\n", settings.steps, settings.step_time_s,
               settings.seed);
-  std::printf("%-28s %6s %9s %8s %9s %9s %9s %6s %7s %8s\n", "problem", "agents", "errands", "per step", "p50 ms",
-              "p99 ms", "max ms", "over", "invalid", "peak MB");
+  std::printf("%-28s %6s %9s %8s %9s %9s %9s %6s %7s %8s %9s\n", "problem", "agents", "errands", "per step",
+              "p50 ms", "p99 ms", "max ms", "over", "invalid", "peak MB", "prep ms");
   for (const std::string& path : problems) {
     const planner_core::LorrProblem problem = planner_core::load_lorr_problem(path);
     planner_core::PibtLifelong planner(*problem.graph, settings.seed);
-    planner_core::LifelongSettings lifelong{settings.steps, settings.step_time_s, settings.interrupt};
+    planner_core::LifelongLog log;
+    planner_core::LifelongSettings lifelong;
+    lifelong.steps = settings.steps;
+    lifelong.step_time_s = settings.step_time_s;
+    lifelong.interrupt = settings.interrupt;
+    lifelong.log = settings.league_output ? &log : nullptr;
     const planner_core::LifelongResult result = planner_core::run_lifelong(problem, planner, lifelong);
     if (result.interrupted) {
       std::printf("%s: interrupted after %zu steps; nothing written for it\n", fs::path(path).stem().c_str(),
@@ -68,16 +74,21 @@ int run_lifelong_experiment(const LifelongExperimentSettings& settings) {
     }
     const std::string name = fs::path(path).stem().string();
     const double per = static_cast<double>(result.errands_finished) / settings.steps;
-    std::printf("%-28s %6zu %9lld %8.2f %9.3f %9.3f %9.3f %6d %7d %8.0f\n", name.c_str(), problem.starts.size(),
+    std::printf("%-28s %6zu %9lld %8.2f %9.3f %9.3f %9.3f %6d %7d %8.0f %9.0f\n", name.c_str(), problem.starts.size(),
                 static_cast<long long>(result.errands_finished), per, quantile(result.step_ms, 0.5),
                 quantile(result.step_ms, 0.99), quantile(result.step_ms, 1.0), result.steps_over_budget,
-                result.invalid_steps, peak_memory_mb());
+                result.invalid_steps, peak_memory_mb(), result.preprocess_ms);
     if (!result.first_invalid.empty()) std::printf("  first invalid step: %s\n", result.first_invalid.c_str());
+    if (settings.league_output) {
+      const fs::path output = fs::path(settings.out_dir) / (name + ".lorr.json");
+      planner_core::write_lorr_output(output.string(), problem, result, log);
+      std::printf("  wrote %s\n", output.c_str());
+    }
     table << name << "," << problem.starts.size() << "," << settings.steps << "," << settings.step_time_s << ",pibt,"
           << result.errands_finished << "," << result.tasks_finished << "," << per << ","
           << quantile(result.step_ms, 0.5) << "," << quantile(result.step_ms, 0.99) << ","
           << quantile(result.step_ms, 1.0) << "," << result.steps_over_budget << "," << result.invalid_steps << ","
-          << peak_memory_mb() << "\n";
+          << peak_memory_mb() << "," << result.preprocess_ms << "\n";
     for (size_t s = 0; s < result.errands_per_step.size(); ++s) {
       per_step << name << "," << s << "," << result.errands_per_step[s] << "\n";
     }

@@ -11,26 +11,63 @@
 
 namespace planner_core {
 
-PibtLifelong::PibtLifelong(const Graph& graph, uint32_t seed)
+PibtLifelong::PibtLifelong(const Graph& graph, uint32_t seed, size_t distance_bytes)
     : graph_(graph),
+      distance_bytes_(distance_bytes),
       distances_(graph),
+      heading_to_(graph.vertex_count(), 0),
+      table_held_(graph.vertex_count(), 0),
       rng_(seed),
       standing_on_(graph.vertex_count(), -1),
       entering_(graph.vertex_count(), -1) {}
 
-Config PibtLifelong::next_step(const Config& positions, const Config& goals, const Deadline&) {
+void PibtLifelong::prepare(const Config& positions, const Config& goals, const Deadline& deadline) {
+  follow_goals(positions, goals, deadline);
+}
+
+void PibtLifelong::follow_goals(const Config& positions, const Config& goals, const Deadline& deadline) {
+  std::vector<DistTable::Query> new_goals;
+  for (size_t a = 0; a < goals.size(); ++a) {
+    const bool changed = !following_ || last_goals_[a] != goals[a];
+    if (!changed) continue;
+    if (following_ && --heading_to_[last_goals_[a]] == 0) unneeded_.push_back(last_goals_[a]);
+    if (heading_to_[goals[a]]++ == 0 && !table_held_[goals[a]]) {
+      table_held_[goals[a]] = 1;
+      ++tables_held_;
+    }
+    new_goals.push_back({goals[a], positions[a]});
+  }
+  following_ = true;
+  last_goals_ = goals;
+  // Free the oldest unneeded tables while over the budget (a goal needed again meanwhile stays).
+  const size_t budget = std::max(goals.size(), distance_bytes_ / distances_.bytes_per_target());
+  while (static_cast<size_t>(tables_held_) > budget && !unneeded_.empty()) {
+    const Vertex v = unneeded_.front();
+    unneeded_.pop_front();
+    if (heading_to_[v] == 0 && table_held_[v]) {
+      distances_.forget(v);
+      table_held_[v] = 0;
+      --tables_held_;
+    }
+  }
+  // Searching as far as each agent's cell now is on every core; PIBT extends them as it needs.
+  distances_.prepare(new_goals, deadline);
+}
+
+Config PibtLifelong::next_step(const Config& positions, const Config& goals, const Deadline& deadline) {
   const int n = static_cast<int>(positions.size());
+  const Config previous_goals = following_ ? last_goals_ : goals;
+  follow_goals(positions, goals, deadline);
   if (priority_.empty()) {
     std::uniform_real_distribution<double> fraction(0, 1);
     priority_.resize(n);
     for (double& p : priority_) p = fraction(rng_);
     still_.assign(n, 0);
     boost_.assign(n, 0);
-    last_goals_ = goals;
   }
   std::uniform_real_distribution<double> draw(0, 1);
   for (int a = 0; a < n; ++a) {
-    if (goals[a] != last_goals_[a] || positions[a] == goals[a]) {
+    if (goals[a] != previous_goals[a] || positions[a] == goals[a]) {
       priority_[a] -= std::floor(priority_[a]);  // back to its fraction
       boost_[a] = 0;
     } else {
@@ -41,7 +78,6 @@ Config PibtLifelong::next_step(const Config& positions, const Config& goals, con
       still_[a] = 0;
     }
   }
-  last_goals_ = goals;
   next_.assign(n, kNoVertex);
   for (int a = 0; a < n; ++a) standing_on_[positions[a]] = a;
   // Agents that were stuck first, in the order drawn; then by priority.
@@ -88,32 +124,40 @@ bool PibtLifelong::decide(int agent, int pushed_by, const Config& positions, con
   return false;
 }
 
-std::string invalid_step(const Graph& graph, const Config& positions, const Config& next) {
-  if (next.size() != positions.size()) return "a step for " + std::to_string(next.size()) + " agents, not " +
-                                              std::to_string(positions.size());
+StepFault find_step_fault(const Graph& graph, const Config& positions, const Config& next) {
+  if (next.size() != positions.size()) {
+    return {-1, -1, "a step for " + std::to_string(next.size()) + " agents, not " + std::to_string(positions.size())};
+  }
   std::vector<int> entering(graph.vertex_count(), -1);
   for (size_t a = 0; a < next.size(); ++a) {
+    const int agent = static_cast<int>(a);
     const Vertex v = next[a];
-    if (v < 0 || v >= graph.vertex_count()) return "agent " + std::to_string(a) + " to no cell";
+    if (v < 0 || v >= graph.vertex_count()) return {agent, -1, "agent " + std::to_string(a) + " to no cell"};
     if (v != positions[a] && !graph.adjacent(positions[a], v)) {
-      return "agent " + std::to_string(a) + " jumps from " + to_string(graph.cell_of(positions[a])) + " to " +
-             to_string(graph.cell_of(v));
+      return {agent, -1,
+              "agent " + std::to_string(a) + " jumps from " + to_string(graph.cell_of(positions[a])) + " to " +
+                  to_string(graph.cell_of(v))};
     }
     if (entering[v] != -1) {
-      return "agents " + std::to_string(entering[v]) + " and " + std::to_string(a) + " both on " +
-             to_string(graph.cell_of(v));
+      return {entering[v], agent,
+              "agents " + std::to_string(entering[v]) + " and " + std::to_string(a) + " both on " +
+                  to_string(graph.cell_of(v))};
     }
-    entering[v] = static_cast<int>(a);
+    entering[v] = agent;
   }
   std::vector<int> standing(graph.vertex_count(), -1);
   for (size_t a = 0; a < positions.size(); ++a) standing[positions[a]] = static_cast<int>(a);
   for (size_t a = 0; a < next.size(); ++a) {
     const int other = standing[next[a]];
     if (other != -1 && other != static_cast<int>(a) && next[other] == positions[a]) {
-      return "agents " + std::to_string(a) + " and " + std::to_string(other) + " swap";
+      return {static_cast<int>(a), other, "agents " + std::to_string(a) + " and " + std::to_string(other) + " swap"};
     }
   }
-  return "";
+  return {};
+}
+
+std::string invalid_step(const Graph& graph, const Config& positions, const Config& next) {
+  return find_step_fault(graph, positions, next).what;
 }
 
 namespace {
@@ -121,8 +165,8 @@ namespace {
 // Which tasks each agent holds, and how tasks are revealed and handed out.
 class TaskBoard {
  public:
-  TaskBoard(const LorrProblem& problem, const Config& starts)
-      : problem_(problem), in_hand_(starts.size()), errand_(starts.size(), 0) {
+  TaskBoard(const LorrProblem& problem, const Config& starts, LifelongLog* log)
+      : problem_(problem), log_(log), in_hand_(starts.size()), errand_(starts.size(), 0) {
     const int team = static_cast<int>(starts.size());
     reveal_ = std::max(1, static_cast<int>(std::ceil(problem.tasks_revealed_per_agent)));
     if (problem.assignment == TaskAssignment::kRoundRobin) {
@@ -141,12 +185,16 @@ class TaskBoard {
     return task(in_hand_[a].front())[errand_[a]];
   }
 
+  // The time events are recorded at: the steps done so far.
+  void set_time(int time) { time_ = time; }
+
   // Agent a stands on `cell`: finishes its errand there, if it is one; returns whether it did,
   // and counts a finished task in `tasks_finished`.
   bool arrive(int a, Vertex cell, DistTable& distances, int64_t& tasks_finished) {
     if (in_hand_[a].empty() || goal(a) != cell) return false;
     if (++errand_[a] == static_cast<int>(task(in_hand_[a].front()).size())) {
       ++tasks_finished;
+      if (log_ != nullptr) log_->events[a].push_back({in_hand_[a].front(), time_, true});
       errand_[a] = 0;
       in_hand_[a].pop_front();
       refill(a, cell, &distances);
@@ -160,7 +208,7 @@ class TaskBoard {
   void refill(int a, Vertex here, DistTable* distances = nullptr) {
     if (problem_.assignment == TaskAssignment::kRoundRobin) {
       while (static_cast<int>(in_hand_[a].size()) < reveal_) {
-        in_hand_[a].push_back(next_of_agent_[a]);
+        hand_out(a, next_of_agent_[a]);
         next_of_agent_[a] += static_cast<int64_t>(in_hand_.size());
       }
       return;
@@ -172,11 +220,20 @@ class TaskBoard {
       const int d = distances ? distances->get(task(pool_[k]).front(), here) : static_cast<int>(k);
       if (d < best_distance) best_distance = d, best = k;
     }
-    in_hand_[a].push_back(pool_[best]);
+    hand_out(a, pool_[best]);
     pool_[best] = next_task_++;  // the pool is refilled from the file
   }
 
+  void hand_out(int a, int64_t task) {
+    in_hand_[a].push_back(task);
+    if (log_ == nullptr) return;
+    log_->events[a].push_back({task, time_, false});
+    log_->tasks_revealed = std::max(log_->tasks_revealed, task + 1);
+  }
+
   const LorrProblem& problem_;
+  LifelongLog* log_;
+  int time_ = 0;
   int reveal_ = 1;
   std::vector<std::deque<int64_t>> in_hand_;  // per agent, its tasks in order
   std::vector<int> errand_;                   // per agent, the errand of its first task it heads for
@@ -187,34 +244,82 @@ class TaskBoard {
 
 }  // namespace
 
+namespace {
+
+// The league's letter for a step from `from` to `to`: U D L R (row up, row down, column left,
+// column right), W for staying, T for no action (not a move to a neighbouring cell).
+char action_letter(const Graph& graph, Vertex from, Vertex to) {
+  if (to == from) return 'W';
+  if (to < 0 || to >= graph.vertex_count() || !graph.adjacent(from, to)) return 'T';
+  const Cell a = graph.cell_of(from);
+  const Cell b = graph.cell_of(to);
+  if (b.y < a.y) return 'U';
+  if (b.y > a.y) return 'D';
+  return b.x < a.x ? 'L' : 'R';
+}
+
+}  // namespace
+
 LifelongResult run_lifelong(const LorrProblem& problem, LifelongPlanner& planner, const LifelongSettings& settings) {
   const Graph& graph = *problem.graph;
   Config positions = problem.starts;
-  DistTable distances(graph);
-  TaskBoard board(problem, positions);
-  LifelongResult result;
   const int team = static_cast<int>(positions.size());
+  LifelongLog* log = settings.log;
+  if (log != nullptr) {
+    *log = LifelongLog{};
+    log->starts = positions;
+    log->actual.assign(team, "");
+    log->planned.assign(team, "");
+    log->events.assign(team, {});
+    log->cost.assign(team, 0);
+  }
+  DistTable distances(graph);
+  TaskBoard board(problem, positions, log);
+  LifelongResult result;
+  const auto current_goals = [&] {
+    Config goals(team);
+    for (int a = 0; a < team; ++a) goals[a] = board.goal(a) == kNoVertex ? positions[a] : board.goal(a);
+    return goals;
+  };
+  {
+    const auto started = std::chrono::steady_clock::now();
+    planner.prepare(positions, current_goals(), Deadline::in_seconds(settings.preprocess_time_s, settings.interrupt));
+    result.preprocess_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
+  }
   for (int step = 0; step < settings.steps; ++step) {
     if (settings.interrupt != nullptr && settings.interrupt->load()) {
       result.interrupted = true;
       break;
     }
-    Config goals(team);
-    for (int a = 0; a < team; ++a) goals[a] = board.goal(a) == kNoVertex ? positions[a] : board.goal(a);
+    const Config goals = current_goals();
     const auto started = std::chrono::steady_clock::now();
     Config next = planner.next_step(positions, goals, Deadline::in_seconds(settings.step_time_s, settings.interrupt));
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
     result.step_ms.push_back(ms);
-    if (ms > 1000 * settings.step_time_s) {
+    const bool late = ms > 1000 * settings.step_time_s;
+    if (log != nullptr) {
+      for (int a = 0; a < team; ++a) {
+        if (step > 0) log->planned[a] += ',';
+        log->planned[a] += late || next.size() != positions.size() ? 'T' : action_letter(graph, positions[a], next[a]);
+        if (board.goal(a) != kNoVertex) ++log->cost[a];
+      }
+    }
+    if (late) {
       ++result.steps_over_budget;
       next = positions;
-    } else if (const std::string why = invalid_step(graph, positions, next); !why.empty()) {
-      if (result.invalid_steps++ == 0) result.first_invalid = "step " + std::to_string(step) + ": " + why;
+    } else if (const StepFault fault = find_step_fault(graph, positions, next); !fault.what.empty()) {
+      if (result.invalid_steps++ == 0) result.first_invalid = "step " + std::to_string(step) + ": " + fault.what;
+      if (log != nullptr) log->errors.push_back({fault.agent1, fault.agent2, step, fault.what});
       next = positions;
     }
+    board.set_time(step + 1);
     int finished = 0;
     for (int a = 0; a < team; ++a) {
       result.moves += next[a] != positions[a] ? 1 : 0;
+      if (log != nullptr) {
+        if (step > 0) log->actual[a] += ',';
+        log->actual[a] += action_letter(graph, positions[a], next[a]);
+      }
       positions[a] = next[a];
       // One errand per agent and step, as the league counts: a next errand on the same cell is
       // finished at the next step.

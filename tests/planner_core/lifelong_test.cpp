@@ -193,7 +193,10 @@ TEST(Lifelong, AnInterruptEndsTheRunAtOnce) {
   const LorrProblem problem = load_lorr_problem(kRandom + "random_20.json");
   PibtLifelong planner(*problem.graph, 1);
   std::atomic<bool> interrupt{true};
-  const LifelongResult result = run_lifelong(problem, planner, {1'000'000, 1.0, &interrupt});
+  LifelongSettings settings;
+  settings.steps = 1'000'000;
+  settings.interrupt = &interrupt;
+  const LifelongResult result = run_lifelong(problem, planner, settings);
   EXPECT_TRUE(result.interrupted);
   EXPECT_TRUE(result.step_ms.empty());
 }

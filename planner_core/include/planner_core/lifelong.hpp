@@ -9,6 +9,7 @@
 #pragma once
 
 #include <atomic>
+#include <deque>
 #include <cstdint>
 #include <random>
 #include <string>
@@ -27,6 +28,8 @@ class LifelongPlanner {
  public:
   virtual ~LifelongPlanner() = default;
   virtual Config next_step(const Config& positions, const Config& goals, const Deadline& deadline) = 0;
+  // The league's preprocessing time, before the first step: learn what helps plan these goals.
+  virtual void prepare(const Config& /*positions*/, const Config& /*goals*/, const Deadline& /*deadline*/) {}
 };
 
 // PIBT (Okumura et al., 2022), one step at a time: agents decide in the order of their priority,
@@ -41,16 +44,33 @@ class LifelongPlanner {
 // afresh after each kStuckSteps it stays stuck, and it keeps that place until its goal changes:
 // the one in the dead end, once drawn first, pushes the other aside and keeps going (a place it
 // lost at its first move would send it straight back in).
+//
+// Distances to each goal are searched on every core when the goal is first seen (preprocessing
+// covers the first goals), and a goal's table is freed once nobody heads there and more than
+// `distance_bytes` of tables are held: 10,000 agents on a 54,000-cell map touch 32,000 goals in
+// 5,000 steps, 3.4 GB had every table been kept.
 class PibtLifelong : public LifelongPlanner {
  public:
-  PibtLifelong(const Graph& graph, uint32_t seed);
+  static constexpr size_t kDistanceBytes = size_t{1} << 30;  // 1 GiB
+  PibtLifelong(const Graph& graph, uint32_t seed, size_t distance_bytes = kDistanceBytes);
   Config next_step(const Config& positions, const Config& goals, const Deadline& deadline) override;
+  void prepare(const Config& positions, const Config& goals, const Deadline& deadline) override;
+
+  int distance_tables() const { return tables_held_; }
 
  private:
   bool decide(int agent, int pushed_by, const Config& positions, const Config& goals);
+  // Searches the distances to goals not seen before, and frees tables of goals nobody needs.
+  void follow_goals(const Config& positions, const Config& goals, const Deadline& deadline);
 
   const Graph& graph_;
+  size_t distance_bytes_;
   DistTable distances_;
+  std::vector<int> heading_to_;     // vertex -> agents whose goal it is
+  std::vector<char> table_held_;    // vertex -> its distance table is held
+  int tables_held_ = 0;
+  std::deque<Vertex> unneeded_;     // goals that lost their last agent, oldest first
+  bool following_ = false;
   std::mt19937 rng_;
   Config last_goals_;
   static constexpr int kStuckSteps = 8;
@@ -62,9 +82,34 @@ class PibtLifelong : public LifelongPlanner {
   Config next_;
 };
 
+// What the league's output file records of a run (docs/FORMATS.md, "League of Robot Runners
+// output"); filled when LifelongSettings::log is set.
+struct LifelongLog {
+  struct Event {
+    int64_t task;
+    int step;
+    bool finished;  // else assigned
+  };
+  struct Error {
+    int agent1;
+    int agent2;  // -1 when one agent is involved
+    int step;
+    std::string what;
+  };
+  std::vector<Vertex> starts;
+  std::vector<std::string> actual;    // per agent, one letter per step: U D L R W
+  std::vector<std::string> planned;   // as the planner returned it; T when it was late
+  std::vector<std::vector<Event>> events;  // per agent
+  std::vector<Error> errors;
+  int64_t tasks_revealed = 0;         // tasks 0 .. tasks_revealed-1 were handed out
+  std::vector<int> cost;              // per agent, steps it held a task
+};
+
 struct LifelongSettings {
   int steps = 500;            // the horizon
   double step_time_s = 1.0;   // the budget to decide one step
+  double preprocess_time_s = 60;  // the budget before the first step (the league's preprocessing)
+  LifelongLog* log = nullptr;     // set: the run is recorded there
   const std::atomic<bool>* interrupt = nullptr;  // set (Ctrl-C): the run ends after the step under way
 };
 
@@ -73,6 +118,7 @@ struct LifelongResult {
   int64_t tasks_finished = 0;
   std::vector<int> errands_per_step;  // finished at each step
   std::vector<double> step_ms;        // time the planner took to decide each step
+  double preprocess_ms = 0;           // time the planner took to prepare
   int steps_over_budget = 0;          // replaced by waiting: the planner took longer than its budget
   int invalid_steps = 0;              // replaced by waiting: not a valid step
   std::string first_invalid;          // what the first invalid step did
@@ -81,6 +127,12 @@ struct LifelongResult {
 };
 
 // Why `next` is no valid step from `positions` on `graph` ("" when it is one).
+struct StepFault {
+  int agent1 = -1;
+  int agent2 = -1;  // -1 when one agent is at fault
+  std::string what;  // "" when the step is valid
+};
+StepFault find_step_fault(const Graph& graph, const Config& positions, const Config& next);
 std::string invalid_step(const Graph& graph, const Config& positions, const Config& next);
 
 // Runs `problem` for settings.steps steps with `planner`. The task file is read in order and
