@@ -83,6 +83,11 @@ int main(int argc, char** argv) {
   app.add_option("--step-time", lifelong.step_time_s, "experiment lifelong: seconds to decide each step")
       ->check(ctsfleet::positive_seconds(3600))
       ->capture_default_str();
+  app.add_option("--guidance", lifelong.guidance,
+                 "experiment lifelong: none (shortest paths) or lanes (one-way lanes: rows alternate east and west, "
+                 "columns south and north; a move against its lane costs 3)")
+      ->check(CLI::IsMember({"none", "lanes"}))
+      ->capture_default_str();
   app.add_flag("--league-output", lifelong.league_output,
                "experiment lifelong: also write each run as the league's output file, <out-dir>/<problem>.lorr.json "
                "(for PlanViz; about 4 bytes per agent and step)");

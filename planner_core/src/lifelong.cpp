@@ -7,26 +7,27 @@
 #include <deque>
 #include <limits>
 
+#include "planner_core/dist_table.hpp"
 #include "planner_core/input_error.hpp"
 
 namespace planner_core {
 
-PibtLifelong::PibtLifelong(const Graph& graph, uint32_t seed, size_t distance_bytes)
+PibtLifelong::PibtLifelong(const Graph& graph, uint32_t seed, Guidance guidance, size_t distance_bytes)
     : graph_(graph),
       distance_bytes_(distance_bytes),
-      distances_(graph),
+      distances_(graph, guidance),
       heading_to_(graph.vertex_count(), 0),
       table_held_(graph.vertex_count(), 0),
       rng_(seed),
       standing_on_(graph.vertex_count(), -1),
       entering_(graph.vertex_count(), -1) {}
 
-void PibtLifelong::prepare(const Config& positions, const Config& goals, const Deadline& deadline) {
-  follow_goals(positions, goals, deadline);
+void PibtLifelong::prepare(const Config&, const Config& goals, const Deadline& deadline) {
+  follow_goals(goals, deadline);
 }
 
-void PibtLifelong::follow_goals(const Config& positions, const Config& goals, const Deadline& deadline) {
-  std::vector<DistTable::Query> new_goals;
+void PibtLifelong::follow_goals(const Config& goals, const Deadline& deadline) {
+  std::vector<Vertex> new_goals;
   for (size_t a = 0; a < goals.size(); ++a) {
     const bool changed = !following_ || last_goals_[a] != goals[a];
     if (!changed) continue;
@@ -35,7 +36,7 @@ void PibtLifelong::follow_goals(const Config& positions, const Config& goals, co
       table_held_[goals[a]] = 1;
       ++tables_held_;
     }
-    new_goals.push_back({goals[a], positions[a]});
+    new_goals.push_back(goals[a]);
   }
   following_ = true;
   last_goals_ = goals;
@@ -50,14 +51,13 @@ void PibtLifelong::follow_goals(const Config& positions, const Config& goals, co
       --tables_held_;
     }
   }
-  // Searching as far as each agent's cell now is on every core; PIBT extends them as it needs.
-  distances_.prepare(new_goals, deadline);
+  distances_.prepare(new_goals, deadline, DistTable::default_threads());
 }
 
 Config PibtLifelong::next_step(const Config& positions, const Config& goals, const Deadline& deadline) {
   const int n = static_cast<int>(positions.size());
   const Config previous_goals = following_ ? last_goals_ : goals;
-  follow_goals(positions, goals, deadline);
+  follow_goals(goals, deadline);
   if (priority_.empty()) {
     std::uniform_real_distribution<double> fraction(0, 1);
     priority_.resize(n);
@@ -104,9 +104,21 @@ bool PibtLifelong::decide(int agent, int pushed_by, const Config& positions, con
   for (Vertex v : graph_.neighbours(here)) candidates[count++] = v;
   candidates[count++] = here;
   std::shuffle(candidates.begin(), candidates.begin() + count, rng_);  // ties broken at random
-  std::stable_sort(candidates.begin(), candidates.begin() + count, [&](Vertex x, Vertex y) {
-    return distances_.get(goals[agent], x) < distances_.get(goals[agent], y);
-  });
+  // Each move ranked by its cost plus the cost from where it leads (staying costs 1), ties by
+  // whether another agent stands there now.
+  std::array<int64_t, 5> rank{};
+  for (int k = 0; k < count; ++k) {
+    const Vertex v = candidates[k];
+    const int cost = v == here ? 1 : distances_.move_cost(here, v);
+    const bool taken = standing_on_[v] != -1 && standing_on_[v] != agent;
+    rank[k] = 2 * (int64_t{cost} + distances_.get(goals[agent], v)) + (taken ? 1 : 0);
+  }
+  for (int i = 1; i < count; ++i) {  // insertion sort, keeping the shuffled order of ties
+    for (int j = i; j > 0 && rank[j] < rank[j - 1]; --j) {
+      std::swap(rank[j], rank[j - 1]);
+      std::swap(candidates[j], candidates[j - 1]);
+    }
+  }
   for (int k = 0; k < count; ++k) {
     const Vertex v = candidates[k];
     if (entering_[v] != -1) continue;

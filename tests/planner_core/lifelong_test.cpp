@@ -181,11 +181,13 @@ TEST(Lifelong, AnAgentInADeadEndIsLetOutWhateverTheSeed) {
   // and must go into it. Tasks alternate between the two agents (round robin).
   TinyProblem tiny({".@...", "....."}, {"2", "0", "5"}, {"4", "9", "0", "3", "0"});
   const LorrProblem problem = load_lorr_problem(tiny.path());
-  for (uint32_t seed = 0; seed < 20; ++seed) {
-    PibtLifelong planner(*problem.graph, seed);
-    const LifelongResult result = run_lifelong(problem, planner, {200, 1.0});
-    EXPECT_EQ(result.invalid_steps, 0) << result.first_invalid;
-    EXPECT_GE(result.errands_finished, 20) << "seed " << seed;
+  for (Guidance guidance : {Guidance::kNone, Guidance::kLanes}) {
+    for (uint32_t seed = 0; seed < 20; ++seed) {
+      PibtLifelong planner(*problem.graph, seed, guidance);
+      const LifelongResult result = run_lifelong(problem, planner, {200, 1.0});
+      EXPECT_EQ(result.invalid_steps, 0) << result.first_invalid;
+      EXPECT_GE(result.errands_finished, 20) << "seed " << seed << ", guidance " << to_string(guidance);
+    }
   }
 }
 

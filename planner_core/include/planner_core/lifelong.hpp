@@ -16,7 +16,7 @@
 #include <vector>
 
 #include "planner_core/deadline.hpp"
-#include "planner_core/dist_table.hpp"
+#include "planner_core/guided_distances.hpp"
 #include "planner_core/instance.hpp"
 #include "planner_core/lorr_problem.hpp"
 
@@ -52,7 +52,8 @@ class LifelongPlanner {
 class PibtLifelong : public LifelongPlanner {
  public:
   static constexpr size_t kDistanceBytes = size_t{1} << 30;  // 1 GiB
-  PibtLifelong(const Graph& graph, uint32_t seed, size_t distance_bytes = kDistanceBytes);
+  PibtLifelong(const Graph& graph, uint32_t seed, Guidance guidance = Guidance::kNone,
+               size_t distance_bytes = kDistanceBytes);
   Config next_step(const Config& positions, const Config& goals, const Deadline& deadline) override;
   void prepare(const Config& positions, const Config& goals, const Deadline& deadline) override;
 
@@ -61,11 +62,11 @@ class PibtLifelong : public LifelongPlanner {
  private:
   bool decide(int agent, int pushed_by, const Config& positions, const Config& goals);
   // Searches the distances to goals not seen before, and frees tables of goals nobody needs.
-  void follow_goals(const Config& positions, const Config& goals, const Deadline& deadline);
+  void follow_goals(const Config& goals, const Deadline& deadline);
 
   const Graph& graph_;
   size_t distance_bytes_;
-  DistTable distances_;
+  GuidedDistances distances_;
   std::vector<int> heading_to_;     // vertex -> agents whose goal it is
   std::vector<char> table_held_;    // vertex -> its distance table is held
   int tables_held_ = 0;

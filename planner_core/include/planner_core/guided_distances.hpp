@@ -1,0 +1,84 @@
+// Distances to goals over a guidance graph (Zhang et al., "Guidance Graph Optimization for
+// Lifelong MAPF", 2024): every move has a cost, and an agent that ranks its moves by cost plus
+// distance keeps to the cheap ones. With one-way lanes, rows take turns running east and west and
+// columns south and north; a move against its lane costs more, so streams of agents pass each other
+// in neighbouring lanes instead of meeting head on. Moving against a lane stays allowed (a dead end
+// or a single corridor has only one way), it is only dearer.
+//
+// Which lines take turns depends on the map: on a sortation floor only every other row is a
+// street, so rows taking turns one by one would send every street east. Rows therefore change
+// direction every p rows, for the smallest p in 1..4 that gives about as many east moves as west
+// moves (within a quarter), and columns likewise.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "planner_core/deadline.hpp"
+#include "planner_core/graph.hpp"
+
+namespace planner_core {
+
+enum class Guidance {
+  kNone,   // every move costs 1: distances are shortest paths
+  kLanes,  // one-way lanes: rows take turns east and west, columns south and north (lane_period)
+};
+
+// "none" or "lanes"; throws InputError naming `what` otherwise.
+Guidance parse_guidance(const std::string& text, const std::string& what);
+std::string to_string(Guidance guidance);
+
+class GuidedDistances {
+ public:
+  static constexpr int kAgainstLaneCost = 3;
+  GuidedDistances(const Graph& graph, Guidance guidance);
+
+  // The cost of the move from `from` to its neighbour `to`.
+  int move_cost(Vertex from, Vertex to) const {
+    if (guidance_ == Guidance::kNone) return 1;
+    const Cell a = graph_.cell_of(from);
+    const Cell b = graph_.cell_of(to);
+    const bool with_lane = a.y == b.y ? (b.x > a.x) == (a.y / row_period_ % 2 == 0)
+                                      : (b.y > a.y) == (a.x / column_period_ % 2 == 0);
+    return with_lane ? 1 : kAgainstLaneCost;
+  }
+  int row_period() const { return row_period_; }
+  int column_period() const { return column_period_; }
+
+  // The cheapest cost from `from` to `target` (kUnreachable if none); searches the target's table
+  // first if it is not held.
+  int get(Vertex target, Vertex from) {
+    const Table* table = by_target_[target].get();
+    if (table == nullptr) table = &search(target);
+    const uint32_t d = table->narrow.empty() ? table->wide[from] : table->narrow[from];
+    return d == unreachable() ? kUnreachable : static_cast<int>(d);
+  }
+
+  // Searches the tables of `targets` not held yet, on `threads` threads, until the deadline.
+  void prepare(const std::vector<Vertex>& targets, const Deadline& deadline, int threads);
+
+  bool held(Vertex target) const { return by_target_[target] != nullptr; }
+  void forget(Vertex target) { by_target_[target].reset(); }
+  size_t bytes_per_target() const { return static_cast<size_t>(graph_.vertex_count()) * (narrow_ ? 2 : 4); }
+  static constexpr int kUnreachable = 1 << 30;
+
+ private:
+  struct Table {
+    std::vector<uint16_t> narrow;  // when every cost fits in 16 bits
+    std::vector<uint32_t> wide;
+  };
+  uint32_t unreachable() const { return narrow_ ? 0xFFFFu : 0xFFFFFFFFu; }
+  const Table& search(Vertex target);
+
+  const Graph& graph_;
+  Guidance guidance_;
+  int row_period_ = 1;
+  int column_period_ = 1;
+  bool narrow_;
+  std::vector<std::unique_ptr<Table>> by_target_;
+};
+
+}  // namespace planner_core

@@ -1,0 +1,128 @@
+// Distances over a guidance graph: with no guidance they are the shortest paths; with one-way
+// lanes they are the cheapest costs a plain Bellman-Ford finds over the same move costs, and the
+// lanes' period follows the map's streets.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "planner_core/dist_table.hpp"
+#include "planner_core/guided_distances.hpp"
+#include "planner_core/input_error.hpp"
+#include "planner_core/lifelong.hpp"
+#include "planner_core/lorr_problem.hpp"
+
+namespace planner_core {
+namespace {
+
+const std::string kRandom = std::string(CTSFLEET_BENCHMARKS_DIR) + "/lorr-2023/random.domain/";
+
+TEST(GuidedDistances, WithoutGuidanceTheyAreShortestPaths) {
+  const LorrProblem problem = load_lorr_problem(kRandom + "random_20.json");
+  const Graph& graph = *problem.graph;
+  GuidedDistances guided(graph, Guidance::kNone);
+  DistTable shortest(graph);
+  std::mt19937 rng(3);
+  std::uniform_int_distribution<Vertex> any(0, graph.vertex_count() - 1);
+  for (int k = 0; k < 20; ++k) {
+    const Vertex target = any(rng);
+    for (Vertex v = 0; v < graph.vertex_count(); ++v) {
+      const int expected = shortest.get(target, v);
+      ASSERT_EQ(guided.get(target, v), expected == kUnreachable ? GuidedDistances::kUnreachable : expected);
+    }
+  }
+}
+
+// Bellman-Ford over the move costs, as plainly as it can be written.
+std::vector<int64_t> cheapest_to(const Graph& graph, const GuidedDistances& guided, Vertex target) {
+  std::vector<int64_t> cost(graph.vertex_count(), GuidedDistances::kUnreachable);
+  cost[target] = 0;
+  for (bool changed = true; changed;) {
+    changed = false;
+    for (Vertex v = 0; v < graph.vertex_count(); ++v) {
+      for (Vertex u : graph.neighbours(v)) {
+        if (cost[u] + guided.move_cost(v, u) < cost[v]) {
+          cost[v] = cost[u] + guided.move_cost(v, u);
+          changed = true;
+        }
+      }
+    }
+  }
+  return cost;
+}
+
+TEST(GuidedDistances, WithLanesTheyAreTheCheapestCosts) {
+  const LorrProblem problem = load_lorr_problem(kRandom + "random_20.json");
+  const Graph& graph = *problem.graph;
+  GuidedDistances guided(graph, Guidance::kLanes);
+  std::mt19937 rng(5);
+  std::uniform_int_distribution<Vertex> any(0, graph.vertex_count() - 1);
+  int dearer = 0;
+  for (int k = 0; k < 10; ++k) {
+    const Vertex target = any(rng);
+    const std::vector<int64_t> expected = cheapest_to(graph, guided, target);
+    for (Vertex v = 0; v < graph.vertex_count(); ++v) {
+      ASSERT_EQ(guided.get(target, v), expected[v]) << "from " << to_string(graph.cell_of(v));
+    }
+  }
+  // A move is dearer against its lane than with it, and every move is one or the other.
+  for (Vertex v = 0; v < graph.vertex_count(); ++v) {
+    for (Vertex u : graph.neighbours(v)) {
+      const int there = guided.move_cost(v, u), back = guided.move_cost(u, v);
+      EXPECT_TRUE((there == 1 && back == GuidedDistances::kAgainstLaneCost) ||
+                  (there == GuidedDistances::kAgainstLaneCost && back == 1));
+      dearer += there > 1 ? 1 : 0;
+    }
+  }
+  EXPECT_GT(dearer, 0);
+}
+
+TEST(GuidedDistances, LanesFollowTheStreets) {
+  // Streets only on even rows and odd columns, as on a sortation floor: lanes alternating row by
+  // row would send every street the same way.
+  std::vector<std::string> rows;
+  for (int y = 0; y < 12; ++y) {
+    std::string row;
+    for (int x = 0; x < 16; ++x) row += (y % 2 == 1 && x % 2 == 0) ? '@' : '.';
+    rows.push_back(row);
+  }
+  const Graph sortation(16, 12, rows);
+  const GuidedDistances on_streets(sortation, Guidance::kLanes);
+  EXPECT_EQ(on_streets.row_period(), 2);
+  EXPECT_EQ(on_streets.column_period(), 2);
+  const Vertex west_end = sortation.vertex_at({0, 0}), next = sortation.vertex_at({1, 0});
+  const Vertex lower_street = sortation.vertex_at({0, 2}), its_next = sortation.vertex_at({1, 2});
+  EXPECT_NE(on_streets.move_cost(west_end, next), on_streets.move_cost(lower_street, its_next));
+
+  const Graph open(8, 8, std::vector<std::string>(8, "........"));
+  const GuidedDistances on_open(open, Guidance::kLanes);
+  EXPECT_EQ(on_open.row_period(), 1);
+  EXPECT_EQ(on_open.column_period(), 1);
+}
+
+TEST(GuidedDistances, AnUnknownGuidanceIsNamed) {
+  EXPECT_EQ(parse_guidance("lanes", "--guidance"), Guidance::kLanes);
+  EXPECT_EQ(parse_guidance("none", "--guidance"), Guidance::kNone);
+  try {
+    parse_guidance("highway", "guidance (config.yaml line 4)");
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("config.yaml line 4"), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("highway"), std::string::npos);
+  }
+}
+
+TEST(Lifelong, WithLanesEightHundredAgentsStepValidlyAndTheSameSeedRunsTheSame) {
+  const LorrProblem problem = load_lorr_problem(kRandom + "random_800.json");
+  PibtLifelong first(*problem.graph, 9, Guidance::kLanes), second(*problem.graph, 9, Guidance::kLanes);
+  LifelongSettings settings;
+  settings.steps = 200;
+  settings.step_time_s = 5;
+  const LifelongResult a = run_lifelong(problem, first, settings);
+  const LifelongResult b = run_lifelong(problem, second, settings);
+  EXPECT_EQ(a.invalid_steps, 0) << a.first_invalid;
+  EXPECT_GT(a.errands_finished, 200);
+  EXPECT_EQ(a.errands_per_step, b.errands_per_step);
+}
+
+}  // namespace
+}  // namespace planner_core
