@@ -1,5 +1,7 @@
 #include "lifelong_experiment.hpp"
 
+#include "chart.hpp"
+
 #include <sys/resource.h>
 
 #include <algorithm>
@@ -94,7 +96,9 @@ int run_lifelong_experiment(const LifelongExperimentSettings& settings) {
       per_step << name << "," << s << "," << result.errands_per_step[s] << "\n";
     }
   }
+  per_step.close();
   std::printf("wrote %s and %s\n", table_path.c_str(), steps_path.c_str());
+  draw_chart({"lifelong", steps_path.string(), "-o", (fs::path(settings.out_dir) / "lifelong.svg").string()});
   return 0;
 }
 

@@ -1,7 +1,6 @@
 #include "paper_experiments.hpp"
 
-#include <spawn.h>
-#include <sys/wait.h>
+#include "chart.hpp"
 
 #include <algorithm>
 #include <cerrno>
@@ -15,7 +14,6 @@
 #include "planner_core/benchmark_runner.hpp"
 #include "planner_core/input_error.hpp"
 
-extern char** environ;
 
 namespace ctsfleet_bench {
 
@@ -110,28 +108,6 @@ std::string anytime_csv(const std::string& file, double seconds, unsigned seed) 
     }
   }
   return csv.str();
-}
-
-// Draws a chart with ctsfleet-plot (matplotlib) beside this program; a missing plotter or
-// matplotlib only costs the picture (the tables and CSV are the results), so it is a warning.
-void draw_chart(const std::vector<std::string>& arguments) {
-  const fs::path plotter = ctsfleet::program_dir() / "ctsfleet-plot";
-  std::vector<std::string> argv = {plotter.string()};
-  argv.insert(argv.end(), arguments.begin(), arguments.end());
-  std::vector<char*> raw;
-  for (std::string& argument : argv) raw.push_back(argument.data());
-  raw.push_back(nullptr);
-  pid_t pid = -1;
-  if (!fs::exists(plotter) || posix_spawn(&pid, raw[0], nullptr, nullptr, raw.data(), environ) != 0) {
-    std::fprintf(stderr, "warning: %s not found: chart not drawn\n", plotter.c_str());
-    return;
-  }
-  int status = 0;
-  while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-  }
-  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
-    std::fprintf(stderr, "warning: %s %s failed: chart not drawn\n", plotter.c_str(), arguments.front().c_str());
-  }
 }
 
 int dense(const ExperimentSettings& settings, std::ostringstream& md, std::ofstream& csv) {
