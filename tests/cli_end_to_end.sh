@@ -81,4 +81,38 @@ code=$?
 set -e
 [ "$code" -eq 130 ] || { echo "interrupted experiment: expected exit 130, got $code"; cat "$work/scale.out"; exit 1; }
 grep -q "interrupted" "$work/scale.out"
+# The lifelong experiment on a League of Robot Runners problem: the table, the chart's CSV and
+# the league's output file, which an independent replay (positions from the actions) accepts.
+lorr="$data/../../benchmarks/lorr-2023/random.domain/random_50.json"
+"$bin/ctsfleet-bench" --experiment lifelong --problem "$lorr" --steps 120 --step-time 1 --league-output \
+  --out-dir "$work/lifelong" > "$work/lifelong.out"
+grep -q "^random_50 " "$work/lifelong.out"
+grep -q "^random_50,50,120,1,pibt-lanes," "$work/lifelong/lifelong.csv"
+"$python" - "$work/lifelong/random_50.lorr.json" <<'PY'
+import json, sys
+run = json.load(open(sys.argv[1]))
+assert run["actionModel"] == "MAPF" and run["AllValid"] == "Yes" and run["teamSize"] == 50, run["actionModel"]
+at = [(r, c) for r, c, _ in run["start"]]
+paths = [p.split(",") for p in run["actualPaths"]]
+moves = {"U": (-1, 0), "D": (1, 0), "L": (0, -1), "R": (0, 1), "W": (0, 0)}
+cells = {t[0]: (t[1], t[2]) for t in run["tasks"]}
+finished = {(e[1], a): e[0] for a, events in enumerate(run["events"]) for e in events if e[2] == "finished"}
+checked = 0
+for step in range(120):
+    nxt = [(r + moves[p[step]][0], c + moves[p[step]][1]) for (r, c), p in zip(at, paths)]
+    assert len(set(nxt)) == len(nxt), f"two agents on a cell at step {step}"
+    at = nxt
+    for a in range(50):
+        if (step + 1, a) in finished:
+            assert cells[finished[(step + 1, a)]] == at[a], f"agent {a} finished away from its task"
+            checked += 1
+assert checked == run["numTaskFinished"] > 0, (checked, run["numTaskFinished"])
+PY
+set +e
+"$bin/ctsfleet-bench" --experiment lifelong --problem "$lorr" --guidance highway > /dev/null 2> "$work/err"
+code=$?
+set -e
+[ "$code" -eq 2 ] || { echo "--guidance highway: expected exit 2, got $code"; exit 1; }
+grep -q -- "--guidance" "$work/err"
+
 echo "cli end-to-end: all checks passed"
