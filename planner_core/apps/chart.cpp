@@ -5,6 +5,7 @@
 
 #include <cerrno>
 #include <cstdio>
+#include <exception>
 #include <filesystem>
 
 #include "ctsfleet/data_dir.hpp"
@@ -18,7 +19,13 @@ namespace fs = std::filesystem;
 // Draws a chart with ctsfleet-plot (matplotlib) beside this program; a missing plotter or
 // matplotlib only costs the picture (the tables and CSV are the results), so it is a warning.
 void draw_chart(const std::vector<std::string>& arguments) {
-  const fs::path plotter = ctsfleet::program_dir() / "ctsfleet-plot";
+  fs::path plotter;
+  try {
+    plotter = ctsfleet::program_dir() / "ctsfleet-plot";
+  } catch (const std::exception& e) {  // e.g. this program's file was replaced while it ran
+    std::fprintf(stderr, "warning: %s: chart not drawn\n", e.what());
+    return;
+  }
   std::vector<std::string> argv = {plotter.string()};
   argv.insert(argv.end(), arguments.begin(), arguments.end());
   std::vector<char*> raw;

@@ -98,6 +98,7 @@ int run_lifelong_experiment(const LifelongExperimentSettings& settings) {
   }
   per_step.close();
   std::printf("wrote %s and %s\n", table_path.c_str(), steps_path.c_str());
+  std::fflush(stdout);  // before the plotter writes its own line
   draw_chart({"lifelong", steps_path.string(), "-o", (fs::path(settings.out_dir) / "lifelong.svg").string()});
   return 0;
 }
