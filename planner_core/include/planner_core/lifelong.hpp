@@ -33,13 +33,13 @@ class LifelongPlanner {
 };
 
 // PIBT (Okumura et al., 2022), one step at a time: agents decide in the order of their priority,
-// which grows with the time since their goal last changed; an agent takes the free neighbouring
-// cell nearest its goal and pushes the agent standing there to decide next (priority inheritance),
-// or stays. Never two agents on one cell, never a swap.
+// the nearest their goals first; an agent takes the free neighbouring cell nearest its goal and
+// pushes the agent standing there to decide next (priority inheritance), or stays. Never two
+// agents on one cell, never a swap.
 //
 // Plain PIBT can lock for ever off a biconnected map: an agent at the end of a dead end whose way
 // out is the cell of an agent that wants the dead end, the latter ahead in priority at every step
-// (both priorities grow alike). So an agent that has stood still for kStuckSteps steps while it
+// (with priorities by waiting time both grow alike; by distance the order is as fixed). So an agent that has stood still for kStuckSteps steps while it
 // has somewhere to go is put ahead of every other, in a random order among such agents drawn
 // afresh after each kStuckSteps it stays stuck, and it keeps that place until its goal changes:
 // the one in the dead end, once drawn first, pushes the other aside and keeps going (a place it
@@ -75,7 +75,7 @@ class PibtLifelong : public LifelongPlanner {
   std::mt19937 rng_;
   Config last_goals_;
   static constexpr int kStuckSteps = 8;
-  std::vector<double> priority_;   // steps since the goal changed, plus a fixed fraction per agent
+  std::vector<double> fraction_;   // per agent, a fixed fraction that breaks ties in priority
   std::vector<int> still_;         // steps the agent stood still (since it last moved, or was drawn)
   std::vector<double> boost_;      // a stuck agent's place ahead of the others (0: none)
   std::vector<int> standing_on_;   // vertex -> agent there now, or -1
