@@ -87,7 +87,7 @@ lorr="$data/../../benchmarks/lorr-2023/random.domain/random_50.json"
 "$bin/ctsfleet-bench" --experiment lifelong --problem "$lorr" --steps 120 --step-time 1 --league-output \
   --out-dir "$work/lifelong" > "$work/lifelong.out"
 grep -q "^random_50 " "$work/lifelong.out"
-grep -q "^random_50,50,120,1,pibt-lanes," "$work/lifelong/lifelong.csv"
+grep -q "^random_50,50,120,1,pibt-lanes-r128," "$work/lifelong/lifelong.csv"
 "$python" - "$work/lifelong/random_50.lorr.json" <<'PY'
 import json, sys
 run = json.load(open(sys.argv[1]))

@@ -88,6 +88,11 @@ int main(int argc, char** argv) {
                  "columns south and north; a move against its lane costs 3)")
       ->check(CLI::IsMember({"none", "lanes"}))
       ->capture_default_str();
+  app.add_option("--rollouts", lifelong.rollouts,
+                 "experiment lifelong: PIBT runs tried 3 steps ahead each step, the best first step taken (1: plain "
+                 "PIBT); they stop at half the step's budget")
+      ->check(ctsfleet::count_in(1, 1'000'000))
+      ->capture_default_str();
   app.add_flag("--league-output", lifelong.league_output,
                "experiment lifelong: also write each run as the league's output file, <out-dir>/<problem>.lorr.json "
                "(for PlanViz; about 4 bytes per agent and step)");

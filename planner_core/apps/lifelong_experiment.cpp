@@ -55,14 +55,16 @@ int run_lifelong_experiment(const LifelongExperimentSettings& settings) {
   table << "problem,agents,steps,step_time_s,planner,errands,tasks,errands_per_step,step_ms_p50,step_ms_p99,"
            "step_ms_max,over_budget,invalid,peak_mb,preprocess_ms\n";
   per_step << "problem,step,errands\n";
-  std::printf("lifelong: %d steps, %.3f s per step, planner pibt, guidance %s (seed %u)\n", settings.steps,
-              settings.step_time_s, settings.guidance.c_str(), settings.seed);
+  std::printf("lifelong: %d steps, %.3f s per step, planner pibt, guidance %s, %d rollouts (seed %u)\n",
+              settings.steps, settings.step_time_s, settings.guidance.c_str(), settings.rollouts, settings.seed);
   std::printf("%-28s %6s %9s %8s %9s %9s %9s %6s %7s %8s %9s\n", "problem", "agents", "errands", "per step",
               "p50 ms", "p99 ms", "max ms", "over", "invalid", "peak MB", "prep ms");
   for (const std::string& path : problems) {
     const planner_core::LorrProblem problem = planner_core::load_lorr_problem(path);
-    planner_core::PibtLifelong planner(*problem.graph, settings.seed,
-                                       planner_core::parse_guidance(settings.guidance, "--guidance"));
+    planner_core::PibtLifelongSettings pibt;
+    pibt.guidance = planner_core::parse_guidance(settings.guidance, "--guidance");
+    pibt.rollouts = settings.rollouts;
+    planner_core::PibtLifelong planner(*problem.graph, settings.seed, pibt);
     planner_core::LifelongLog log;
     planner_core::LifelongSettings lifelong;
     lifelong.steps = settings.steps;
@@ -87,7 +89,7 @@ int run_lifelong_experiment(const LifelongExperimentSettings& settings) {
       planner_core::write_lorr_output(output.string(), problem, result, log);
       std::printf("  wrote %s\n", output.c_str());
     }
-    table << name << "," << problem.starts.size() << "," << settings.steps << "," << settings.step_time_s << ",pibt-" << settings.guidance << ","
+    table << name << "," << problem.starts.size() << "," << settings.steps << "," << settings.step_time_s << ",pibt-" << settings.guidance << "-r" << settings.rollouts << ","
           << result.errands_finished << "," << result.tasks_finished << "," << per << ","
           << quantile(result.step_ms, 0.5) << "," << quantile(result.step_ms, 0.99) << ","
           << quantile(result.step_ms, 1.0) << "," << result.steps_over_budget << "," << result.invalid_steps << ","

@@ -12,10 +12,10 @@
 
 namespace planner_core {
 
-PibtLifelong::PibtLifelong(const Graph& graph, uint32_t seed, Guidance guidance, size_t distance_bytes)
+PibtLifelong::PibtLifelong(const Graph& graph, uint32_t seed, PibtLifelongSettings settings)
     : graph_(graph),
-      distance_bytes_(distance_bytes),
-      distances_(graph, guidance),
+      settings_(settings),
+      distances_(graph, settings.guidance),
       heading_to_(graph.vertex_count(), 0),
       table_held_(graph.vertex_count(), 0),
       rng_(seed),
@@ -41,7 +41,7 @@ void PibtLifelong::follow_goals(const Config& goals, const Deadline& deadline) {
   following_ = true;
   last_goals_ = goals;
   // Free the oldest unneeded tables while over the budget (a goal needed again meanwhile stays).
-  const size_t budget = std::max(goals.size(), distance_bytes_ / distances_.bytes_per_target());
+  const size_t budget = std::max(goals.size(), settings_.distance_bytes / distances_.bytes_per_target());
   while (static_cast<size_t>(tables_held_) > budget && !unneeded_.empty()) {
     const Vertex v = unneeded_.front();
     unneeded_.pop_front();
@@ -55,9 +55,58 @@ void PibtLifelong::follow_goals(const Config& goals, const Deadline& deadline) {
 }
 
 Config PibtLifelong::next_step(const Config& positions, const Config& goals, const Deadline& deadline) {
-  const int n = static_cast<int>(positions.size());
   const Config previous_goals = following_ ? last_goals_ : goals;
   follow_goals(goals, deadline);
+  if (settings_.rollouts <= 1) return one_step(positions, goals, previous_goals);
+  const auto started = std::chrono::steady_clock::now();
+  const double share_s = settings_.rollout_share * deadline.seconds_left();
+  const int n = static_cast<int>(positions.size());
+  const StepState before = state();
+  const uint32_t seeds = static_cast<uint32_t>(rng_());
+  int64_t best_score = std::numeric_limits<int64_t>::max();
+  Config best_first;
+  StepState after_best;
+  for (int run = 0; run < settings_.rollouts; ++run) {
+    restore(before);
+    if (run > 0) rng_.seed(seeds + static_cast<uint32_t>(run));
+    Config at = one_step(positions, goals, previous_goals);
+    const Config first = at;
+    const StepState after_first = state();
+    std::vector<int> reached(n, -1);  // the step an agent first stood on its goal
+    for (int a = 0; a < n; ++a) {
+      if (at[a] == goals[a]) reached[a] = 1;
+    }
+    for (int step = 2; step <= settings_.rollout_steps; ++step) {
+      at = one_step(at, goals, goals);
+      for (int a = 0; a < n; ++a) {
+        if (reached[a] < 0 && at[a] == goals[a]) reached[a] = step;
+      }
+    }
+    int64_t score = 0;
+    for (int a = 0; a < n; ++a) {
+      score += reached[a] >= 0 ? reached[a] : settings_.rollout_steps + int64_t{distances_.get(goals[a], at[a])};
+    }
+    if (score < best_score) {
+      best_score = score;
+      best_first = first;
+      after_best = after_first;
+    }
+    // Another run only if it fits in the share, at the pace so far.
+    const double spent = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+    if (spent * (run + 2) / (run + 1) > share_s) break;
+  }
+  restore(after_best);
+  return best_first;
+}
+
+void PibtLifelong::restore(const StepState& state) {
+  rng_ = state.rng;
+  still_ = state.still;
+  boost_ = state.boost;
+}
+
+Config PibtLifelong::one_step(const Config& positions, const Config& goals, const Config& previous_goals) {
+  const int n = static_cast<int>(positions.size());
   if (fraction_.empty()) {
     std::uniform_real_distribution<double> fraction(0, 1);
     fraction_.resize(n);

@@ -183,7 +183,7 @@ TEST(Lifelong, AnAgentInADeadEndIsLetOutWhateverTheSeed) {
   const LorrProblem problem = load_lorr_problem(tiny.path());
   for (Guidance guidance : {Guidance::kNone, Guidance::kLanes}) {
     for (uint32_t seed = 0; seed < 20; ++seed) {
-      PibtLifelong planner(*problem.graph, seed, guidance);
+      PibtLifelong planner(*problem.graph, seed, {.guidance = guidance});
       const LifelongResult result = run_lifelong(problem, planner, {200, 1.0});
       EXPECT_EQ(result.invalid_steps, 0) << result.first_invalid;
       EXPECT_GE(result.errands_finished, 20) << "seed " << seed << ", guidance " << to_string(guidance);

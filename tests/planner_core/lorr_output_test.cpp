@@ -177,7 +177,7 @@ TEST(LorrOutput, AnUnwritablePathIsNamed) {
 TEST(Lifelong, DistanceTablesStayWithinTheirBudget) {
   const LorrProblem problem = load_lorr_problem(kRandom + "random_20.json");
   const size_t per_table = problem.graph->vertex_count() * sizeof(uint16_t);
-  PibtLifelong lean(*problem.graph, 4, Guidance::kNone, 30 * per_table);
+  PibtLifelong lean(*problem.graph, 4, {.distance_bytes = 30 * per_table});
   PibtLifelong roomy(*problem.graph, 4);
   LifelongSettings settings;
   settings.steps = 400;

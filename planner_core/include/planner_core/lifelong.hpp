@@ -47,25 +47,46 @@ class LifelongPlanner {
 //
 // Distances to each goal are searched on every core when the goal is first seen (preprocessing
 // covers the first goals), and a goal's table is freed once nobody heads there and more than
-// `distance_bytes` of tables are held: 10,000 agents on a 54,000-cell map touch 32,000 goals in
+// `distance_bytes` (PibtLifelongSettings) of tables are held: 10,000 agents on a 54,000-cell map touch 32,000 goals in
 // 5,000 steps, 3.4 GB had every table been kept.
+struct PibtLifelongSettings {
+  Guidance guidance = Guidance::kNone;
+  // Rollouts: each step, PIBT is run `rollouts` times `rollout_steps` steps ahead, each run with its
+  // own tie-breaks (the first with the planner's own), and the first step of the run whose agents
+  // end nearest their goals is taken (steps to the goal if reached, else rollout_steps plus the
+  // cost left). Runs stop early once they would take more than `rollout_share` of the step's
+  // budget, so on a slow machine fewer are tried. 1: plain PIBT.
+  int rollouts = 1;
+  int rollout_steps = 3;
+  double rollout_share = 0.5;
+  size_t distance_bytes = size_t{1} << 30;  // 1 GiB of distance tables, beyond which unneeded ones go
+};
+
 class PibtLifelong : public LifelongPlanner {
  public:
-  static constexpr size_t kDistanceBytes = size_t{1} << 30;  // 1 GiB
-  PibtLifelong(const Graph& graph, uint32_t seed, Guidance guidance = Guidance::kNone,
-               size_t distance_bytes = kDistanceBytes);
+  PibtLifelong(const Graph& graph, uint32_t seed, PibtLifelongSettings settings = {});
   Config next_step(const Config& positions, const Config& goals, const Deadline& deadline) override;
   void prepare(const Config& positions, const Config& goals, const Deadline& deadline) override;
 
   int distance_tables() const { return tables_held_; }
 
  private:
+  // What one PIBT step changes besides the positions: a rollout starts from a copy.
+  struct StepState {
+    std::mt19937 rng;
+    std::vector<int> still;
+    std::vector<double> boost;
+  };
+  // One PIBT step from `positions` (goals were `previous_goals` the step before).
+  Config one_step(const Config& positions, const Config& goals, const Config& previous_goals);
   bool decide(int agent, int pushed_by, const Config& positions, const Config& goals);
+  StepState state() const { return {rng_, still_, boost_}; }
+  void restore(const StepState& state);
   // Searches the distances to goals not seen before, and frees tables of goals nobody needs.
   void follow_goals(const Config& goals, const Deadline& deadline);
 
   const Graph& graph_;
-  size_t distance_bytes_;
+  PibtLifelongSettings settings_;
   GuidedDistances distances_;
   std::vector<int> heading_to_;     // vertex -> agents whose goal it is
   std::vector<char> table_held_;    // vertex -> its distance table is held
