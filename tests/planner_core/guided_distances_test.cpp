@@ -8,7 +8,6 @@
 #include "planner_core/dist_table.hpp"
 #include "planner_core/guided_distances.hpp"
 #include "planner_core/input_error.hpp"
-#include "planner_core/lifelong.hpp"
 #include "planner_core/lorr_problem.hpp"
 
 namespace planner_core {
@@ -109,48 +108,6 @@ TEST(GuidedDistances, AnUnknownGuidanceIsNamed) {
     EXPECT_NE(std::string(e.what()).find("config.yaml line 4"), std::string::npos);
     EXPECT_NE(std::string(e.what()).find("highway"), std::string::npos);
   }
-}
-
-TEST(Lifelong, WithLanesEightHundredAgentsStepValidlyAndTheSameSeedRunsTheSame) {
-  const LorrProblem problem = load_lorr_problem(kRandom + "random_800.json");
-  PibtLifelong first(*problem.graph, 9, {.guidance = Guidance::kLanes}),
-      second(*problem.graph, 9, {.guidance = Guidance::kLanes});
-  LifelongSettings settings;
-  settings.steps = 200;
-  settings.step_time_s = 5;
-  const LifelongResult a = run_lifelong(problem, first, settings);
-  const LifelongResult b = run_lifelong(problem, second, settings);
-  EXPECT_EQ(a.invalid_steps, 0) << a.first_invalid;
-  EXPECT_GT(a.errands_finished, 200);
-  EXPECT_EQ(a.errands_per_step, b.errands_per_step);
-}
-
-// Rollouts pick among PIBT runs: every step still valid, and with time to spare for every run the
-// same seed gives the same run.
-TEST(Lifelong, WithRolloutsEveryStepIsValidAndTheSameSeedRunsTheSame) {
-  const LorrProblem problem = load_lorr_problem(kRandom + "random_400.json");
-  const PibtLifelongSettings rollouts{.guidance = Guidance::kLanes, .rollouts = 16, .rollout_steps = 3};
-  PibtLifelong first(*problem.graph, 2, rollouts), second(*problem.graph, 2, rollouts);
-  LifelongSettings settings;
-  settings.steps = 60;
-  settings.step_time_s = 60;
-  const LifelongResult a = run_lifelong(problem, first, settings);
-  const LifelongResult b = run_lifelong(problem, second, settings);
-  EXPECT_EQ(a.invalid_steps, 0) << a.first_invalid;
-  EXPECT_GT(a.errands_finished, 60);
-  EXPECT_EQ(a.errands_per_step, b.errands_per_step);
-}
-
-// However many runs are asked for, they stop within their share of the step's budget.
-TEST(Lifelong, RolloutsStopWithinTheirShareOfTheBudget) {
-  const LorrProblem problem = load_lorr_problem(kRandom + "random_400.json");
-  PibtLifelong planner(*problem.graph, 2, {.guidance = Guidance::kLanes, .rollouts = 1'000'000});
-  LifelongSettings settings;
-  settings.steps = 10;
-  settings.step_time_s = 0.4;  // runs get 0.2 s; a run of 3 steps of 400 agents takes about 0.3 ms
-  const LifelongResult result = run_lifelong(problem, planner, settings);
-  EXPECT_EQ(result.steps_over_budget, 0);
-  EXPECT_EQ(result.invalid_steps, 0) << result.first_invalid;
 }
 
 }  // namespace

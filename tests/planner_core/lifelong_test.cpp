@@ -223,5 +223,64 @@ TEST(Lifelong, AnInvalidStepIsReplacedByWaiting) {
   EXPECT_NE(result.first_invalid.find("step 0: agent 0 jumps"), std::string::npos) << result.first_invalid;
 }
 
+TEST(Lifelong, WithLanesEightHundredAgentsStepValidlyAndTheSameSeedRunsTheSame) {
+  const LorrProblem problem = load_lorr_problem(kRandom + "random_800.json");
+  PibtLifelong first(*problem.graph, 9, {.guidance = Guidance::kLanes}),
+      second(*problem.graph, 9, {.guidance = Guidance::kLanes});
+  LifelongSettings settings;
+  settings.steps = 200;
+  settings.step_time_s = 5;
+  const LifelongResult a = run_lifelong(problem, first, settings);
+  const LifelongResult b = run_lifelong(problem, second, settings);
+  EXPECT_EQ(a.invalid_steps, 0) << a.first_invalid;
+  EXPECT_GT(a.errands_finished, 200);
+  EXPECT_EQ(a.errands_per_step, b.errands_per_step);
+}
+
+// Rollouts pick among PIBT runs: every step still valid, and with time to spare for every run the
+// same seed gives the same run.
+TEST(Lifelong, WithRolloutsEveryStepIsValidAndTheSameSeedRunsTheSame) {
+  const LorrProblem problem = load_lorr_problem(kRandom + "random_400.json");
+  const PibtLifelongSettings rollouts{.guidance = Guidance::kLanes, .rollouts = 16, .rollout_steps = 3};
+  PibtLifelong first(*problem.graph, 2, rollouts), second(*problem.graph, 2, rollouts);
+  LifelongSettings settings;
+  settings.steps = 60;
+  settings.step_time_s = 60;
+  const LifelongResult a = run_lifelong(problem, first, settings);
+  const LifelongResult b = run_lifelong(problem, second, settings);
+  EXPECT_EQ(a.invalid_steps, 0) << a.first_invalid;
+  EXPECT_GT(a.errands_finished, 60);
+  EXPECT_EQ(a.errands_per_step, b.errands_per_step);
+}
+
+// However many runs are asked for, they stop within their share of the step's budget.
+TEST(Lifelong, RolloutsStopWithinTheirShareOfTheBudget) {
+  const LorrProblem problem = load_lorr_problem(kRandom + "random_400.json");
+  PibtLifelong planner(*problem.graph, 2, {.guidance = Guidance::kLanes, .rollouts = 1'000'000});
+  LifelongSettings settings;
+  settings.steps = 10;
+  settings.step_time_s = 0.4;  // runs get 0.2 s; a run of 3 steps of 400 agents takes about 0.3 ms
+  const LifelongResult result = run_lifelong(problem, planner, settings);
+  EXPECT_EQ(result.steps_over_budget, 0);
+  EXPECT_EQ(result.invalid_steps, 0) << result.first_invalid;
+}
+
+// 10,000 robots touch tens of thousands of goals in a run: tables of goals nobody heads for are
+// freed beyond the budget, and the run is the same.
+TEST(Lifelong, DistanceTablesStayWithinTheirBudget) {
+  const LorrProblem problem = load_lorr_problem(kRandom + "random_20.json");
+  const size_t per_table = problem.graph->vertex_count() * sizeof(uint16_t);
+  PibtLifelong lean(*problem.graph, 4, {.distance_bytes = 30 * per_table});
+  PibtLifelong roomy(*problem.graph, 4);
+  LifelongSettings settings;
+  settings.steps = 400;
+  const LifelongResult lean_run = run_lifelong(problem, lean, settings);
+  const LifelongResult roomy_run = run_lifelong(problem, roomy, settings);
+  EXPECT_LE(lean.distance_tables(), 30);
+  EXPECT_GT(roomy.distance_tables(), 60);  // without the budget many more are held
+  EXPECT_GT(lean_run.errands_finished, 100);
+  EXPECT_EQ(lean_run.errands_per_step, roomy_run.errands_per_step);
+}
+
 }  // namespace
 }  // namespace planner_core

@@ -172,22 +172,5 @@ TEST(LorrOutput, AnUnwritablePathIsNamed) {
   }
 }
 
-// 10,000 robots touch tens of thousands of goals in a run: tables of goals nobody heads for are
-// freed beyond the budget, and the run is the same.
-TEST(Lifelong, DistanceTablesStayWithinTheirBudget) {
-  const LorrProblem problem = load_lorr_problem(kRandom + "random_20.json");
-  const size_t per_table = problem.graph->vertex_count() * sizeof(uint16_t);
-  PibtLifelong lean(*problem.graph, 4, {.distance_bytes = 30 * per_table});
-  PibtLifelong roomy(*problem.graph, 4);
-  LifelongSettings settings;
-  settings.steps = 400;
-  const LifelongResult lean_run = run_lifelong(problem, lean, settings);
-  const LifelongResult roomy_run = run_lifelong(problem, roomy, settings);
-  EXPECT_LE(lean.distance_tables(), 30);
-  EXPECT_GT(roomy.distance_tables(), 60);  // without the budget many more are held
-  EXPECT_GT(lean_run.errands_finished, 100);
-  EXPECT_EQ(lean_run.errands_per_step, roomy_run.errands_per_step);
-}
-
 }  // namespace
 }  // namespace planner_core
