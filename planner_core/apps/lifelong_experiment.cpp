@@ -84,6 +84,10 @@ int run_lifelong_experiment(const LifelongExperimentSettings& settings) {
                 quantile(result.step_ms, 0.99), quantile(result.step_ms, 1.0), result.steps_over_budget,
                 result.invalid_steps, peak_memory_mb(), result.preprocess_ms);
     if (!result.first_invalid.empty()) std::printf("  first invalid step: %s\n", result.first_invalid.c_str());
+    if (pibt.guidance == planner_core::Guidance::kLanes) {
+      std::printf("  lanes turn every %d rows and every %d columns\n", planner.distances().row_period(),
+                  planner.distances().column_period());
+    }
     if (settings.league_output) {
       const fs::path output = fs::path(settings.out_dir) / (name + ".lorr.json");
       planner_core::write_lorr_output(output.string(), problem, result, log);

@@ -69,6 +69,7 @@ class PibtLifelong : public LifelongPlanner {
   void prepare(const Config& positions, const Config& goals, const Deadline& deadline) override;
 
   int distance_tables() const { return tables_held_; }
+  const GuidedDistances& distances() const { return distances_; }
 
  private:
   // What one PIBT step changes besides the positions: a rollout starts from a copy.
