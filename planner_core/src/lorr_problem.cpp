@@ -82,6 +82,35 @@ Vertex location(const Graph& graph, long long linear, const std::string& path, i
   return v;
 }
 
+// Each vertex's part of the map: vertices joined by moves share a label.
+std::vector<int> parts_of(const Graph& graph) {
+  std::vector<int> part(graph.vertex_count(), -1);
+  int parts = 0;
+  for (Vertex seed = 0; seed < graph.vertex_count(); ++seed) {
+    if (part[seed] != -1) continue;
+    std::vector<Vertex> stack{seed};
+    part[seed] = parts;
+    while (!stack.empty()) {
+      const Vertex v = stack.back();
+      stack.pop_back();
+      for (Vertex u : graph.neighbours(v)) {
+        if (part[u] == -1) {
+          part[u] = parts;
+          stack.push_back(u);
+        }
+      }
+    }
+    ++parts;
+  }
+  return part;
+}
+
+std::string unreachable(const Graph& graph, Vertex v) {
+  const Cell cell = graph.cell_of(v);
+  return " (row " + std::to_string(cell.y) + ", column " + std::to_string(cell.x) +
+         ") cannot be reached from the first agent's start: the map is cut in parts";
+}
+
 nlohmann::json read_json(const std::string& path) {
   require_regular_file(path, "problem file");
   std::ifstream in(path);
@@ -131,6 +160,10 @@ LorrProblem load_lorr_problem(const std::string& path) {
     throw InputError(agent_file + ": " + std::to_string(agents.size()) + " agents, but \"teamSize\" is " +
                      std::to_string(team) + " in " + path);
   }
+  // Every start and errand on the first agent's part of the map: an agent cut off from its errand
+  // would try for ever.
+  const std::vector<int> part = parts_of(graph);
+  int floor = -1;
   std::set<Vertex> taken;
   for (long long a = 0; a < team; ++a) {
     const ListLine& line = agents[a];
@@ -140,12 +173,23 @@ LorrProblem load_lorr_problem(const std::string& path) {
       throw InputError(agent_file + ":" + std::to_string(line.line_no) + ": a second agent on location " +
                        std::to_string(line.values[0]));
     }
+    if (floor == -1) floor = part[start];
+    if (part[start] != floor) {
+      throw InputError(agent_file + ":" + std::to_string(line.line_no) + ": location " + std::to_string(line.values[0]) +
+                       unreachable(graph, start));
+    }
     problem.starts.push_back(start);
   }
   const std::string task_file = file_named(root, "taskFile", path);
   for (const ListLine& line : read_list_file(task_file, "task")) {
     std::vector<Vertex> errands;
-    for (long long linear : line.values) errands.push_back(location(graph, linear, task_file, line.line_no));
+    for (long long linear : line.values) {
+      errands.push_back(location(graph, linear, task_file, line.line_no));
+      if (part[errands.back()] != floor) {
+        throw InputError(task_file + ":" + std::to_string(line.line_no) + ": location " + std::to_string(linear) +
+                         unreachable(graph, errands.back()));
+      }
+    }
     problem.tasks.push_back(std::move(errands));
   }
   if (problem.tasks.empty()) throw InputError(task_file + ": no task");

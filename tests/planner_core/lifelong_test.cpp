@@ -110,6 +110,25 @@ TEST(LorrProblem, EveryFaultNamesItsFileAndLine) {
   EXPECT_NE(error_of(tiny.path()).find("not a JSON object"), std::string::npos);
 }
 
+// A map cut in two: an agent or an errand on the far side could never be reached.
+TEST(LorrProblem, AStartOrErrandCutOffFromTheFloorIsNamed) {
+  // Column 2 is a wall from top to bottom: cells 0-1 and 5-6 on the left, 3-4 and 8-9 on the right.
+  TinyProblem tiny({"..@..", "..@.."}, {"2", "0", "5"}, {"2", "1", "6"});
+  EXPECT_EQ(error_of(tiny.path()), "");
+  tiny.write("tiny.tasks", {"2", "1", "8"});
+  EXPECT_NE(error_of(tiny.path()).find("tiny.tasks:3: location 8 (row 1, column 3) cannot be reached from the first "
+                                       "agent's start"),
+            std::string::npos)
+      << error_of(tiny.path());
+  tiny.write("tiny.tasks", {"1", "0,4"});
+  EXPECT_NE(error_of(tiny.path()).find("tiny.tasks:2: location 4"), std::string::npos) << error_of(tiny.path());
+  tiny.write("tiny.tasks", {"1", "1"});
+  tiny.write("tiny.agents", {"2", "0", "9"});
+  EXPECT_NE(error_of(tiny.path()).find("tiny.agents:3: location 9 (row 1, column 4) cannot be reached"),
+            std::string::npos)
+      << error_of(tiny.path());
+}
+
 TEST(LorrProblem, BadSettingsAreNamed) {
   TinyProblem greedy({"....."}, {"1", "0"}, {"1", "4"}, "\"taskAssignmentStrategy\": \"greedy\"");
   EXPECT_EQ(load_lorr_problem(greedy.path()).assignment, TaskAssignment::kGreedy);

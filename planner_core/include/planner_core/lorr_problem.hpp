@@ -30,7 +30,8 @@ struct LorrProblem {
 
 // Throws InputError naming the file, and the line or the JSON key, of the first fault: a file that
 // is missing or not a regular file, a count that does not match its lines, a location off the map
-// or on a wall, two agents on one cell, fewer agents in the file than the team.
+// or on a wall, two agents on one cell, fewer agents in the file than the team, a start or errand
+// that cannot be reached from the first agent's start.
 LorrProblem load_lorr_problem(const std::string& path);
 
 }  // namespace planner_core
