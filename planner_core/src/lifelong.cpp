@@ -57,6 +57,13 @@ void PibtLifelong::follow_goals(const Config& goals, const Deadline& deadline) {
 Config PibtLifelong::next_step(const Config& positions, const Config& goals, const Deadline& deadline) {
   const Config previous_goals = following_ ? last_goals_ : goals;
   follow_goals(goals, deadline);
+  if (fraction_.size() != positions.size()) {  // the first step (a rollout starts from a copy of what follows)
+    std::uniform_real_distribution<double> fraction(0, 1);
+    fraction_.resize(positions.size());
+    for (double& f : fraction_) f = fraction(rng_);
+    still_.assign(positions.size(), 0);
+    boost_.assign(positions.size(), 0);
+  }
   if (settings_.rollouts <= 1) return one_step(positions, goals, previous_goals);
   const auto started = std::chrono::steady_clock::now();
   const double share_s = settings_.rollout_share * deadline.seconds_left();
@@ -107,13 +114,6 @@ void PibtLifelong::restore(const StepState& state) {
 
 Config PibtLifelong::one_step(const Config& positions, const Config& goals, const Config& previous_goals) {
   const int n = static_cast<int>(positions.size());
-  if (fraction_.empty()) {
-    std::uniform_real_distribution<double> fraction(0, 1);
-    fraction_.resize(n);
-    for (double& f : fraction_) f = fraction(rng_);
-    still_.assign(n, 0);
-    boost_.assign(n, 0);
-  }
   std::uniform_real_distribution<double> draw(0, 1);
   for (int a = 0; a < n; ++a) {
     if (goals[a] != previous_goals[a] || positions[a] == goals[a]) boost_[a] = 0;
