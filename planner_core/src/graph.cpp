@@ -173,4 +173,26 @@ Graph load_movingai_map(const std::string& path, MapSymbols symbols) {
   return graph;
 }
 
+std::vector<int> connected_parts(const Graph& graph) {
+  std::vector<int> part(graph.vertex_count(), -1);
+  int parts = 0;
+  for (Vertex seed = 0; seed < graph.vertex_count(); ++seed) {
+    if (part[seed] != -1) continue;
+    std::vector<Vertex> stack{seed};
+    part[seed] = parts;
+    while (!stack.empty()) {
+      const Vertex v = stack.back();
+      stack.pop_back();
+      for (Vertex u : graph.neighbours(v)) {
+        if (part[u] == -1) {
+          part[u] = parts;
+          stack.push_back(u);
+        }
+      }
+    }
+    ++parts;
+  }
+  return part;
+}
+
 }  // namespace planner_core

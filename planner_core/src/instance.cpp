@@ -5,7 +5,6 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
-#include <queue>
 #include <set>
 #include <sstream>
 
@@ -165,25 +164,7 @@ Instance load_instance(const std::string& path, int scen_agent_count, const std:
 
 void check_reachability(const Instance& instance) {
   const Graph& graph = *instance.graph;
-  std::vector<int> component(graph.vertex_count(), -1);
-  int next_id = 0;
-  for (Vertex root = 0; root < graph.vertex_count(); ++root) {
-    if (component[root] != -1) continue;
-    std::queue<Vertex> open;
-    open.push(root);
-    component[root] = next_id;
-    while (!open.empty()) {
-      const Vertex v = open.front();
-      open.pop();
-      for (Vertex u : graph.neighbours(v)) {
-        if (component[u] == -1) {
-          component[u] = next_id;
-          open.push(u);
-        }
-      }
-    }
-    ++next_id;
-  }
+  const std::vector<int> component = connected_parts(graph);
   for (int a = 0; a < instance.agent_count(); ++a) {
     const int home = component[instance.starts[a]];
     if (component[instance.goals[a]] != home) {

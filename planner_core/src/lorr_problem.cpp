@@ -82,29 +82,6 @@ Vertex location(const Graph& graph, long long linear, const std::string& path, i
   return v;
 }
 
-// Each vertex's part of the map: vertices joined by moves share a label.
-std::vector<int> parts_of(const Graph& graph) {
-  std::vector<int> part(graph.vertex_count(), -1);
-  int parts = 0;
-  for (Vertex seed = 0; seed < graph.vertex_count(); ++seed) {
-    if (part[seed] != -1) continue;
-    std::vector<Vertex> stack{seed};
-    part[seed] = parts;
-    while (!stack.empty()) {
-      const Vertex v = stack.back();
-      stack.pop_back();
-      for (Vertex u : graph.neighbours(v)) {
-        if (part[u] == -1) {
-          part[u] = parts;
-          stack.push_back(u);
-        }
-      }
-    }
-    ++parts;
-  }
-  return part;
-}
-
 std::string unreachable(const Graph& graph, Vertex v) {
   const Cell cell = graph.cell_of(v);
   return " (row " + std::to_string(cell.y) + ", column " + std::to_string(cell.x) +
@@ -162,7 +139,7 @@ LorrProblem load_lorr_problem(const std::string& path) {
   }
   // Every start and errand on the first agent's part of the map: an agent cut off from its errand
   // would try for ever.
-  const std::vector<int> part = parts_of(graph);
+  const std::vector<int> part = connected_parts(graph);
   int floor = -1;
   std::set<Vertex> taken;
   for (long long a = 0; a < team; ++a) {

@@ -83,4 +83,7 @@ class Graph {
 enum class MapSymbols { kMovingAi, kLeagueOfRobotRunners };
 Graph load_movingai_map(const std::string& path, MapSymbols symbols = MapSymbols::kMovingAi);
 
+// Each vertex's part of the map: vertices joined by moves share a label (0, 1, ...).
+std::vector<int> connected_parts(const Graph& graph);
+
 }  // namespace planner_core
