@@ -63,12 +63,6 @@ class DistTable {
   bool prepare(const std::vector<Query>& queries, const Deadline& deadline, int threads = default_threads());
   static int default_threads();  // the machine's cores, at most 8
 
-  // Frees what was learnt about `target`; a later query searches again. No Row of it may be in use.
-  void forget(Vertex target) { by_target_[target].reset(); }
-  bool knows(Vertex target) const { return by_target_[target] != nullptr; }
-  // Bytes one target's table takes once its search is complete.
-  size_t bytes_per_target() const { return static_cast<size_t>(graph_.vertex_count()) * (narrow_ ? 2 : 4); }
-
   // Targets searched from so far, and the bytes their tables and frontiers hold.
   int targets_searched() const { return targets_searched_; }
   size_t memory_bytes() const;
