@@ -1,37 +1,44 @@
 #include "coordinator/action_dependency_graph.hpp"
 
-#include <map>
+#include <stdexcept>
 
 namespace coordinator {
 
 using planner_core::Vertex;
 
 ActionDependencyGraph::ActionDependencyGraph(const planner_core::Solution& plan) {
-  const int robots = plan.empty() ? 0 : static_cast<int>(plan[0].size());
-  moves_.assign(robots, {});
-  // Departures from each cell, in plan order: (arrival time elsewhere, robot, move index).
-  std::map<Vertex, std::vector<std::tuple<int, int, int>>> departures;
-  for (int r = 0; r < robots; ++r) {
-    for (size_t t = 1; t < plan.size(); ++t) {
-      if (plan[t][r] == plan[t - 1][r]) continue;
-      const int index = static_cast<int>(moves_[r].size());
-      moves_[r].push_back({plan[t - 1][r], plan[t][r], static_cast<int>(t), {}});
-      departures[plan[t - 1][r]].emplace_back(static_cast<int>(t), r, index);
+  if (plan.empty()) return;
+  moves_.assign(plan[0].size(), {});
+  last_ = plan[0];
+  extend(plan);
+}
+
+void ActionDependencyGraph::extend(const planner_core::Solution& more) {
+  if (more.empty()) return;
+  if (more[0] != last_) throw std::invalid_argument("the plan's extension does not start where the plan ends");
+  const int robots = robot_count();
+  for (size_t s = 1; s < more.size(); ++s) {
+    const int time = steps_ + static_cast<int>(s);
+    // This step's departures first: a move may follow a robot leaving its target in the same step.
+    std::vector<int> moving;
+    for (int r = 0; r < robots; ++r) {
+      if (more[s][r] == more[s - 1][r]) continue;
+      moving.push_back(r);
+      last_departures_[more[s - 1][r]][r] = static_cast<int>(moves_[r].size());
+      moves_[r].push_back({more[s - 1][r], more[s][r], time, {}});
     }
-  }
-  for (int r = 0; r < robots; ++r) {
-    for (Move& move : moves_[r]) {
-      // For every other robot, its last departure from the target cell no later than our arrival.
-      std::map<int, int> last_departure;
-      for (const auto& [time, other, index] : departures[move.to]) {
-        if (other != r && time <= move.plan_time) {
-          auto [it, fresh] = last_departure.emplace(other, index);
-          if (!fresh && index > it->second) it->second = index;
-        }
+    // Each move waits for every other robot's latest departure from its target so far.
+    for (int r : moving) {
+      Move& move = moves_[r].back();
+      const auto departures = last_departures_.find(move.to);
+      if (departures == last_departures_.end()) continue;
+      for (const auto& [other, index] : departures->second) {
+        if (other != r) move.after.emplace_back(other, index);
       }
-      for (const auto& [other, index] : last_departure) move.after.emplace_back(other, index);
     }
   }
+  steps_ += static_cast<int>(more.size()) - 1;
+  last_ = more.back();
 }
 
 }  // namespace coordinator

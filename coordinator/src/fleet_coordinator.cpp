@@ -243,6 +243,7 @@ void FleetCoordinator::step_executing(fleet_transport::Transport& transport, Clo
     clocks_.settle_deadline = now + seconds(config_.replan_settle_s);
     return;
   }
+  extend_plan(transport);
   dispatch(transport);
   if (mission_complete()) {
     if (!plan_end_.lifelong_idle) {

@@ -188,7 +188,11 @@ TaskReply FleetCoordinator::add_task(const TaskRequest& request) {
           " steps",
       chosen.robot_id);
   report("task_added", chosen.robot_id, reply.reason, task);
-  request_replan("task " + std::to_string(task) + " added for robot " + chosen.robot_id);
+  if (grows_by_windows(chosen.robot_id)) {
+    spdlog::info("lifelong: the plan takes task {} up as it grows", task);
+  } else {
+    request_replan("task " + std::to_string(task) + " added for robot " + chosen.robot_id);
+  }
   return reply;
 }
 

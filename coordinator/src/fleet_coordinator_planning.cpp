@@ -152,6 +152,20 @@ void FleetCoordinator::take_plan(const PlanningOutcome& outcome) {
   plan_ = std::make_unique<PlanExecution>(epoch_, instance.graph, outcome.result.solution, built.robots,
                                           identity_.incarnation);
   for (int a = 0; a < plan_->agent_count(); ++a) summary_.steps_planned += static_cast<int64_t>(plan_->moves(a).size());
+  if (config_.lifelong) {  // the plan will grow by windows: it makes every visit its robots' roles owe now
+    windows_ = std::make_unique<WindowPlanner>(instance.graph, static_cast<uint32_t>(config_.seed) + static_cast<uint32_t>(epoch_));
+    planned_visits_.clear();
+    for (int a = 0; a < instance.agent_count(); ++a) {
+      const int role = robots_[built.robots[a]].role;
+      if (role < 0) continue;
+      for (int t : mission_.tasks_of_agent[role]) {
+        const std::vector<int>& roles = mission_.tasks[t].agents;
+        for (size_t k = 0; k < roles.size(); ++k) {
+          if (roles[k] == role && !progress_.visited(t, k)) planned_visits_.insert({t, k});
+        }
+      }
+    }
+  }
   // Task visits count only when made under a plan: a start counts, being the plan's first step.
   for (int a = 0; a < instance.agent_count(); ++a) {
     const RobotRecord& robot = robots_[built.robots[a]];

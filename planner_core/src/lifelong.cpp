@@ -6,6 +6,7 @@
 #include <cmath>
 #include <deque>
 #include <limits>
+#include <unordered_map>
 
 #include "planner_core/dist_table.hpp"
 #include "planner_core/input_error.hpp"
@@ -123,6 +124,7 @@ Config PibtLifelong::one_step(const Config& positions, const Config& goals, cons
     }
   }
   next_.assign(n, kNoVertex);
+  planning_.assign(n, 0);
   for (int a = 0; a < n; ++a) standing_on_[positions[a]] = a;
   // Agents that were stuck first, in the order drawn; then the nearest their goals (measured:
   // 0-9% more errands than the longest waiting first, history 24), ties by a fixed fraction.
@@ -166,18 +168,22 @@ bool PibtLifelong::decide(int agent, int pushed_by, const Config& positions, con
       std::swap(candidates[j], candidates[j - 1]);
     }
   }
+  planning_[agent] = 1;
   for (int k = 0; k < count; ++k) {
     const Vertex v = candidates[k];
     if (entering_[v] != -1) continue;
     if (pushed_by != -1 && v == positions[pushed_by]) continue;  // no swap with the agent that pushed
+    const int there = standing_on_[v];
+    if (settings_.forbid_rotations && there != -1 && there != agent && planning_[there]) continue;
     entering_[v] = agent;
     next_[agent] = v;
-    const int there = standing_on_[v];
     if (there != -1 && there != agent && next_[there] == kNoVertex && !decide(there, agent, positions, goals)) {
       continue;  // the agent there could not make way
     }
+    planning_[agent] = 0;
     return true;
   }
+  planning_[agent] = 0;
   entering_[here] = agent;
   next_[agent] = here;
   return false;
@@ -217,6 +223,33 @@ StepFault find_step_fault(const Graph& graph, const Config& positions, const Con
 
 std::string invalid_step(const Graph& graph, const Config& positions, const Config& next) {
   return find_step_fault(graph, positions, next).what;
+}
+
+StepFault find_rotation(const Config& positions, const Config& next) {
+  std::unordered_map<Vertex, int> standing;  // cell -> agent there now
+  for (size_t a = 0; a < positions.size(); ++a) standing[positions[a]] = static_cast<int>(a);
+  // Follow each chain of agents moving into a cell another one leaves; a chain that comes back to
+  // one of its own agents holds a cycle. Each agent is walked through once.
+  std::vector<int> chain_of(positions.size(), -1);
+  for (size_t first = 0; first < positions.size(); ++first) {
+    std::vector<int> chain;
+    int agent = static_cast<int>(first);
+    while (agent != -1 && chain_of[agent] == -1 && next[agent] != positions[agent]) {
+      chain_of[agent] = static_cast<int>(first);
+      chain.push_back(agent);
+      const auto there = standing.find(next[agent]);
+      agent = there == standing.end() ? -1 : there->second;
+    }
+    if (agent != -1 && chain_of[agent] == static_cast<int>(first)) {
+      const auto start = std::find(chain.begin(), chain.end(), agent);
+      const size_t length = static_cast<size_t>(chain.end() - start);
+      if (length < 2) continue;  // an agent into its own cell does not move
+      return {*start, *(start + 1),
+              "agents " + std::to_string(*start) + ", " + std::to_string(*(start + 1)) + (length > 2 ? ", ..." : "") +
+                  " move in a cycle of " + std::to_string(length)};
+    }
+  }
+  return {};
 }
 
 namespace {

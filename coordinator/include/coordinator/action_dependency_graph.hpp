@@ -2,9 +2,16 @@
 // Warehouses", RA-L 2019): each robot's plan becomes a chain of moves; a move into a cell waits
 // until every other robot that is at that cell earlier in the plan has moved out of it. Sending a
 // move only when its dependencies are done keeps the plan's order at every cell, so delays
-// propagate but never cause a collision or a deadlock.
+// propagate but never cause a collision or a deadlock (the plan has no cycle of robots moving in
+// one step: each move of a cycle would wait for the next).
+//
+// The plan may grow while it is carried out (lifelong mode): extend() appends steps after its last
+// configuration. Moves already there keep their dependencies, since a later move never holds an
+// earlier one back.
 #pragma once
 
+#include <map>
+#include <unordered_map>
 #include <vector>
 
 #include "planner_core/solution.hpp"
@@ -24,8 +31,15 @@ class ActionDependencyGraph {
   // Robot r's moves come from column r of `plan` (waits dropped).
   explicit ActionDependencyGraph(const planner_core::Solution& plan);
 
+  // The plan goes on with `more`, whose first configuration must be the plan's last (else
+  // std::invalid_argument); its moves become each robot's next moves.
+  void extend(const planner_core::Solution& more);
+
   int robot_count() const { return static_cast<int>(moves_.size()); }
   const std::vector<Move>& moves(int robot) const { return moves_[robot]; }
+  // Timesteps in the plan so far, and its last configuration.
+  int plan_steps() const { return steps_; }
+  const planner_core::Config& last_configuration() const { return last_; }
   // May robot r start move k, given how many moves each robot has finished?
   bool ready(int robot, int move, const std::vector<int>& finished) const {
     return ready(robot, move, [&finished](int other) { return finished[other]; });
@@ -42,6 +56,10 @@ class ActionDependencyGraph {
 
  private:
   std::vector<std::vector<Move>> moves_;
+  // Per cell, each robot's latest departure from it so far (robot -> move index).
+  std::unordered_map<planner_core::Vertex, std::map<int, int>> last_departures_;
+  planner_core::Config last_;
+  int steps_ = 0;
 };
 
 }  // namespace coordinator

@@ -42,6 +42,7 @@
 #include "coordinator/robot_registry.hpp"
 #include "coordinator/standby_follower.hpp"
 #include "coordinator/task_assignment.hpp"
+#include "coordinator/window_planner.hpp"
 #include "fleet_transport/transport.hpp"
 #include "planner_core/instance.hpp"
 
@@ -75,6 +76,8 @@ struct MissionSummary {
   double last_planning_ms = 0;             // how long the latest plan took to make
   int64_t steps_planned = 0;               // moves of every plan made, each from its start
   int64_t steps_of_replaced_plans = 0;     // moves confirmed under plans replaced since
+  int64_t windows = 0;                     // lifelong: windows the plans in hand grew by
+  double window_ms_max = 0;                // lifelong: the longest time to plan one
 };
 
 struct CoordinatorOptions {
@@ -242,6 +245,10 @@ class FleetCoordinator {
   bool planning_failed(const std::string& why);
   // The robots of a new plan, its figures, its epoch in the journal; then it is carried out.
   void take_plan(const PlanningOutcome& outcome);
+  void extend_plan(fleet_transport::Transport& transport);
+  std::vector<WindowAgent> window_agents();
+  void note_window(const PlanWindow& window, double planning_ms);
+  bool grows_by_windows(const std::string& robot_id) const;
   void update_progress();
   // Sends every command that is due. With `resend_only`, only the repeats of moves already sent
   // and not yet done: while a replan waits for moves in flight, a command that was lost must
@@ -310,6 +317,10 @@ class FleetCoordinator {
   int epoch_ = 0;  // grows across restarts (journal) and takeovers (the mirrored epoch)
   int plans_made_ = 0;
   std::unique_ptr<PlanExecution> plan_;  // the plan being executed
+  // Lifelong mode: the plan in hand grows window by window as its robots carry it out, taking up
+  // tasks added meanwhile (coordinator/src/fleet_coordinator_windows.cpp).
+  std::unique_ptr<WindowPlanner> windows_;
+  std::set<std::pair<int, size_t>> planned_visits_;  // (task, index in its roles) the plan in hand makes
   PlanningWorker planning_;              // makes the next plan on a thread of its own
   PlanUnderWay plan_under_way_;
   PlanRetry plan_retry_;

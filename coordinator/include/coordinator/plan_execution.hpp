@@ -54,6 +54,18 @@ class PlanExecution {
   // A cell the robot of agent a may report under the plan: its position, or the target of the move
   // in flight.
   bool allows(int a, planner_core::Cell cell) const;
+  // The plan goes on (lifelong mode): `more` starts with the configuration the plan ends on
+  // (else std::invalid_argument); the robots' progress is kept.
+  void extend(const planner_core::Solution& more) { adg_.extend(more); }
+  int plan_steps() const { return adg_.plan_steps(); }
+  // The plan's last configuration, in the vertices of its own map (graph()).
+  const planner_core::Config& last_configuration() const { return adg_.last_configuration(); }
+  const std::shared_ptr<const planner_core::Graph>& graph() const { return graph_; }
+  // The plan's timestep up to which agent a has carried it out: the step before its next move,
+  // or the plan's end when it has made every move.
+  int carried_out_until(int a) const {
+    return done(a) ? plan_steps() : moves(a)[agents_[a].finished].plan_time - 1;
+  }
   // The cell agent a's move `index` ends on.
   planner_core::Cell target(int a, int index) const { return graph_->cell_of(moves(a)[index].to); }
 

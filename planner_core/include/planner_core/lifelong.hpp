@@ -60,6 +60,11 @@ struct PibtLifelongSettings {
   int rollout_steps = 3;
   double rollout_share = 0.5;
   size_t distance_bytes = size_t{1} << 30;  // 1 GiB of distance tables, beyond which unneeded ones go
+  // No rotations: never move into the cell of an agent that is itself waiting (through priority
+  // inheritance) for this agent to make way, which would close a cycle of agents moving in one
+  // step. Robots executing the plan one move at a time (an Action Dependency Graph) need this: a
+  // cycle's moves each wait for the next, for ever. The league allows cycles.
+  bool forbid_rotations = false;
 };
 
 class PibtLifelong : public LifelongPlanner {
@@ -102,6 +107,7 @@ class PibtLifelong : public LifelongPlanner {
   std::vector<double> boost_;      // a stuck agent's place ahead of the others (0: none)
   std::vector<int> standing_on_;   // vertex -> agent there now, or -1
   std::vector<int> entering_;      // vertex -> agent there next, or -1
+  std::vector<char> planning_;     // per agent: deciding now, waiting for an agent it pushed
   Config next_;
 };
 
@@ -157,6 +163,9 @@ struct StepFault {
 };
 StepFault find_step_fault(const Graph& graph, const Config& positions, const Config& next);
 std::string invalid_step(const Graph& graph, const Config& positions, const Config& next);
+// Agents of a valid step that move in a cycle (each into the cell the next one leaves), which
+// robots moving one at a time cannot do; empty `what` when there is none.
+StepFault find_rotation(const Config& positions, const Config& next);
 
 // Runs `problem` for settings.steps steps with `planner`. The task file is read in order and
 // started over at its end. Round-robin: agent a's tasks are a, a + teamSize, a + 2 teamSize...,

@@ -1,0 +1,49 @@
+// WindowPlanner (lifelong mode): the next stretch of a plan that never ends. From the
+// configuration the plan in execution ends on, each agent's errands (task cells still to visit,
+// in any order) and its parking cell, up to `steps` more configurations, decided one step at a
+// time by PIBT (planner_core/lifelong.hpp) without rotations, so that the Action Dependency Graph
+// can carry them out. Each agent heads for the nearest of its errands, then the nearest of the
+// rest, then parks. Every step is checked (moves to neighbours only, no two agents on one cell, no
+// swap, no cycle) before the window is handed back. No DDS, no clock beyond the deadline.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "planner_core/deadline.hpp"
+#include "planner_core/dist_table.hpp"
+#include "planner_core/lifelong.hpp"
+#include "planner_core/solution.hpp"
+
+namespace coordinator {
+
+struct WindowAgent {
+  std::vector<planner_core::Vertex> errands;  // cells to visit, in any order (repeats allowed)
+  planner_core::Vertex park = planner_core::kNoVertex;  // where it waits once it has none
+};
+
+struct PlanWindow {
+  planner_core::Solution steps;  // steps[0] is the configuration it starts from; 1 row: nothing to do
+  // Per agent, the errands it reaches within the window, in order (one entry per errand of the
+  // request it settles, so a repeated cell reached once settles each repeat in turn).
+  std::vector<std::vector<planner_core::Vertex>> reached;
+  int unreachable = 0;  // errands and parking cells no path leads to from the agent (left alone)
+};
+
+class WindowPlanner {
+ public:
+  WindowPlanner(std::shared_ptr<const planner_core::Graph> graph, uint32_t seed);
+
+  // Stops early once every agent is parked with no errand left. Throws std::logic_error when a
+  // step fails its check (a bug: nothing of it may be sent).
+  PlanWindow plan(const planner_core::Config& from, const std::vector<WindowAgent>& agents, int steps,
+                  const planner_core::Deadline& deadline);
+
+ private:
+  std::shared_ptr<const planner_core::Graph> graph_;
+  planner_core::PibtLifelong pibt_;
+  planner_core::DistTable distances_;  // to errands and parking cells
+};
+
+}  // namespace coordinator

@@ -1,0 +1,122 @@
+// FleetCoordinator in lifelong mode: the plan in hand grows window by window while its robots
+// carry it out. A task added at runtime goes to a robot by cheapest insertion (add_task) and is
+// taken up by the next window: the fleet never stops to replan for it. Robots lost or joining
+// still bring a whole replan (fleet_coordinator_planning.cpp), whose plan then grows in turn.
+//
+//   plan in hand:  [ first plan (CTS solver) | window | window | ... ]
+//                                                    ^ robots carry it out here (ADG)
+//   a window is planned once a robot is within kLeadSteps of the plan's end, unless another robot
+//   lags kMaxLeadSteps behind it (the plan never runs far ahead of the fleet).
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <stdexcept>
+
+#include "coordinator/fleet_coordinator.hpp"
+#include "fleet_coordinator_detail.hpp"
+
+namespace coordinator {
+
+using planner_core::Vertex;
+using namespace fleet_coordinator_detail;
+
+namespace {
+
+constexpr int kWindowSteps = 5;      // steps a window adds at most
+constexpr int kLeadSteps = 5;        // a window once the robot furthest on is this close to the end
+constexpr int kMaxLeadSteps = 40;    // ... unless a robot is this far from the end
+constexpr double kWindowBudgetS = 0.25;
+
+}  // namespace
+
+bool FleetCoordinator::grows_by_windows(const std::string& robot_id) const {
+  return config_.lifelong && phase_ == Phase::kExecuting && plan_ && windows_ && plan_->agent_of(robot_id) >= 0;
+}
+
+void FleetCoordinator::extend_plan(fleet_transport::Transport& transport) {
+  if (!config_.lifelong || !plan_ || !windows_ || plan_->agent_count() == 0) return;
+  const int end = plan_->plan_steps();
+  int furthest = 0, slowest = end;
+  for (int a = 0; a < plan_->agent_count(); ++a) {
+    const RobotRecord* robot = robot_of_agent(a);
+    if (robot == nullptr || !robot->active) return;  // a replan is due: its robot cannot be moved
+    furthest = std::max(furthest, plan_->carried_out_until(a));
+    slowest = std::min(slowest, plan_->carried_out_until(a));
+  }
+  if (end - furthest > kLeadSteps || end - slowest > kMaxLeadSteps) return;
+  const std::vector<WindowAgent> agents = window_agents();
+  const Clock::time_point started = Clock::now();
+  PlanWindow window;
+  try {
+    window = windows_->plan(plan_->last_configuration(), agents, kWindowSteps,
+                            planner_core::Deadline::in_seconds(kWindowBudgetS));
+  } catch (const std::logic_error& e) {
+    spdlog::critical("{}; it is not sent", e.what());
+    request_replan("an invalid lifelong window");
+    return;
+  }
+  if (window.steps.size() < 2) return;  // every robot parked, nothing to do
+  const planner_core::Graph& graph = *plan_->graph();
+  int64_t moves_before = 0;
+  for (int a = 0; a < plan_->agent_count(); ++a) moves_before += static_cast<int64_t>(plan_->moves(a).size());
+  plan_->extend(window.steps);
+  for (int a = 0; a < plan_->agent_count(); ++a) {
+    const int role = robot_of_agent(a)->role;
+    for (Vertex reached : window.reached[a]) {
+      const planner_core::Cell cell = graph.cell_of(reached);
+      const Vertex at = mission_vertex(cell.x, cell.y);
+      bool settled = false;
+      for (int t : mission_.tasks_of_agent[role]) {
+        const std::vector<int>& roles = mission_.tasks[t].agents;
+        for (size_t k = 0; k < roles.size() && !settled; ++k) {
+          if (roles[k] != role || mission_.tasks[t].at != at || progress_.visited(t, k)) continue;
+          settled = planned_visits_.insert({t, k}).second;
+        }
+        if (settled) break;
+      }
+    }
+  }
+  int64_t moves_after = 0;
+  for (int a = 0; a < plan_->agent_count(); ++a) moves_after += static_cast<int64_t>(plan_->moves(a).size());
+  summary_.steps_planned += moves_after - moves_before;
+  const double planning_ms = std::chrono::duration<double, std::milli>(Clock::now() - started).count();
+  note_window(window, planning_ms);
+  publish_plan(transport, 0, planning_ms);
+}
+
+std::vector<WindowAgent> FleetCoordinator::window_agents() {
+  const planner_core::Graph& graph = *plan_->graph();
+  const planner_core::Config& last = plan_->last_configuration();
+  std::vector<WindowAgent> agents(plan_->agent_count());
+  for (int a = 0; a < plan_->agent_count(); ++a) {
+    agents[a].park = last[a];
+    RobotRecord& robot = *robot_of_agent(a);
+    const int role = robot.role;
+    if (role < 0) continue;  // an extra robot stays where it is
+    // A robot that ended its moves on the cell of a task added since: that is its visit.
+    if (plan_->done(a)) credit_visits(role, mission_vertex(robot.last.cell_x, robot.last.cell_y), robot.id);
+    const Vertex goal = graph.vertex_at(mission_.graph->cell_of(mission_.goals[role]));
+    if (goal != planner_core::kNoVertex) agents[a].park = goal;
+    for (int t : mission_.tasks_of_agent[role]) {
+      const std::vector<int>& roles = mission_.tasks[t].agents;
+      for (size_t k = 0; k < roles.size(); ++k) {
+        if (roles[k] != role || progress_.visited(t, k) || planned_visits_.count({t, k})) continue;
+        const Vertex cell = graph.vertex_at(mission_.graph->cell_of(mission_.tasks[t].at));
+        if (cell != planner_core::kNoVertex) agents[a].errands.push_back(cell);
+      }
+    }
+  }
+  return agents;
+}
+
+void FleetCoordinator::note_window(const PlanWindow& window, double planning_ms) {
+  ++summary_.windows;
+  summary_.window_ms_max = std::max(summary_.window_ms_max, planning_ms);
+  summary_.last_planning_ms = planning_ms;
+  int reached = 0;
+  for (const auto& cells : window.reached) reached += static_cast<int>(cells.size());
+  spdlog::debug("lifelong window {}: {} steps to plan step {}, {} task visits taken up, planned in {:.1f} ms",
+                summary_.windows, window.steps.size() - 1, plan_->plan_steps(), reached, planning_ms);
+}
+
+}  // namespace coordinator

@@ -1,0 +1,87 @@
+#include "coordinator/window_planner.hpp"
+
+#include <stdexcept>
+
+namespace coordinator {
+
+using planner_core::Config;
+using planner_core::Vertex;
+
+namespace {
+
+planner_core::PibtLifelongSettings window_settings() {
+  planner_core::PibtLifelongSettings settings;
+  settings.forbid_rotations = true;
+  return settings;
+}
+
+}  // namespace
+
+WindowPlanner::WindowPlanner(std::shared_ptr<const planner_core::Graph> graph, uint32_t seed)
+    : graph_(std::move(graph)), pibt_(*graph_, seed, window_settings()), distances_(*graph_) {}
+
+PlanWindow WindowPlanner::plan(const Config& from, const std::vector<WindowAgent>& agents, int steps,
+                               const planner_core::Deadline& deadline) {
+  const int n = static_cast<int>(from.size());
+  if (static_cast<int>(agents.size()) != n) throw std::invalid_argument("a window needs one WindowAgent per agent");
+  PlanWindow window;
+  window.steps.push_back(from);
+  window.reached.resize(n);
+  std::vector<std::vector<Vertex>> left(n);  // errands still to reach, reachable ones only
+  Config park(n);
+  for (int a = 0; a < n; ++a) {
+    for (Vertex errand : agents[a].errands) {
+      if (distances_.get(errand, from[a]) == planner_core::kUnreachable) {
+        ++window.unreachable;
+      } else {
+        left[a].push_back(errand);
+      }
+    }
+    park[a] = agents[a].park;
+    if (park[a] == planner_core::kNoVertex || distances_.get(park[a], from[a]) == planner_core::kUnreachable) {
+      window.unreachable += park[a] != planner_core::kNoVertex ? 1 : 0;
+      park[a] = from[a];  // nowhere else to wait
+    }
+  }
+  Config at = from;
+  // Settles the errands an agent stands on; then aims it at the nearest one left, or its parking cell.
+  const auto aim = [&](int a) {
+    for (size_t k = 0; k < left[a].size();) {
+      if (left[a][k] == at[a]) {
+        window.reached[a].push_back(at[a]);
+        left[a].erase(left[a].begin() + static_cast<std::ptrdiff_t>(k));
+      } else {
+        ++k;
+      }
+    }
+    Vertex goal = park[a];
+    int nearest = planner_core::kUnreachable;
+    for (Vertex errand : left[a]) {
+      const int d = distances_.get(errand, at[a]);
+      if (d < nearest) {
+        nearest = d;
+        goal = errand;
+      }
+    }
+    return goal;
+  };
+  Config goals(n);
+  for (int step = 0; step < steps; ++step) {
+    bool settled = true;
+    for (int a = 0; a < n; ++a) {
+      goals[a] = aim(a);
+      settled = settled && left[a].empty() && at[a] == park[a];
+    }
+    if (settled) break;
+    Config next = pibt_.next_step(at, goals, deadline);
+    planner_core::StepFault fault = planner_core::find_step_fault(*graph_, at, next);
+    if (fault.what.empty()) fault = planner_core::find_rotation(at, next);
+    if (!fault.what.empty()) throw std::logic_error("the lifelong window's step " + std::to_string(step + 1) + " is invalid: " + fault.what);
+    at = std::move(next);
+    window.steps.push_back(at);
+  }
+  for (int a = 0; a < n; ++a) aim(a);  // errands reached on the last step
+  return window;
+}
+
+}  // namespace coordinator
