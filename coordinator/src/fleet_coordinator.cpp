@@ -278,8 +278,12 @@ void FleetCoordinator::wait_for_a_robot_or_replan(Clock::time_point now) {
       spdlog::warn("what is left cannot be done by the robots here: waiting {} s for a robot to join",
                    *config_.replacement_timeout_s);
     } else {
-      spdlog::warn("what is left cannot be done by the robots here: the robots hold; waiting for a robot to "
-                   "join (the mission times out {:.0f} s after it started)", config_.mission_timeout_s);
+      if (config_.lifelong) {
+        spdlog::warn("what is left cannot be done by the robots here: the robots hold; waiting for a robot to join");
+      } else {
+        spdlog::warn("what is left cannot be done by the robots here: the robots hold; waiting for a robot to "
+                     "join (the mission times out {:.0f} s after it started)", config_.mission_timeout_s);
+      }
     }
     list_pending();
     for (const std::string& line : summary_.pending) spdlog::warn("  left: {}", line);

@@ -7,6 +7,10 @@
 //                                                    ^ robots carry it out here (ADG)
 //   a window is planned once a robot is within kLeadSteps of the plan's end, unless another robot
 //   lags kMaxLeadSteps behind it (the plan never runs far ahead of the fleet).
+//
+// Windows are PIBT, which can lock (two robots head-on in a dead end); a robot that comes no
+// nearer where it heads for WindowPlanner::kStalledSteps planned steps brings a whole replan,
+// whose solver is complete.
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
@@ -53,6 +57,12 @@ void FleetCoordinator::extend_plan(fleet_transport::Transport& transport) {
   } catch (const std::logic_error& e) {
     spdlog::critical("{}; it is not sent", e.what());
     request_replan("an invalid lifelong window");
+    return;
+  }
+  if (!window.stalled.empty()) {  // a PIBT lock: the way out is the complete solver, from where they stand
+    const RobotRecord* stuck = robot_of_agent(window.stalled.front());
+    request_replan(fmt::format("lifelong: robot {} (and {} more) came no nearer where it heads in {} planned steps",
+                               stuck->id, window.stalled.size() - 1, WindowPlanner::kStalledSteps));
     return;
   }
   if (window.steps.size() < 2) return;  // every robot parked, nothing to do

@@ -24,6 +24,11 @@ PlanWindow WindowPlanner::plan(const Config& from, const std::vector<WindowAgent
                                const planner_core::Deadline& deadline) {
   const int n = static_cast<int>(from.size());
   if (static_cast<int>(agents.size()) != n) throw std::invalid_argument("a window needs one WindowAgent per agent");
+  if (static_cast<int>(heading_for_.size()) != n) {
+    heading_for_.assign(n, planner_core::kNoVertex);
+    nearest_.assign(n, 0);
+    steps_without_gain_.assign(n, 0);
+  }
   PlanWindow window;
   window.steps.push_back(from);
   window.reached.resize(n);
@@ -79,9 +84,26 @@ PlanWindow WindowPlanner::plan(const Config& from, const std::vector<WindowAgent
     if (!fault.what.empty()) throw std::logic_error("the lifelong window's step " + std::to_string(step + 1) + " is invalid: " + fault.what);
     at = std::move(next);
     window.steps.push_back(at);
+    note_gains(at, goals);
   }
-  for (int a = 0; a < n; ++a) aim(a);  // errands reached on the last step
+  for (int a = 0; a < n; ++a) {
+    aim(a);  // errands reached on the last step
+    if (steps_without_gain_[a] >= kStalledSteps) window.stalled.push_back(a);
+  }
   return window;
+}
+
+void WindowPlanner::note_gains(const Config& at, const Config& goals) {
+  for (size_t a = 0; a < at.size(); ++a) {
+    const int distance = distances_.get(goals[a], at[a]);
+    if (goals[a] != heading_for_[a] || distance < nearest_[a] || distance == 0) {
+      heading_for_[a] = goals[a];
+      nearest_[a] = distance;
+      steps_without_gain_[a] = 0;
+    } else {
+      ++steps_without_gain_[a];
+    }
+  }
 }
 
 }  // namespace coordinator

@@ -1,8 +1,12 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <random>
+#include <stdexcept>
+#include <tuple>
 
 #include "coordinator/action_dependency_graph.hpp"
+#include "coordinator/window_planner.hpp"
 #include "planner_core/solver.hpp"
 #include "planner_core/validator.hpp"
 
@@ -86,6 +90,80 @@ TEST(ActionDependencyGraph, DenseMazePlan) {
   ASSERT_TRUE(result.solved);
   ASSERT_TRUE(planner_core::validate(instance, result.solution, {true}).ok());
   for (uint32_t seed = 0; seed < 3; ++seed) execute_with_random_delays(result.solution, seed);
+}
+
+// The plan's moves as a comparable list: (robot, from, to, plan time, dependencies sorted).
+std::vector<std::tuple<int, Vertex, Vertex, int, std::vector<std::pair<int, int>>>> moves_of(const ActionDependencyGraph& adg) {
+  std::vector<std::tuple<int, Vertex, Vertex, int, std::vector<std::pair<int, int>>>> all;
+  for (int r = 0; r < adg.robot_count(); ++r) {
+    for (const Move& move : adg.moves(r)) {
+      std::vector<std::pair<int, int>> after = move.after;
+      std::sort(after.begin(), after.end());
+      all.emplace_back(r, move.from, move.to, move.plan_time, after);
+    }
+  }
+  return all;
+}
+
+TEST(ActionDependencyGraph, APlanGrownPieceByPieceHasTheDependenciesOfThePlanWhole) {
+  const planner_core::Instance instance =
+      planner_core::load_instance(std::string(CTSFLEET_TEST_DATA) + "/instances/maze-32-32-2-N50-M60-00.yaml");
+  planner_core::SolverConfig config;
+  config.solver = "cts-pibt";
+  config.forbid_rotations = true;
+  const planner_core::SolveResult result =
+      planner_core::make_solver(config)->solve(instance, {planner_core::Deadline::in_seconds(10), {}});
+  ASSERT_TRUE(result.solved);
+  const planner_core::Solution& plan = result.solution;
+  const ActionDependencyGraph whole(plan);
+  for (size_t piece : {size_t{1}, size_t{7}, plan.size() / 3}) {
+    ActionDependencyGraph grown(planner_core::Solution(plan.begin(), plan.begin() + 1));
+    for (size_t from = 0; from + 1 < plan.size(); from += piece) {
+      const size_t to = std::min(plan.size() - 1, from + piece);
+      grown.extend(planner_core::Solution(plan.begin() + static_cast<std::ptrdiff_t>(from),
+                                          plan.begin() + static_cast<std::ptrdiff_t>(to) + 1));
+    }
+    EXPECT_EQ(grown.plan_steps(), static_cast<int>(plan.size()) - 1);
+    EXPECT_EQ(grown.last_configuration(), plan.back());
+    EXPECT_EQ(moves_of(grown), moves_of(whole)) << "pieces of " << piece << " steps";
+  }
+  ActionDependencyGraph grown(plan);
+  EXPECT_THROW(grown.extend({plan.front()}), std::invalid_argument);  // not where the plan ends
+  EXPECT_EQ(moves_of(grown), moves_of(whole));                         // and nothing changed
+}
+
+// Lifelong windows, one after the other, errands drawn at random: the plan they make together
+// runs under random delays without a collision or a deadlock (a rotation would deadlock it).
+TEST(ActionDependencyGraph, LifelongWindowsRunUnderDelaysWithoutCollisionOrDeadlock) {
+  const planner_core::Instance instance =
+      planner_core::load_instance(std::string(CTSFLEET_TEST_DATA) + "/instances/maze-32-32-2-N50-M60-00.yaml");
+  const planner_core::Graph& graph = *instance.graph;
+  WindowPlanner windows(instance.graph, 3);
+  std::mt19937 rng(11);
+  std::vector<WindowAgent> agents(instance.agent_count());
+  for (int a = 0; a < instance.agent_count(); ++a) agents[a].park = instance.goals[a];
+  planner_core::Solution plan{instance.starts};
+  int reached = 0, given = 0;
+  for (int window = 0; window < 60; ++window) {
+    for (WindowAgent& agent : agents) {
+      if (agent.errands.empty() && rng() % 3 == 0) {
+        agent.errands.push_back(static_cast<Vertex>(rng() % graph.vertex_count()));
+        ++given;
+      }
+    }
+    const PlanWindow next = windows.plan(plan.back(), agents, 5, planner_core::Deadline::in_seconds(5));
+    for (int a = 0; a < instance.agent_count(); ++a) {
+      for (Vertex cell : next.reached[a]) {
+        const auto at = std::find(agents[a].errands.begin(), agents[a].errands.end(), cell);
+        ASSERT_NE(at, agents[a].errands.end());
+        agents[a].errands.erase(at);
+        ++reached;
+      }
+    }
+    plan.insert(plan.end(), next.steps.begin() + 1, next.steps.end());
+  }
+  EXPECT_GT(reached, given / 2);
+  for (uint32_t seed = 0; seed < 3; ++seed) execute_with_random_delays(plan, seed);
 }
 
 TEST(ActionDependencyGraph, FollowerWaitsForTheLeader) {

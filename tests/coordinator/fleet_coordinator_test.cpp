@@ -7,9 +7,11 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <functional>
 #include <map>
 #include <optional>
+#include <random>
 #include <set>
 #include <sstream>
 #include <thread>
@@ -687,6 +689,111 @@ TEST(FleetCoordinator, ALifelongMissionWaitsForTasksGivenInWaves) {
   EXPECT_FALSE(summary.completed);       // a lifelong mission never completes by itself
   EXPECT_EQ(summary.tasks_total, mission_tasks + 4);
   EXPECT_EQ(summary.tasks_done, mission_tasks + 4);
+}
+
+// Lifelong: a stream of tasks at random free cells keeps `pending` tasks waiting, until `total`
+// were accepted (a cell already pending is refused as a duplicate, and another is drawn).
+struct TaskStream {
+  int total = 60;
+  int pending = 8;
+  int given = 0;
+  int requests = 0;
+  std::mt19937 rng{7};
+  std::vector<planner_core::Cell> free_cells;
+  std::vector<std::string> refused;  // other than as duplicates
+
+  explicit TaskStream(const planner_core::Graph& graph) {
+    for (planner_core::Vertex v = 0; v < graph.vertex_count(); ++v) free_cells.push_back(graph.cell_of(v));
+  }
+  // Gives tasks while fewer than `pending` wait (counting requests not answered yet: the
+  // coordinator answers at its next step); true once every one was given and is done.
+  bool feed(FleetCoordinator& c, FakeTransport& wire) {
+    for (auto it = outstanding.begin(); it != outstanding.end();) {
+      const fleet_transport::TaskReply* reply = runtime_tasks::reply_to(wire, *it);
+      if (reply == nullptr) {
+        ++it;
+        continue;
+      }
+      if (reply->accepted) ++given;
+      if (!reply->accepted && reply->reason.find("duplicate") == std::string::npos) refused.push_back(*it + ": " + reply->reason);
+      it = outstanding.erase(it);
+    }
+    const MissionSummary& summary = c.summary();
+    const int waiting = summary.tasks_total - summary.tasks_done + static_cast<int>(outstanding.size());
+    if (wire.last_plan.plan_epoch >= 1) {
+      for (int k = waiting; k < pending && given + static_cast<int>(outstanding.size()) < total; ++k) {
+        const planner_core::Cell cell = free_cells[rng() % free_cells.size()];
+        const std::string id = "stream-" + std::to_string(requests++);
+        c.on_task_request(runtime_tasks::add(id, cell.x, cell.y));
+        outstanding.push_back(id);
+      }
+    }
+    return given == total && summary.tasks_done == summary.tasks_total;
+  }
+  std::vector<std::string> outstanding;  // requests not answered yet
+};
+
+// Every robot's cells one after the other are neighbours (or the same cell): no jump was commanded.
+void expect_only_steps(const std::map<std::string, std::vector<planner_core::Cell>>& visited) {
+  for (const auto& [id, cells] : visited) {
+    for (size_t k = 1; k < cells.size(); ++k) {
+      EXPECT_LE(std::abs(cells[k].x - cells[k - 1].x) + std::abs(cells[k].y - cells[k - 1].y), 1)
+          << id << " jumps from " << planner_core::to_string(cells[k - 1]) << " to " << planner_core::to_string(cells[k]);
+    }
+  }
+}
+
+TEST(FleetCoordinator, ALifelongStreamOfTasksIsTakenUpByThePlanAsItGrowsWithoutStoppingTheFleet) {
+  planner_core::Instance mission = planner_core::load_instance(CTSFLEET_CONFIG_DIR "/default/mission-8.yaml");
+  std::vector<FakeRobot> robots = robots_on_their_starts(mission);
+  const int mission_tasks = mission.task_count();
+  FleetConfig config = config_for(mission.agent_count());
+  config.lifelong = true;
+  TaskStream stream(*mission.graph);
+  FleetCoordinator coordinator(config, std::move(mission));
+  int after_done = 0;
+  const auto visited = run(coordinator, robots, {}, [&](FleetCoordinator& c, FakeTransport& wire, int) {
+    return !stream.feed(c, wire) || ++after_done < 100;
+  });
+  EXPECT_TRUE(stream.refused.empty()) << stream.refused.front();
+  const MissionSummary& summary = coordinator.summary();
+  EXPECT_EQ(summary.tasks_total, mission_tasks + stream.total);
+  EXPECT_EQ(summary.tasks_done, summary.tasks_total);
+  EXPECT_EQ(summary.replans, 0);   // no task stopped the fleet to replan
+  EXPECT_GT(summary.windows, 10);  // the plan grew instead
+  expect_only_steps(visited);
+}
+
+TEST(FleetCoordinator, ALifelongFleetThatLosesARobotReplansOnceAndGoesOnGrowingThePlan) {
+  planner_core::Instance mission = planner_core::load_instance(CTSFLEET_CONFIG_DIR "/default/mission-8.yaml");
+  std::vector<FakeRobot> robots = robots_on_their_starts(mission);
+  FleetConfig config = config_for(mission.agent_count());
+  config.lifelong = true;
+  config.replacement_timeout_s.reset();  // the lost robot's own tasks wait for a robot
+  TaskStream stream(*mission.graph);
+  FleetCoordinator coordinator(config, std::move(mission));
+  int64_t windows_at_loss = -1;
+  const auto visited = run(coordinator, robots, {}, [&](FleetCoordinator& c, FakeTransport& wire, int) {
+    stream.feed(c, wire);
+    if (windows_at_loss < 0 && c.summary().windows >= 5) {
+      robots[5].silent = true;  // mid-stream, with windows in the plan
+      windows_at_loss = c.summary().windows;
+    }
+    // Everything given, and done but for robot5's tasks (its role has no robot now).
+    const MissionSummary& now = c.summary();
+    return !(stream.given == stream.total && now.robots_lost == 1 &&
+             (now.tasks_done == now.tasks_total || c.waiting_for_robot()));
+  });
+  const MissionSummary& summary = coordinator.summary();
+  EXPECT_GT(windows_at_loss, 0);
+  EXPECT_EQ(summary.robots_lost, 1);
+  EXPECT_GE(summary.replans, 1);
+  EXPECT_LE(summary.replans, 3);  // the loss (and the plan finished with robot5's tasks left), not one per task
+  EXPECT_GT(summary.windows, windows_at_loss);  // the replanned plan grew by windows too
+  for (const std::string& line : summary.pending) {
+    EXPECT_NE(line.find("(no robot)"), std::string::npos) << "only the lost robot's tasks are left: " << line;
+  }
+  expect_only_steps(visited);
 }
 
 TEST(FleetCoordinator, ACancelledTaskIsNotVisitedAndCountsNeitherWay) {

@@ -148,6 +148,44 @@ TEST(LifelongStep, JumpsSharedCellsAndSwapsAreInvalid) {
   EXPECT_NE(invalid_step(graph, at, {0}).find("a step for 1 agents"), std::string::npos);
 }
 
+TEST(LifelongStep, AgentsMovingInACycleAreFound) {
+  // A 2 x 2 square: 0 1 / 2 3.
+  const Config square{0, 1, 3, 2};  // agents around it clockwise
+  EXPECT_NE(find_rotation(square, {1, 3, 2, 0}).what.find("move in a cycle of 4"), std::string::npos);
+  EXPECT_EQ(find_rotation(square, {1, 3, 2, 2}).what, "");  // the last one stays: a train, blocked (no cycle)
+  EXPECT_EQ(find_rotation({0, 1}, {1, 2}).what, "");          // a train moving on
+  // The first agent outside the cycle, a train leading nowhere near it.
+  EXPECT_NE(find_rotation({8, 0, 1, 3, 2}, {9, 1, 3, 2, 0}).what.find("agents 1, 2, ... move in a cycle of 4"),
+            std::string::npos);
+}
+
+// A planner that counts the steps of the one it wraps in which agents move in a cycle.
+class RotationCounter : public LifelongPlanner {
+ public:
+  explicit RotationCounter(LifelongPlanner& planner) : planner_(planner) {}
+  Config next_step(const Config& positions, const Config& goals, const Deadline& deadline) override {
+    Config next = planner_.next_step(positions, goals, deadline);
+    if (!find_rotation(positions, next).what.empty()) ++rotations;
+    return next;
+  }
+  int rotations = 0;
+
+ private:
+  LifelongPlanner& planner_;
+};
+
+TEST(Lifelong, WithoutRotationsNoStepMovesAgentsInACycle) {
+  const LorrProblem problem = load_lorr_problem(kRandom + "random_800.json");
+  PibtLifelong free_to_rotate(*problem.graph, 5), no_rotations(*problem.graph, 5, {.forbid_rotations = true});
+  RotationCounter free_counter(free_to_rotate), no_counter(no_rotations);
+  const LifelongResult free_run = run_lifelong(problem, free_counter, {150, 5.0});
+  const LifelongResult no_run = run_lifelong(problem, no_counter, {150, 5.0});
+  EXPECT_GT(free_counter.rotations, 0);  // this crowd rotates when it may: the check below can fail
+  EXPECT_EQ(no_counter.rotations, 0);
+  EXPECT_EQ(no_run.invalid_steps, 0) << no_run.first_invalid;
+  EXPECT_GT(no_run.errands_finished, free_run.errands_finished / 2);
+}
+
 TEST(Lifelong, ErrandsAreCountedAsTheRulesSay) {
   // One agent on a corridor; tasks at 4, 0, 4 (then the file starts over: 4, 0, ...).
   TinyProblem tiny({"....."}, {"1", "0"}, {"3", "4", "0", "4"});

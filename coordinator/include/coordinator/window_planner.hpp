@@ -29,21 +29,35 @@ struct PlanWindow {
   // request it settles, so a repeated cell reached once settles each repeat in turn).
   std::vector<std::vector<planner_core::Vertex>> reached;
   int unreachable = 0;  // errands and parking cells no path leads to from the agent (left alone)
+  // Agents that came no nearer the cell they head for in the last kStalledSteps steps (over this
+  // window and the ones before): PIBT may lock (two agents head-on in a dead end); the way out is
+  // a whole replan with the complete solver.
+  std::vector<int> stalled;
 };
 
 class WindowPlanner {
  public:
+  static constexpr int kStalledSteps = 100;
+
   WindowPlanner(std::shared_ptr<const planner_core::Graph> graph, uint32_t seed);
 
-  // Stops early once every agent is parked with no errand left. Throws std::logic_error when a
+  // Stops early once every agent is parked with no errand left. `from` is where the last window
+  // ended (the same agents, in the same order). Throws std::logic_error when a
   // step fails its check (a bug: nothing of it may be sent).
   PlanWindow plan(const planner_core::Config& from, const std::vector<WindowAgent>& agents, int steps,
                   const planner_core::Deadline& deadline);
 
  private:
+  // Counts, per agent, the steps since it last came nearer its goal.
+  void note_gains(const planner_core::Config& at, const planner_core::Config& goals);
+
   std::shared_ptr<const planner_core::Graph> graph_;
   planner_core::PibtLifelong pibt_;
   planner_core::DistTable distances_;  // to errands and parking cells
+  // Per agent, across windows: the cell it heads for, the nearest it came, steps since it did.
+  planner_core::Config heading_for_;
+  std::vector<int> nearest_;
+  std::vector<int> steps_without_gain_;
 };
 
 }  // namespace coordinator

@@ -1,0 +1,106 @@
+// WindowPlanner: the windows a lifelong plan grows by. Errands reached nearest first, then the
+// parking cell; a window ends early once everyone is parked; errands no path leads to are counted
+// and left alone.
+#include <gtest/gtest.h>
+
+#include "coordinator/window_planner.hpp"
+
+namespace coordinator {
+namespace {
+
+using planner_core::Config;
+using planner_core::Graph;
+using planner_core::Vertex;
+
+TEST(WindowPlanner, ErrandsAreReachedNearestFirstThenTheAgentParks) {
+  // A corridor of 8 cells: the agent at 3, errands at 1 and 6, parking at 7.
+  auto graph = std::make_shared<const Graph>(8, 1, std::vector<std::string>{"........"});
+  WindowPlanner windows(graph, 1);
+  const PlanWindow window = windows.plan({3}, {{{6, 1}, 7}}, 20, planner_core::Deadline::in_seconds(5));
+  EXPECT_EQ(window.reached[0], (std::vector<Vertex>{1, 6}));  // 1 is nearer
+  ASSERT_EQ(window.steps.size(), 1u + 2 + 5 + 1);               // 3->1, 1->6, 6->7; then it stops
+  EXPECT_EQ(window.steps.back(), Config{7});
+  EXPECT_EQ(window.unreachable, 0);
+}
+
+TEST(WindowPlanner, AWindowStopsAtItsLengthAndTheNextGoesOn) {
+  auto graph = std::make_shared<const Graph>(8, 1, std::vector<std::string>{"........"});
+  WindowPlanner windows(graph, 1);
+  const PlanWindow first = windows.plan({0}, {{{7}, 0}}, 3, planner_core::Deadline::in_seconds(5));
+  EXPECT_EQ(first.steps.size(), 4u);
+  EXPECT_TRUE(first.reached[0].empty());
+  const PlanWindow second = windows.plan(first.steps.back(), {{{7}, 0}}, 3, planner_core::Deadline::in_seconds(5));
+  EXPECT_EQ(second.steps.back(), Config{6});
+  const PlanWindow third = windows.plan(second.steps.back(), {{{7}, 0}}, 3, planner_core::Deadline::in_seconds(5));
+  EXPECT_EQ(third.reached[0], std::vector<Vertex>{7});
+}
+
+TEST(WindowPlanner, NothingToDoIsAWindowOfNoStep) {
+  auto graph = std::make_shared<const Graph>(4, 1, std::vector<std::string>{"...."});
+  WindowPlanner windows(graph, 1);
+  const PlanWindow window = windows.plan({0, 3}, {{{}, 0}, {{}, 3}}, 5, planner_core::Deadline::in_seconds(5));
+  EXPECT_EQ(window.steps.size(), 1u);
+}
+
+TEST(WindowPlanner, AnErrandStoodOnIsReachedAndRepeatsAreSettledOneByOne) {
+  auto graph = std::make_shared<const Graph>(4, 1, std::vector<std::string>{"...."});
+  WindowPlanner windows(graph, 1);
+  const PlanWindow window = windows.plan({2}, {{{2, 2, 0}, 2}}, 10, planner_core::Deadline::in_seconds(5));
+  EXPECT_EQ(window.reached[0], (std::vector<Vertex>{2, 2, 0}));
+  EXPECT_EQ(window.steps.back(), Config{2});
+}
+
+TEST(WindowPlanner, ErrandsAndParkingNoPathLeadsToAreCountedAndLeftAlone) {
+  // Cell (3,0) is cut off by the wall at (2,0).
+  auto graph = std::make_shared<const Graph>(4, 1, std::vector<std::string>{"..@."});
+  const Vertex island = graph->vertex_at({3, 0});
+  WindowPlanner windows(graph, 1);
+  const PlanWindow window = windows.plan({0}, {{{island, 1}, island}}, 10, planner_core::Deadline::in_seconds(5));
+  EXPECT_EQ(window.unreachable, 2);
+  EXPECT_EQ(window.reached[0], std::vector<Vertex>{1});
+  EXPECT_EQ(window.steps.back(), Config{0});  // it waits where it began
+}
+
+TEST(WindowPlanner, TwoAgentsThatCanNeverPassEachOtherAreReportedStalled) {
+  // Head-on in a corridor with no room to pass: no step ever brings both nearer for long.
+  auto graph = std::make_shared<const Graph>(5, 1, std::vector<std::string>{"....."});
+  WindowPlanner windows(graph, 4);
+  Config at{0, 4};
+  const std::vector<WindowAgent> agents{{{4}, 4}, {{0}, 0}};
+  int steps = 0;
+  std::vector<int> stalled;
+  while (stalled.empty() && steps < 400) {
+    const PlanWindow next = windows.plan(at, agents, 5, planner_core::Deadline::in_seconds(5));
+    EXPECT_TRUE(next.reached[0].empty() && next.reached[1].empty());
+    stalled = next.stalled;
+    at = next.steps.back();
+    steps += static_cast<int>(next.steps.size()) - 1;
+  }
+  EXPECT_FALSE(stalled.empty());
+  EXPECT_GE(steps, WindowPlanner::kStalledSteps);  // not before it had the time to get nearer
+  EXPECT_LE(steps, 3 * WindowPlanner::kStalledSteps);
+}
+
+TEST(WindowPlanner, AnAgentMakingHeadwayIsNeverReportedStalled) {
+  // A long winding corridor: 300 steps to the errand, each one nearer.
+  std::vector<std::string> rows;
+  for (int y = 0; y < 30; ++y) rows.push_back(y % 2 == 0 ? std::string(10, '.') : (y % 4 == 1 ? "@@@@@@@@@." : ".@@@@@@@@@"));
+  auto graph = std::make_shared<const Graph>(10, 30, rows);
+  WindowPlanner windows(graph, 1);
+  const Vertex far = graph->vertex_at({0, 29 - 1});
+  Config at{graph->vertex_at({0, 0})};
+  for (int window = 0; window < 40; ++window) {
+    const PlanWindow next = windows.plan(at, {{{far}, far}}, 5, planner_core::Deadline::in_seconds(5));
+    EXPECT_TRUE(next.stalled.empty()) << "window " << window;
+    at = next.steps.back();
+  }
+}
+
+TEST(WindowPlanner, OneWindowAgentPerAgentOrItRefuses) {
+  auto graph = std::make_shared<const Graph>(4, 1, std::vector<std::string>{"...."});
+  WindowPlanner windows(graph, 1);
+  EXPECT_THROW(windows.plan({0, 3}, {{{}, 0}}, 5, planner_core::Deadline::in_seconds(5)), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace coordinator
