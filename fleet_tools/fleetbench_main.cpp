@@ -6,7 +6,10 @@
 //               a row (each time a new standby is started): time from the kill to the standby's
 //               first command, task visits planned twice, collisions seen by the safety monitor;
 //   restart     the coordinator is SIGKILLed and started again with its journal: time from the
-//               new process's start to its first command, task visits planned twice.
+//               new process's start to its first command, task visits planned twice;
+//   task-stream a lifelong fleet given a stream of tasks (about one waiting per robot): tasks done
+//               per minute against the same fleet in one process at the same step, the lifelong
+//               windows and their planning time, collisions (task_stream_scenario.hpp).
 #include <nlohmann/json.hpp>
 #include <signal.h>
 #include <sys/wait.h>
@@ -22,6 +25,7 @@
 #include <thread>
 
 #include "child_process.hpp"
+#include "task_stream_scenario.hpp"
 #include "throwaway_fleet_ca.hpp"
 #include "ctsfleet/data_dir.hpp"
 #include "ctsfleet/program.hpp"
@@ -136,8 +140,8 @@ int main(int argc, char** argv) {
   bool json = false;
   std::string scenario = "robot-loss";
   int kills = 1;
-  app.add_option("--scenario", scenario, "robot-loss, failover or restart (see the program's header)")
-      ->check(CLI::IsMember({"robot-loss", "failover", "restart"}))
+  app.add_option("--scenario", scenario, "robot-loss, failover, restart or task-stream (see the program's header)")
+      ->check(CLI::IsMember({"robot-loss", "failover", "restart", "task-stream"}))
       ->capture_default_str();
   app.add_option("--kills", kills, "failover: coordinators killed in a row in one mission (a soak)")
       ->check(ctsfleet::count_in(1, 1000))
@@ -156,6 +160,13 @@ int main(int argc, char** argv) {
       ->check(ctsfleet::count_in(0, 232))
       ->capture_default_str();
   app.add_flag("--json", json, "print one JSON object per fleet size instead of the table");
+  coordinator::StreamTimeline timeline;
+  app.add_option("--warmup", timeline.warmup_s, "task-stream: seconds from the first plan before tasks are counted")
+      ->check(ctsfleet::number_in(0, 3600))
+      ->capture_default_str();
+  app.add_option("--measure", timeline.measure_s, "task-stream: seconds over which tasks done are counted")
+      ->check(ctsfleet::positive_seconds(86400))
+      ->capture_default_str();
   bool secure = false;
   app.add_flag("--secure", secure, "DDS Security on every process, with a throw-away fleet CA made for the run");
   std::string discovery;
@@ -167,6 +178,10 @@ int main(int argc, char** argv) {
     if (domain + static_cast<int>(sizes.size()) - 1 > 232) {
       throw planner_core::InputError("--domain: " + std::to_string(domain) + " + " + std::to_string(sizes.size()) +
                                      " fleet sizes run past DDS domain 232");
+    }
+    if (scenario == "task-stream" && (secure || discovery == "server")) {
+      throw planner_core::InputError(std::string(secure ? "--secure" : "--discovery server") +
+                                     ": the task-stream scenario runs open fleets with simple discovery only");
     }
     if (discovery.empty()) discovery = "simple";
     if (discovery == "server" && secure) {
@@ -194,6 +209,24 @@ int main(int argc, char** argv) {
       args.insert(args.end(), discovery_options.begin(), discovery_options.end());
       return args;
     };
+    if (scenario == "task-stream") {
+      coordinator::TaskStreamSettings settings;
+      settings.programs = here;
+      settings.work = work;
+      settings.map = map;
+      settings.vendor = vendor;
+      settings.dds_config_dir = dds_config_dir;
+      settings.step_s = step;
+      settings.timeline = timeline;
+      settings.json = json;
+      coordinator::print_task_stream_header(settings);
+      for (int n : sizes) {
+        settings.extra_options = with_security({});
+        if (!coordinator::run_task_stream(settings, n, domain++)) return ctsfleet::kExitInterrupted;
+      }
+      if (!json) std::printf("\nlogs: %s\n", work.c_str());
+      return 0;
+    }
     if (!json && scenario == "robot-loss") {
       std::printf("| robots | mission | all bound (s) | round trip p50 (ms) | p99 (ms) | max (ms) | coordinator CPU (%% of one core) | "
                   "replan latency after a loss (ms) |\n|---|---|---|---|---|---|---|---|\n");

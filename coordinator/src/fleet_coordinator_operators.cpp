@@ -162,7 +162,10 @@ TaskReply FleetCoordinator::add_task(const TaskRequest& request) {
   if (const std::string why = add_task_refusal(request, tours); !why.empty()) return refusal(request, why);
   const Vertex cell = mission_vertex(request.x, request.y);
   planner_core::DistTable distances(*mission_.graph);
-  const TaskPlacement placement = cheapest_insertion(distances, cell, tours);
+  // Lifelong: the robot that gets there soonest, so that loads stay even; else the one whose tour
+  // grows least (the mission's flowtime).
+  const TaskPlacement placement =
+      config_.lifelong ? earliest_arrival(distances, cell, tours) : cheapest_insertion(distances, cell, tours);
   if (placement.tour < 0) {
     return refusal(request, cell_text(request.x, request.y) + " cannot be reached from " +
                                 (request.robot_id.empty() ? "any robot's cell" : "robot " + request.robot_id + "'s cell"));
@@ -184,7 +187,8 @@ TaskReply FleetCoordinator::add_task(const TaskRequest& request) {
   const TaskReply reply = acceptance(
       request, task,
       "task " + std::to_string(task) + " at " + cell_text(request.x, request.y) + " given to robot " + chosen.robot_id +
-          " (role " + std::to_string(chosen.role) + "); its tour grows by " + std::to_string(placement.added_steps) +
+          " (role " + std::to_string(chosen.role) + "); " +
+          (config_.lifelong ? "it gets there in about " : "its tour grows by ") + std::to_string(placement.added_steps) +
           " steps",
       chosen.robot_id);
   report("task_added", chosen.robot_id, reply.reason, task);

@@ -87,7 +87,11 @@ void FleetCoordinator::start_planning() {
   // After a failure the robots hold (no new moves) and the next try gets a longer limit, up to 8x.
   request.time_limit_s = config_.plan_limit_s(first_plan) * plan_retry_.limit_factor;
   request.iterations = config_.iterations;
+  // Lifelong: the plan starts with a window and grows by more (fleet_coordinator_windows.cpp);
+  // after a window stalled, the complete solver makes it.
+  request.lifelong_window = config_.lifelong && !plan_retry_.complete_solver;
   plan_under_way_.first_plan = first_plan;
+  plan_under_way_.lifelong_window = request.lifelong_window;
   planning_.start(std::move(request));
 }
 
@@ -115,7 +119,8 @@ bool FleetCoordinator::finish_planning(PlanningOutcome outcome, fleet_transport:
   int visits = 0;
   for (const auto& task : instance.tasks) visits += static_cast<int>(task.agents.size());
   spdlog::info("plan epoch {}: {} robots, {} task visits, flowtime {}, makespan {} ({}, seed {}, planned in {:.0f} ms)",
-               epoch_, instance.agent_count(), visits, report.flowtime, report.makespan, solver_config.solver,
+               epoch_, instance.agent_count(), visits, report.flowtime, report.makespan,
+               plan_under_way_.lifelong_window ? "a first lifelong window" : solver_config.solver,
                solver_config.seed, summary_.last_planning_ms);
   this->report("replan", "",
                fmt::format("epoch {}: {} robots, {} task visits, flowtime {}, planned in {:.0f} ms", epoch_,
@@ -152,19 +157,12 @@ void FleetCoordinator::take_plan(const PlanningOutcome& outcome) {
   plan_ = std::make_unique<PlanExecution>(epoch_, instance.graph, outcome.result.solution, built.robots,
                                           identity_.incarnation);
   for (int a = 0; a < plan_->agent_count(); ++a) summary_.steps_planned += static_cast<int64_t>(plan_->moves(a).size());
-  if (config_.lifelong) {  // the plan will grow by windows: it makes every visit its robots' roles owe now
+  if (config_.lifelong) {  // the plan will grow by windows, which take up what it does not do
     windows_ = std::make_unique<WindowPlanner>(instance.graph, static_cast<uint32_t>(config_.seed) + static_cast<uint32_t>(epoch_));
     planned_visits_.clear();
-    for (int a = 0; a < instance.agent_count(); ++a) {
-      const int role = robots_[built.robots[a]].role;
-      if (role < 0) continue;
-      for (int t : mission_.tasks_of_agent[role]) {
-        const std::vector<int>& roles = mission_.tasks[t].agents;
-        for (size_t k = 0; k < roles.size(); ++k) {
-          if (roles[k] == role && !progress_.visited(t, k)) planned_visits_.insert({t, k});
-        }
-      }
-    }
+    first_plan_steps_ = plan_->plan_steps();
+    plan_retry_.complete_solver = false;
+    mark_planned_visits(outcome.result.solution);
   }
   // Task visits count only when made under a plan: a start counts, being the plan's first step.
   for (int a = 0; a < instance.agent_count(); ++a) {

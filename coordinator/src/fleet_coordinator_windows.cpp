@@ -5,8 +5,10 @@
 //
 //   plan in hand:  [ first plan (CTS solver) | window | window | ... ]
 //                                                    ^ robots carry it out here (ADG)
-//   a window is planned once a robot is within kLeadSteps of the plan's end, unless another robot
-//   lags kMaxLeadSteps behind it (the plan never runs far ahead of the fleet).
+//   a window is planned once a robot still moving is within kLeadSteps of the plan's end, or one
+//   that has made every move has tasks to go to or is not parked; unless the slowest robot has kMaxLeadSteps of
+//   windows still ahead of it (windows never pile up far ahead of the fleet; the first plan's own
+//   length does not count).
 //
 // Windows are PIBT, which can lock (two robots head-on in a dead end); a robot that comes no
 // nearer where it heads for WindowPlanner::kStalledSteps planned steps brings a whole replan,
@@ -27,8 +29,8 @@ using namespace fleet_coordinator_detail;
 namespace {
 
 constexpr int kWindowSteps = 5;      // steps a window adds at most
-constexpr int kLeadSteps = 5;        // a window once the robot furthest on is this close to the end
-constexpr int kMaxLeadSteps = 40;    // ... unless a robot is this far from the end
+constexpr int kLeadSteps = 5;        // a window once a robot still moving is this close to the end
+constexpr int kMaxLeadSteps = 40;    // ... unless the slowest robot has this many window steps ahead
 constexpr double kWindowBudgetS = 0.25;
 
 }  // namespace
@@ -40,15 +42,22 @@ bool FleetCoordinator::grows_by_windows(const std::string& robot_id) const {
 void FleetCoordinator::extend_plan(fleet_transport::Transport& transport) {
   if (!config_.lifelong || !plan_ || !windows_ || plan_->agent_count() == 0) return;
   const int end = plan_->plan_steps();
-  int furthest = 0, slowest = end;
+  int slowest = end;
+  bool near_the_end = false;
   for (int a = 0; a < plan_->agent_count(); ++a) {
     const RobotRecord* robot = robot_of_agent(a);
     if (robot == nullptr || !robot->active) return;  // a replan is due: its robot cannot be moved
-    furthest = std::max(furthest, plan_->carried_out_until(a));
     slowest = std::min(slowest, plan_->carried_out_until(a));
+    near_the_end = near_the_end || (!plan_->done(a) && end - plan_->carried_out_until(a) <= kLeadSteps);
   }
-  if (end - furthest > kLeadSteps || end - slowest > kMaxLeadSteps) return;
+  if (end - std::max(slowest, first_plan_steps_) > kMaxLeadSteps) return;
   const std::vector<WindowAgent> agents = window_agents();
+  // Or a robot has made every move and has tasks to go to, or is not parked yet.
+  const planner_core::Config& last = plan_->last_configuration();
+  for (int a = 0; a < plan_->agent_count() && !near_the_end; ++a) {
+    near_the_end = plan_->done(a) && (!agents[a].errands.empty() || last[a] != agents[a].park);
+  }
+  if (!near_the_end) return;
   const Clock::time_point started = Clock::now();
   PlanWindow window;
   try {
@@ -61,31 +70,16 @@ void FleetCoordinator::extend_plan(fleet_transport::Transport& transport) {
   }
   if (!window.stalled.empty()) {  // a PIBT lock: the way out is the complete solver, from where they stand
     const RobotRecord* stuck = robot_of_agent(window.stalled.front());
+    plan_retry_.complete_solver = true;
     request_replan(fmt::format("lifelong: robot {} (and {} more) came no nearer where it heads in {} planned steps",
                                stuck->id, window.stalled.size() - 1, WindowPlanner::kStalledSteps));
     return;
   }
   if (window.steps.size() < 2) return;  // every robot parked, nothing to do
-  const planner_core::Graph& graph = *plan_->graph();
   int64_t moves_before = 0;
   for (int a = 0; a < plan_->agent_count(); ++a) moves_before += static_cast<int64_t>(plan_->moves(a).size());
   plan_->extend(window.steps);
-  for (int a = 0; a < plan_->agent_count(); ++a) {
-    const int role = robot_of_agent(a)->role;
-    for (Vertex reached : window.reached[a]) {
-      const planner_core::Cell cell = graph.cell_of(reached);
-      const Vertex at = mission_vertex(cell.x, cell.y);
-      bool settled = false;
-      for (int t : mission_.tasks_of_agent[role]) {
-        const std::vector<int>& roles = mission_.tasks[t].agents;
-        for (size_t k = 0; k < roles.size() && !settled; ++k) {
-          if (roles[k] != role || mission_.tasks[t].at != at || progress_.visited(t, k)) continue;
-          settled = planned_visits_.insert({t, k}).second;
-        }
-        if (settled) break;
-      }
-    }
-  }
+  mark_planned_visits(window.steps);
   int64_t moves_after = 0;
   for (int a = 0; a < plan_->agent_count(); ++a) moves_after += static_cast<int64_t>(plan_->moves(a).size());
   summary_.steps_planned += moves_after - moves_before;
@@ -117,6 +111,25 @@ std::vector<WindowAgent> FleetCoordinator::window_agents() {
     }
   }
   return agents;
+}
+
+void FleetCoordinator::mark_planned_visits(const planner_core::Solution& steps) {
+  // A robot reaching a cell under the plan makes every visit its role owes there (credit_visits).
+  const planner_core::Graph& graph = *plan_->graph();
+  for (int a = 0; a < plan_->agent_count(); ++a) {
+    const int role = robot_of_agent(a)->role;
+    if (role < 0) continue;
+    for (const planner_core::Config& configuration : steps) {
+      const planner_core::Cell cell = graph.cell_of(configuration[a]);
+      const Vertex at = mission_vertex(cell.x, cell.y);
+      for (int t : mission_.tasks_of_agent[role]) {
+        const std::vector<int>& roles = mission_.tasks[t].agents;
+        for (size_t k = 0; k < roles.size(); ++k) {
+          if (roles[k] == role && mission_.tasks[t].at == at && !progress_.visited(t, k)) planned_visits_.insert({t, k});
+        }
+      }
+    }
+  }
 }
 
 void FleetCoordinator::note_window(const PlanWindow& window, double planning_ms) {

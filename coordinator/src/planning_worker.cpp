@@ -45,6 +45,21 @@ bool PlanningWorker::idle() const {
   return !busy_ && !outcome_;
 }
 
+planner_core::SolveResult PlanningWorker::first_window(const PlanningRequest& request,
+                                                     const planner_core::Deadline& deadline) {
+  const planner_core::Instance& instance = request.built.instance;
+  std::vector<WindowAgent> agents(instance.agent_count());
+  for (int a = 0; a < instance.agent_count(); ++a) agents[a].park = instance.goals[a];
+  for (const planner_core::Task& task : instance.tasks) {
+    for (int a : task.agents) agents[a].errands.push_back(task.at);
+  }
+  WindowPlanner windows(instance.graph, request.solver.seed);
+  planner_core::SolveResult result;
+  result.solution = windows.plan(instance.starts, agents, request.window_steps, deadline).steps;
+  result.solved = true;
+  return result;
+}
+
 void PlanningWorker::run() {
   for (;;) {
     PlanningRequest request;
@@ -59,10 +74,16 @@ void PlanningWorker::run() {
     const auto started = std::chrono::steady_clock::now();
     try {
       const auto deadline = planner_core::Deadline::for_limits(request.time_limit_s, request.iterations, &cancel_);
-      outcome.result = planner_core::make_solver(request.solver)->solve(request.built.instance, {deadline, {}});
+      if (request.lifelong_window) {
+        outcome.result = first_window(request, deadline);
+      } else {
+        outcome.result = planner_core::make_solver(request.solver)->solve(request.built.instance, {deadline, {}});
+      }
       if (outcome.result.solved) {
-        outcome.report = planner_core::validate(request.built.instance, outcome.result.solution,
-                                                planner_core::ValidationOptions{request.solver.forbid_rotations});
+        planner_core::ValidationOptions options;
+        options.forbid_rotations = request.solver.forbid_rotations || request.lifelong_window;
+        options.first_stretch = request.lifelong_window;
+        outcome.report = planner_core::validate(request.built.instance, outcome.result.solution, options);
       }
     } catch (const std::exception& e) {  // a solver bug must not end the mission
       outcome.error = std::string("the solver threw: ") + e.what();

@@ -25,6 +25,20 @@ TaskPlacement cheapest_insertion(planner_core::DistTable& distances, Vertex task
   return best;
 }
 
+TaskPlacement earliest_arrival(planner_core::DistTable& distances, Vertex task, const std::vector<Tour>& tours) {
+  TaskPlacement best;
+  for (size_t t = 0; t < tours.size(); ++t) {
+    const std::vector<Vertex>& stops = tours[t].stops;
+    if (stops.empty() || distances.get(task, stops.front()) >= planner_core::kUnreachable) continue;
+    const size_t last_task = stops.size() >= 2 ? stops.size() - 2 : 0;  // the goal is the last stop
+    int arrival = 0;
+    for (size_t i = 1; i <= last_task; ++i) arrival += distances.get(stops[i], stops[i - 1]);
+    arrival += distances.get(task, stops[last_task]);
+    if (best.tour < 0 || arrival < best.added_steps) best = {static_cast<int>(t), last_task + 1, arrival};
+  }
+  return best;
+}
+
 std::string task_cell_refusal(const planner_core::Instance& mission, int x, int y) {
   const planner_core::Graph& map = *mission.graph;
   if (!map.inside({x, y})) return fmt::format("({},{}) is off the map ({} x {})", x, y, map.width(), map.height());

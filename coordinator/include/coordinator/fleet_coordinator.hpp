@@ -146,11 +146,13 @@ class FleetCoordinator {
   struct PlanUnderWay {
     PlanningInputs from;
     bool first_plan = false;
+    bool lifelong_window = false;  // made as a first lifelong window, not by the solver
   };
   // After a failed plan the robots hold and the next try waits a second, with a longer limit.
   struct PlanRetry {
     double limit_factor = 1;  // doubles after each failure, up to 8; back to 1 on success
     Clock::time_point not_before{};
+    bool complete_solver = false;  // lifelong: the next plan by the solver, not a window (a window stalled)
   };
   // Everyone active is done but work is left for roles without a robot: since when it waits.
   struct WaitForRobot {
@@ -248,6 +250,7 @@ class FleetCoordinator {
   void extend_plan(fleet_transport::Transport& transport);
   std::vector<WindowAgent> window_agents();
   void note_window(const PlanWindow& window, double planning_ms);
+  void mark_planned_visits(const planner_core::Solution& steps);
   bool grows_by_windows(const std::string& robot_id) const;
   void update_progress();
   // Sends every command that is due. With `resend_only`, only the repeats of moves already sent
@@ -321,6 +324,7 @@ class FleetCoordinator {
   // tasks added meanwhile (coordinator/src/fleet_coordinator_windows.cpp).
   std::unique_ptr<WindowPlanner> windows_;
   std::set<std::pair<int, size_t>> planned_visits_;  // (task, index in its roles) the plan in hand makes
+  int first_plan_steps_ = 0;                         // the plan in hand's length before any window
   PlanningWorker planning_;              // makes the next plan on a thread of its own
   PlanUnderWay plan_under_way_;
   PlanRetry plan_retry_;

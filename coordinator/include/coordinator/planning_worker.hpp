@@ -14,6 +14,7 @@
 #include <thread>
 
 #include "coordinator/plan_builder.hpp"
+#include "coordinator/window_planner.hpp"
 #include "planner_core/solver.hpp"
 #include "planner_core/validator.hpp"
 
@@ -24,6 +25,10 @@ struct PlanningRequest {
   planner_core::SolverConfig solver;
   double time_limit_s = 1;
   int64_t iterations = 0;                // a work budget (planner.iterations), 0 = the time limit alone
+  // Lifelong: instead of the solver, the plan's first window (window_planner.hpp) of `window_steps`
+  // from the instance's starts, through its tasks, towards its goals; validated as a first stretch.
+  bool lifelong_window = false;
+  int window_steps = 5;
 };
 
 struct PlanningOutcome {
@@ -54,6 +59,7 @@ class PlanningWorker {
 
  private:
   void run();
+  static planner_core::SolveResult first_window(const PlanningRequest& request, const planner_core::Deadline& deadline);
 
   mutable std::mutex mutex_;
   std::condition_variable wake_;

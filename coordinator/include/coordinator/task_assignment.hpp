@@ -31,6 +31,13 @@ struct TaskPlacement {
 TaskPlacement cheapest_insertion(planner_core::DistTable& distances, planner_core::Vertex task,
                                  const std::vector<Tour>& tours);
 
+// Lifelong mode: the tour that reaches `task` soonest when the task goes after its last task
+// (before its goal): the steps along the tour to its last task, then on to `task`, as
+// `added_steps`. Robots' loads stay even, where cheapest insertion would pile tasks on the robot
+// whose way passes by (a long queue, the others idle). Ties: the first tour.
+TaskPlacement earliest_arrival(planner_core::DistTable& distances, planner_core::Vertex task,
+                               const std::vector<Tour>& tours);
+
 // Why a task at (x, y) cannot be added to `mission` ("" when it can): off the map, or a wall.
 std::string task_cell_refusal(const planner_core::Instance& mission, int x, int y);
 

@@ -46,6 +46,9 @@ struct ValidationOptions {
   // FORMATS.md allows three or more agents to rotate in one step; robots executing a plan one
   // move at a time cannot, so the coordinator forbids it.
   bool forbid_rotations = false;
+  // The plan's first stretch only (a lifelong fleet's plan grows as it is carried out): every
+  // rule but ending on the goals and visiting the tasks.
+  bool first_stretch = false;
 };
 
 ValidationReport validate(const Instance& instance, const Solution& solution, const ValidationOptions& options = {});

@@ -1,0 +1,37 @@
+// The fleet benchmark's yardstick for the task-stream scenario: the same fleet in one process.
+// The coordinator and one RobotAgent per robot, each driving a simulated robot (the very classes
+// the programs run), pass their messages by function call on one thread: no DDS, no processes,
+// no scheduling between them. What the fleet of processes loses against it is the runtime's cost.
+#pragma once
+
+#include <atomic>
+
+#include "coordinator/fleet_config.hpp"
+#include "planner_core/instance.hpp"
+#include "task_stream.hpp"
+
+namespace coordinator {
+
+struct StreamTimeline {
+  double warmup_s = 15;    // from the first plan, before counting starts
+  double measure_s = 60;   // tasks done counted over this long
+};
+
+struct StreamFigures {
+  int tasks_done = 0;          // within the counted time
+  double seconds = 0;          // the counted time
+  double tasks_per_minute = 0;
+  int accepted = 0;            // tasks the stream gave, over the whole run
+  int refused = 0;
+  int64_t windows = 0;         // lifelong windows the plan grew by
+  double window_ms_max = 0;
+  int replans = 0;
+  bool interrupted = false;
+};
+
+// Runs `mission` with `config` (lifelong) and robots whose moves take `step_s` * (1 + U[0, jitter]).
+StreamFigures run_in_process_fleet(const FleetConfig& config, const planner_core::Instance& mission, double step_s,
+                                   double jitter, TaskStream& stream, const StreamTimeline& timeline,
+                                   const std::atomic<bool>& stop);
+
+}  // namespace coordinator

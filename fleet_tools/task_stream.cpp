@@ -1,0 +1,43 @@
+#include "task_stream.hpp"
+
+namespace coordinator {
+
+TaskStream::TaskStream(const planner_core::Graph& graph, int waiting, int mission_tasks, uint32_t seed,
+                       std::string id_prefix)
+    : waiting_(waiting), mission_tasks_(mission_tasks), rng_(seed), id_prefix_(std::move(id_prefix)) {
+  for (planner_core::Vertex v = 0; v < graph.vertex_count(); ++v) cells_.push_back(graph.cell_of(v));
+}
+
+std::vector<fleet_transport::TaskRequest> TaskStream::due(int tasks_done, Clock::time_point now) {
+  std::vector<fleet_transport::TaskRequest> requests;
+  for (auto& [id, asked] : unanswered_) {
+    if (now - asked.last_sent >= std::chrono::seconds(1)) {
+      asked.last_sent = now;
+      requests.push_back(asked.request);
+    }
+  }
+  const int not_done = mission_tasks_ + accepted_ - tasks_done;
+  for (int k = not_done + static_cast<int>(unanswered_.size()); k < waiting_ && !cells_.empty(); ++k) {
+    const planner_core::Cell cell = cells_[rng_() % cells_.size()];
+    fleet_transport::TaskRequest request;
+    request.request_id = id_prefix_ + "-" + std::to_string(next_id_++);
+    request.action = fleet_transport::TaskAction::kAdd;
+    request.x = cell.x;
+    request.y = cell.y;
+    unanswered_[request.request_id] = {request, now};
+    requests.push_back(request);
+  }
+  return requests;
+}
+
+void TaskStream::answered(const fleet_transport::TaskReply& reply) {
+  if (unanswered_.erase(reply.request_id) == 0) return;  // another's, or a repeat's answer
+  if (reply.accepted) {
+    ++accepted_;
+  } else {
+    ++refused_;  // e.g. a duplicate of a task still waiting at that cell
+    last_refusal_ = reply.reason;
+  }
+}
+
+}  // namespace coordinator

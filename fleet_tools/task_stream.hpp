@@ -1,0 +1,53 @@
+// TaskStream: the work a warehouse gives a lifelong fleet, for the fleet benchmark. Keeps
+// `waiting` tasks the fleet has not done yet (accepted and not done, or asked and not answered),
+// each at a random free cell of the map, for whichever robot suits it best. A request not answered
+// within a second is asked again (the same id: the coordinator answers a repeat without adding
+// twice). Not thread-safe: the caller holds a lock when replies arrive on another thread.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <map>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "fleet_transport/messages.hpp"
+#include "planner_core/graph.hpp"
+
+namespace coordinator {
+
+class TaskStream {
+ public:
+  using Clock = std::chrono::steady_clock;
+
+  // `mission_tasks`: the tasks the fleet's mission came with, counted as given.
+  TaskStream(const planner_core::Graph& graph, int waiting, int mission_tasks, uint32_t seed, std::string id_prefix);
+
+  // The requests to send now, given how many tasks the fleet has done (its status's tasks_done,
+  // which may lag): new ones up to `waiting` not done, and unanswered ones again.
+  std::vector<fleet_transport::TaskRequest> due(int tasks_done, Clock::time_point now);
+  void answered(const fleet_transport::TaskReply& reply);
+
+  int accepted() const { return accepted_; }
+  int refused() const { return refused_; }
+  const std::string& last_refusal() const { return last_refusal_; }
+
+ private:
+  struct Asked {
+    fleet_transport::TaskRequest request;
+    Clock::time_point last_sent;
+  };
+  std::vector<planner_core::Cell> cells_;
+  int waiting_;
+  int mission_tasks_;
+  std::mt19937 rng_;
+  std::string id_prefix_;
+  int64_t next_id_ = 0;
+  std::map<std::string, Asked> unanswered_;
+  int accepted_ = 0;
+  int refused_ = 0;
+  std::string last_refusal_;
+};
+
+}  // namespace coordinator
