@@ -88,6 +88,27 @@ TEST(MissionProgress, AddedTasksCountAndCancelledOnesCountNeitherWay) {
   EXPECT_TRUE(progress.pending_visits().empty());
 }
 
+TEST(TaskAssignment, EarliestArrivalPicksTheRobotThatGetsThereSoonestNotTheOneWhoseWayPassesBy) {
+  // 7x1 corridor and a cell cut off: robot a stands at 0 with tasks at 6 then 1 queued (goal 0);
+  // robot b stands idle on its goal at 3.
+  const planner_core::Graph line(9, 1, {".......@."});
+  planner_core::DistTable distances(line);
+  const auto v = [&](int x) { return line.vertex_at({x, 0}); };
+  const std::vector<Tour> tours = {{"a", 0, {v(0), v(6), v(1), v(0)}}, {"b", 1, {v(3), v(3)}}};
+  // A task at 5 lies on a's way (it costs a nothing), but a gets there only after its queue.
+  EXPECT_EQ(cheapest_insertion(distances, v(5), tours).tour, 0);
+  TaskPlacement placement = earliest_arrival(distances, v(5), tours);
+  EXPECT_EQ(placement.tour, 1);
+  EXPECT_EQ(placement.added_steps, 2);
+  EXPECT_EQ(placement.position, 1u);  // after its last task, before its goal
+  // Alone, a gets there after 0 -> 6 -> 1, then 1 -> 5: 6 + 5 + 4 steps; after its last task.
+  placement = earliest_arrival(distances, v(5), {tours[0]});
+  EXPECT_EQ(placement.added_steps, 15);
+  EXPECT_EQ(placement.position, 3u);
+  // Nobody reaches the cut-off cell.
+  EXPECT_EQ(earliest_arrival(distances, v(8), tours).tour, -1);
+}
+
 TEST(TaskAssignment, CheapestInsertionPicksTheTourThatGrowsLeastAtItsBestPlace) {
   // 7x1 corridor: robot a stands at 0 bound for 6; robot b stands at 3 on its goal.
   const planner_core::Graph line(7, 1, {"......."});

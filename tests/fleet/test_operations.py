@@ -31,6 +31,7 @@ TESTS = [
     "test_fastdds_fleet_takes_tasks_and_its_dashboard_sees_them",
     "test_hostile_ids_and_texts_run_no_script_in_the_dashboard",
     "test_the_dashboard_answers_with_idle_streams_and_slow_sockets_open",
+    "test_a_lifelong_stream_grows_the_plan_and_outlives_a_restarted_robot",
 ]
 
 # Markup an attacker may put in a robot id, an event kind or an event text: each would set
@@ -157,6 +158,41 @@ class OperationsTest(unittest.TestCase):
         self.assertIsNone(self.fleet.processes["coordinator"].poll(), read(log)[-2000:])
         self.fleet.processes["coordinator"].send_signal(signal.SIGINT)
         self.fleet.wait_exit("coordinator", 60)
+        self.assert_safe()
+
+    def test_a_lifelong_stream_grows_the_plan_and_outlives_a_restarted_robot(self):
+        # Tasks arrive one after the other while the robots move: the plan grows by windows, the
+        # fleet never stops to replan for a task. Mid-stream a robot is SIGKILLed: one replan,
+        # then the plan grows again; the robot, started again where it stood, takes a role back.
+        self.start_fleet(lifelong=True)
+        log = self.fleet.log("coordinator")
+        cells = free_cells_away_from_the_mission()
+        for k in range(14):
+            if k == 7:  # robot2's process dies mid-stream and is started again where it stood
+                self.fleet.processes["robot2"].kill()
+                wait_for(lambda: re.search(r"robot robot2 taken out: .*\(last at \((\d+),(\d+)\)\)", read(log)), 60,
+                         "robot2 taken out")
+                last = re.search(r"robot robot2 taken out: .*\(last at \((\d+),(\d+)\)\)", read(log))
+                self.fleet.processes["robot2"].wait()
+                self.fleet.agent("robot2", (int(last.group(1)), int(last.group(2))))
+            x, y = cells[k * 31 % len(cells)]
+            code, text = self.task("add", "--at", f"{x},{y}", "--any")
+            self.assertEqual(code, 0, text)
+            self.assertIn("it gets there in about", text)  # lifelong: the robot that gets there soonest
+        wait_for(lambda: re.search(r"robot robot2 takes role \d", read(log).split("robot robot2 taken out")[-1]), 120,
+                 "robot2 back with a role")
+        wait_for(lambda: all(state == "done" for state in self.listing().values()), 240, "every task done")
+        self.fleet.processes["coordinator"].send_signal(signal.SIGINT)
+        self.fleet.wait_exit("coordinator", 60)
+        text = read(log)
+        summary = summary_of(text)
+        self.assertEqual(summary["tasks_done"], summary["tasks_total"])
+        self.assertEqual(summary["tasks_total"], 16 + 14)
+        self.assertGreater(summary["windows"], 10, summary)
+        self.assertIn("lifelong: the plan takes task", text)
+        # The loss (and robot2's return) bring replans; the fourteen tasks bring none.
+        self.assertLessEqual(summary["replans"], 4, summary)
+        self.assertNotIn("replanning: task", text)
         self.assert_safe()
 
     def test_hostile_ids_and_texts_run_no_script_in_the_dashboard(self):

@@ -139,5 +139,18 @@ TEST_F(ValidatorTest, RotationOnlyWhenForbidden) {
   EXPECT_EQ(strict.violations.front().time, 1);
 }
 
+TEST_F(ValidatorTest, AFirstStretchNeedNotEndOnGoalsNorVisitTasksButKeepsEveryOtherRule) {
+  const Solution plan = valid_plan();
+  const Solution stretch(plan.begin(), plan.begin() + 2);  // agent 0 at (1,0), its task not visited yet
+  EXPECT_TRUE(validate(instance, stretch).has(Kind::kNotOnGoal));
+  EXPECT_TRUE(validate(instance, stretch).has(Kind::kTaskMissed));
+  ValidationOptions first_stretch;
+  first_stretch.first_stretch = true;
+  EXPECT_TRUE(validate(instance, stretch, first_stretch).ok()) << validate(instance, stretch, first_stretch).summary();
+  Solution conflict = stretch;
+  conflict[1][1] = at(1, 0);  // both on (1,0): still refused
+  EXPECT_TRUE(validate(instance, conflict, first_stretch).has(Kind::kVertexConflict));
+}
+
 }  // namespace
 }  // namespace planner_core
