@@ -105,6 +105,7 @@ void drive(FleetCoordinator& coordinator, fleet_transport::Transport& transport,
 struct EndFigures {
   std::vector<double> round_trips;  // sorted
   double cpu_s = 0;
+  double peak_memory_mb = 0;  // the process's peak resident set
   double quantile(double q) const {
     return round_trips.empty() ? 0.0
                                : round_trips[std::min(round_trips.size() - 1, static_cast<size_t>(q * round_trips.size()))];
@@ -119,6 +120,7 @@ EndFigures end_figures(const MissionSummary& s) {
   getrusage(RUSAGE_SELF, &usage);
   figures.cpu_s =
       usage.ru_utime.tv_sec + usage.ru_stime.tv_sec + (usage.ru_utime.tv_usec + usage.ru_stime.tv_usec) / 1e6;
+  figures.peak_memory_mb = usage.ru_maxrss / 1024.0;  // Linux: kilobytes
   return figures;
 }
 
@@ -133,7 +135,7 @@ void print_json(const FleetCoordinator& coordinator, const EndFigures& f, int ex
       {"commands", s.commands_sent}, {"states", s.states_received},
       {"replan_latencies_s", s.replan_latencies_s}, {"round_trips", f.round_trips.size()},
       {"round_trip_p50_ms", f.quantile(0.5)}, {"round_trip_p99_ms", f.quantile(0.99)},
-      {"round_trip_max_ms", f.round_trips.empty() ? 0.0 : f.round_trips.back()}, {"cpu_s", f.cpu_s},
+      {"round_trip_max_ms", f.round_trips.empty() ? 0.0 : f.round_trips.back()}, {"cpu_s", f.cpu_s}, {"peak_memory_mb", f.peak_memory_mb},
       {"pending", s.pending}, {"coordinator", fmt::format("{:016x}", coordinator.incarnation())},
       {"mission_id", coordinator.mission_id()}, {"term", s.term}, {"stood_down", s.stood_down},
       {"stood_down_because", s.stood_down_because}, {"took_over", s.took_over},

@@ -9,6 +9,7 @@ using planner_core::Vertex;
 ActionDependencyGraph::ActionDependencyGraph(const planner_core::Solution& plan) {
   if (plan.empty()) return;
   moves_.assign(plan[0].size(), {});
+  forgotten_.assign(plan[0].size(), 0);
   last_ = plan[0];
   extend(plan);
 }
@@ -24,7 +25,7 @@ void ActionDependencyGraph::extend(const planner_core::Solution& more) {
     for (int r = 0; r < robots; ++r) {
       if (more[s][r] == more[s - 1][r]) continue;
       moving.push_back(r);
-      last_departures_[more[s - 1][r]][r] = static_cast<int>(moves_[r].size());
+      last_departures_[more[s - 1][r]][r] = move_count(r);
       moves_[r].push_back({more[s - 1][r], more[s][r], time, {}});
     }
     // Each move waits for every other robot's latest departure from its target so far.
@@ -39,6 +40,13 @@ void ActionDependencyGraph::extend(const planner_core::Solution& more) {
   }
   steps_ += static_cast<int>(more.size()) - 1;
   last_ = more.back();
+}
+
+void ActionDependencyGraph::forget_before(int robot, int index) {
+  while (forgotten_[robot] < index && !moves_[robot].empty()) {
+    moves_[robot].pop_front();
+    ++forgotten_[robot];
+  }
 }
 
 }  // namespace coordinator

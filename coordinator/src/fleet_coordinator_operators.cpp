@@ -91,9 +91,8 @@ std::vector<Tour> FleetCoordinator::current_tours() const {
     std::vector<Vertex> ahead;
     const int a = robot.plan_agent;
     if (plan_ && a >= 0 && a < plan_->agent_count()) {
-      const std::vector<Move>& moves = plan_->moves(a);
-      for (size_t m = plan_->agent(a).finished; m < moves.size(); ++m) {
-        const planner_core::Cell cell = plan_->target(a, static_cast<int>(m));
+      for (int m = plan_->agent(a).finished; m < plan_->move_count(a); ++m) {
+        const planner_core::Cell cell = plan_->target(a, m);
         ahead.push_back(mission_vertex(cell.x, cell.y));
       }
     }
@@ -313,7 +312,7 @@ void FleetCoordinator::publish_plan(fleet_transport::Transport& transport, int64
     robot.role = record != nullptr ? record->role : -1;
     const planner_core::Cell start = plan_->position(a);
     robot.path.push_back({start.x, start.y});
-    for (int m = 0; m < static_cast<int>(plan_->moves(a).size()); ++m) {
+    for (int m = plan_->agent(a).finished; m < plan_->move_count(a); ++m) {  // from where it stands
       const planner_core::Cell cell = plan_->target(a, m);
       robot.path.push_back({cell.x, cell.y});
     }

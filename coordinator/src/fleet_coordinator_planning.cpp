@@ -156,7 +156,7 @@ void FleetCoordinator::take_plan(const PlanningOutcome& outcome) {
   }
   plan_ = std::make_unique<PlanExecution>(epoch_, instance.graph, outcome.result.solution, built.robots,
                                           identity_.incarnation);
-  for (int a = 0; a < plan_->agent_count(); ++a) summary_.steps_planned += static_cast<int64_t>(plan_->moves(a).size());
+  for (int a = 0; a < plan_->agent_count(); ++a) summary_.steps_planned += plan_->move_count(a);
   if (config_.lifelong) {  // the plan will grow by windows, which take up what it does not do
     windows_ = std::make_unique<WindowPlanner>(instance.graph, static_cast<uint32_t>(config_.seed) + static_cast<uint32_t>(epoch_));
     planned_visits_.clear();

@@ -19,6 +19,7 @@
 #include <stdexcept>
 
 #include "coordinator/fleet_coordinator.hpp"
+#include "planner_core/validator.hpp"
 #include "fleet_coordinator_detail.hpp"
 
 namespace coordinator {
@@ -76,12 +77,25 @@ void FleetCoordinator::extend_plan(fleet_transport::Transport& transport) {
     return;
   }
   if (window.steps.size() < 2) return;  // every robot parked, nothing to do
+  // The validator is the gate, as for every plan: the window from the plan's last configuration.
+  planner_core::Instance stretch;
+  stretch.graph = plan_->graph();
+  stretch.starts = window.steps.front();
+  stretch.goals = window.steps.back();
+  stretch.index_tasks();
+  const planner_core::ValidationReport report =
+      planner_core::validate(stretch, window.steps, {.forbid_rotations = true, .first_stretch = true});
+  if (!report.ok()) {
+    spdlog::critical("a lifelong window failed validation; it is not sent:\n{}", report.summary());
+    request_replan("an invalid lifelong window");
+    return;
+  }
   int64_t moves_before = 0;
-  for (int a = 0; a < plan_->agent_count(); ++a) moves_before += static_cast<int64_t>(plan_->moves(a).size());
+  for (int a = 0; a < plan_->agent_count(); ++a) moves_before += plan_->move_count(a);
   plan_->extend(window.steps);
   mark_planned_visits(window.steps);
   int64_t moves_after = 0;
-  for (int a = 0; a < plan_->agent_count(); ++a) moves_after += static_cast<int64_t>(plan_->moves(a).size());
+  for (int a = 0; a < plan_->agent_count(); ++a) moves_after += plan_->move_count(a);
   summary_.steps_planned += moves_after - moves_before;
   const double planning_ms = std::chrono::duration<double, std::milli>(Clock::now() - started).count();
   note_window(window, planning_ms);

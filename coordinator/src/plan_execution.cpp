@@ -20,7 +20,7 @@ int PlanExecution::agent_of(const std::string& robot_id) const {
 
 planner_core::Cell PlanExecution::position(int a) const {
   const int finished = agents_[a].finished;
-  return graph_->cell_of(finished > 0 ? moves(a)[finished - 1].to : starts_[a]);
+  return graph_->cell_of(finished > 0 ? move(a, finished - 1).to : starts_[a]);
 }
 
 bool PlanExecution::allows(int a, planner_core::Cell cell) const {
@@ -46,6 +46,7 @@ std::optional<planner_core::Cell> PlanExecution::confirm(int a, const fleet_tran
     return std::nullopt;
   }
   ++agent.finished;
+  adg_.forget_before(a, agent.finished - 1);  // the last one confirmed is where the agent stands
   return cell;
 }
 

@@ -132,6 +132,36 @@ TEST(ActionDependencyGraph, APlanGrownPieceByPieceHasTheDependenciesOfThePlanWho
   EXPECT_EQ(moves_of(grown), moves_of(whole));                         // and nothing changed
 }
 
+TEST(ActionDependencyGraph, ForgettingFinishedMovesChangesNoAnswer) {
+  const planner_core::Instance instance =
+      planner_core::load_instance(std::string(CTSFLEET_TEST_DATA) + "/instances/maze-32-32-2-N50-M60-00.yaml");
+  planner_core::SolverConfig config;
+  config.solver = "cts-pibt";
+  config.forbid_rotations = true;
+  const planner_core::SolveResult result =
+      planner_core::make_solver(config)->solve(instance, {planner_core::Deadline::in_seconds(10), {}});
+  ASSERT_TRUE(result.solved);
+  const ActionDependencyGraph whole(result.solution);
+  ActionDependencyGraph trimmed(result.solution);
+  // Halfway through each robot's moves (as if each had finished that many), the rest kept.
+  std::vector<int> finished(whole.robot_count());
+  for (int r = 0; r < whole.robot_count(); ++r) {
+    finished[r] = whole.move_count(r) / 2;
+    trimmed.forget_before(r, finished[r]);
+    EXPECT_EQ(trimmed.move_count(r), whole.move_count(r));
+    EXPECT_EQ(trimmed.moves(r).size(), whole.moves(r).size() - static_cast<size_t>(finished[r]));
+  }
+  for (int r = 0; r < whole.robot_count(); ++r) {
+    for (int m = finished[r]; m < whole.move_count(r); ++m) {
+      EXPECT_EQ(trimmed.move(r, m).to, whole.move(r, m).to);
+      EXPECT_EQ(trimmed.move(r, m).after, whole.move(r, m).after);
+    }
+    if (finished[r] < whole.move_count(r)) {
+      EXPECT_EQ(trimmed.ready(r, finished[r], finished), whole.ready(r, finished[r], finished));
+    }
+  }
+}
+
 // Lifelong windows, one after the other, errands drawn at random: the plan they make together
 // runs under random delays without a collision or a deadlock (a rotation would deadlock it).
 TEST(ActionDependencyGraph, LifelongWindowsRunUnderDelaysWithoutCollisionOrDeadlock) {

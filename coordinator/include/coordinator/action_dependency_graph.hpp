@@ -7,9 +7,11 @@
 //
 // The plan may grow while it is carried out (lifelong mode): extend() appends steps after its last
 // configuration. Moves already there keep their dependencies, since a later move never holds an
-// earlier one back.
+// earlier one back. A move its robot has finished is never asked about again, so forget_before()
+// frees it (a lifelong plan grows without end); move indices stay as they were.
 #pragma once
 
+#include <deque>
 #include <map>
 #include <unordered_map>
 #include <vector>
@@ -36,7 +38,14 @@ class ActionDependencyGraph {
   void extend(const planner_core::Solution& more);
 
   int robot_count() const { return static_cast<int>(moves_.size()); }
-  const std::vector<Move>& moves(int robot) const { return moves_[robot]; }
+  // Robot r's moves so far, forgotten ones included.
+  int move_count(int robot) const { return forgotten_[robot] + static_cast<int>(moves_[robot].size()); }
+  // Robot r's move `index` (not forgotten).
+  const Move& move(int robot, int index) const { return moves_[robot][index - forgotten_[robot]]; }
+  // Robot r's moves from its first one not forgotten on.
+  const std::deque<Move>& moves(int robot) const { return moves_[robot]; }
+  // Frees robot r's moves before `index` (it has finished them).
+  void forget_before(int robot, int index);
   // Timesteps in the plan so far, and its last configuration.
   int plan_steps() const { return steps_; }
   const planner_core::Config& last_configuration() const { return last_; }
@@ -48,14 +57,15 @@ class ActionDependencyGraph {
   template <typename FinishedOf>
   bool ready(int robot, int move, FinishedOf finished_of) const {
     if (finished_of(robot) != move) return false;  // its own previous moves first
-    for (const auto& [other, index] : moves_[robot][move].after) {
+    for (const auto& [other, index] : this->move(robot, move).after) {
       if (finished_of(other) <= index) return false;
     }
     return true;
   }
 
  private:
-  std::vector<std::vector<Move>> moves_;
+  std::vector<std::deque<Move>> moves_;
+  std::vector<int> forgotten_;  // per robot, moves freed from the front
   // Per cell, each robot's latest departure from it so far (robot -> move index).
   std::unordered_map<planner_core::Vertex, std::map<int, int>> last_departures_;
   planner_core::Config last_;

@@ -39,12 +39,15 @@ class PlanExecution {
   int epoch() const { return epoch_; }
   int agent_count() const { return static_cast<int>(agents_.size()); }
   const Agent& agent(int a) const { return agents_[a]; }
-  const std::vector<Move>& moves(int a) const { return adg_.moves(a); }
+  // Agent a's moves so far; move(a, i) for i from agent(a).finished - 1 on (earlier ones are freed
+  // as they are confirmed: a lifelong plan grows without end).
+  int move_count(int a) const { return adg_.move_count(a); }
+  const Move& move(int a, int index) const { return adg_.move(a, index); }
   // The plan agent of `robot_id`, or -1.
   int agent_of(const std::string& robot_id) const;
 
   // Every move of agent a confirmed.
-  bool done(int a) const { return agents_[a].finished >= static_cast<int>(moves(a).size()); }
+  bool done(int a) const { return agents_[a].finished >= move_count(a); }
   // A move of agent a was sent and not yet confirmed.
   bool in_flight(int a) const { return !done(a) && agents_[a].sent == agents_[a].finished; }
   // A move in flight that the robot has not reported yet (not even as started).
@@ -64,10 +67,10 @@ class PlanExecution {
   // The plan's timestep up to which agent a has carried it out: the step before its next move,
   // or the plan's end when it has made every move.
   int carried_out_until(int a) const {
-    return done(a) ? plan_steps() : moves(a)[agents_[a].finished].plan_time - 1;
+    return done(a) ? plan_steps() : move(a, agents_[a].finished).plan_time - 1;
   }
   // The cell agent a's move `index` ends on.
-  planner_core::Cell target(int a, int index) const { return graph_->cell_of(moves(a)[index].to); }
+  planner_core::Cell target(int a, int index) const { return graph_->cell_of(move(a, index).to); }
 
   // The round trip (ms, from the first sending) when `state` is the robot's first report of the
   // move in flight in this epoch; nothing otherwise.
