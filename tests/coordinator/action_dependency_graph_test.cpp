@@ -65,31 +65,32 @@ void execute_with_random_delays(const planner_core::Solution& plan, uint32_t see
   }
 }
 
-TEST(ActionDependencyGraph, DelayedRobotsNeverCollideNorDeadlock) {
-  const planner_core::Instance instance =
-      planner_core::load_instance(std::string(CTSFLEET_TEST_DATA) + "/instances/random-32-32-20-N10-M30-00.yaml");
+// A plan for tests/data/instances/`file` by `solver` with no rotations, checked by the validator
+// (empty when there is none).
+planner_core::Solution rotation_free_plan(const std::string& file, const std::string& solver, int max_sequences = 0,
+                                          double seconds = 10) {
+  const planner_core::Instance instance = planner_core::load_instance(std::string(CTSFLEET_TEST_DATA) + "/instances/" + file);
   planner_core::SolverConfig config;
-  config.solver = "cts-pll-v2";
+  config.solver = solver;
   config.forbid_rotations = true;
+  config.max_sequences = max_sequences;
   const planner_core::SolveResult result =
-      planner_core::make_solver(config)->solve(instance, {planner_core::Deadline::in_seconds(10), {}});
-  ASSERT_TRUE(result.solved);
-  ASSERT_TRUE(planner_core::validate(instance, result.solution, {true}).ok());
-  for (uint32_t seed = 0; seed < 20; ++seed) execute_with_random_delays(result.solution, seed);
+      planner_core::make_solver(config)->solve(instance, {planner_core::Deadline::in_seconds(seconds), {}});
+  EXPECT_TRUE(result.solved);
+  EXPECT_TRUE(planner_core::validate(instance, result.solution, {true}).ok());
+  return result.solved ? result.solution : planner_core::Solution{};
+}
+
+TEST(ActionDependencyGraph, DelayedRobotsNeverCollideNorDeadlock) {
+  const planner_core::Solution plan = rotation_free_plan("random-32-32-20-N10-M30-00.yaml", "cts-pll-v2");
+  ASSERT_FALSE(plan.empty());
+  for (uint32_t seed = 0; seed < 20; ++seed) execute_with_random_delays(plan, seed);
 }
 
 TEST(ActionDependencyGraph, DenseMazePlan) {
-  const planner_core::Instance instance =
-      planner_core::load_instance(std::string(CTSFLEET_TEST_DATA) + "/instances/maze-32-32-2-N50-M60-00.yaml");
-  planner_core::SolverConfig config;
-  config.solver = "cts-pll-v3";
-  config.forbid_rotations = true;
-  config.max_sequences = 2;
-  const planner_core::SolveResult result =
-      planner_core::make_solver(config)->solve(instance, {planner_core::Deadline::in_seconds(3), {}});
-  ASSERT_TRUE(result.solved);
-  ASSERT_TRUE(planner_core::validate(instance, result.solution, {true}).ok());
-  for (uint32_t seed = 0; seed < 3; ++seed) execute_with_random_delays(result.solution, seed);
+  const planner_core::Solution plan = rotation_free_plan("maze-32-32-2-N50-M60-00.yaml", "cts-pll-v3", 2, 3);
+  ASSERT_FALSE(plan.empty());
+  for (uint32_t seed = 0; seed < 3; ++seed) execute_with_random_delays(plan, seed);
 }
 
 // The plan's moves as a comparable list: (robot, from, to, plan time, dependencies sorted).
@@ -106,15 +107,8 @@ std::vector<std::tuple<int, Vertex, Vertex, int, std::vector<std::pair<int, int>
 }
 
 TEST(ActionDependencyGraph, APlanGrownPieceByPieceHasTheDependenciesOfThePlanWhole) {
-  const planner_core::Instance instance =
-      planner_core::load_instance(std::string(CTSFLEET_TEST_DATA) + "/instances/maze-32-32-2-N50-M60-00.yaml");
-  planner_core::SolverConfig config;
-  config.solver = "cts-pibt";
-  config.forbid_rotations = true;
-  const planner_core::SolveResult result =
-      planner_core::make_solver(config)->solve(instance, {planner_core::Deadline::in_seconds(10), {}});
-  ASSERT_TRUE(result.solved);
-  const planner_core::Solution& plan = result.solution;
+  const planner_core::Solution plan = rotation_free_plan("maze-32-32-2-N50-M60-00.yaml", "cts-pibt");
+  ASSERT_FALSE(plan.empty());
   const ActionDependencyGraph whole(plan);
   for (size_t piece : {size_t{1}, size_t{7}, plan.size() / 3}) {
     ActionDependencyGraph grown(planner_core::Solution(plan.begin(), plan.begin() + 1));
@@ -133,16 +127,10 @@ TEST(ActionDependencyGraph, APlanGrownPieceByPieceHasTheDependenciesOfThePlanWho
 }
 
 TEST(ActionDependencyGraph, ForgettingFinishedMovesChangesNoAnswer) {
-  const planner_core::Instance instance =
-      planner_core::load_instance(std::string(CTSFLEET_TEST_DATA) + "/instances/maze-32-32-2-N50-M60-00.yaml");
-  planner_core::SolverConfig config;
-  config.solver = "cts-pibt";
-  config.forbid_rotations = true;
-  const planner_core::SolveResult result =
-      planner_core::make_solver(config)->solve(instance, {planner_core::Deadline::in_seconds(10), {}});
-  ASSERT_TRUE(result.solved);
-  const ActionDependencyGraph whole(result.solution);
-  ActionDependencyGraph trimmed(result.solution);
+  const planner_core::Solution plan = rotation_free_plan("maze-32-32-2-N50-M60-00.yaml", "cts-pibt");
+  ASSERT_FALSE(plan.empty());
+  const ActionDependencyGraph whole(plan);
+  ActionDependencyGraph trimmed(plan);
   // Halfway through each robot's moves (as if each had finished that many), the rest kept.
   std::vector<int> finished(whole.robot_count());
   for (int r = 0; r < whole.robot_count(); ++r) {
