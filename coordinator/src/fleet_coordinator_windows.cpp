@@ -33,6 +33,7 @@ constexpr int kWindowSteps = 5;      // steps a window adds at most
 constexpr int kLeadSteps = 5;        // a window once a robot still moving is this close to the end
 constexpr int kMaxLeadSteps = 40;    // ... unless the slowest robot has this many window steps ahead
 constexpr double kWindowBudgetS = 0.25;
+constexpr std::chrono::milliseconds kCheckPeriod{20};  // between two looks at whether a window is due
 
 }  // namespace
 
@@ -42,6 +43,12 @@ bool FleetCoordinator::grows_by_windows(const std::string& robot_id) const {
 
 void FleetCoordinator::extend_plan(fleet_transport::Transport& transport) {
   if (!config_.lifelong || !plan_ || !windows_ || plan_->agent_count() == 0) return;
+  // Looking through every robot's tasks costs more than a loop should, every loop (a few ms): at
+  // most every kCheckPeriod, a tenth of a step at 5 steps a second; but at once when every robot
+  // has run out of moves (else the loop would take the plan as finished and replan).
+  const Clock::time_point now = Clock::now();
+  if (now < next_window_check_ && !plan_finished()) return;
+  next_window_check_ = now + kCheckPeriod;
   const int end = plan_->plan_steps();
   int slowest = end;
   bool near_the_end = false;
@@ -59,7 +66,7 @@ void FleetCoordinator::extend_plan(fleet_transport::Transport& transport) {
     near_the_end = plan_->done(a) && (!agents[a].errands.empty() || last[a] != agents[a].park);
   }
   if (!near_the_end) return;
-  const Clock::time_point started = Clock::now();
+  const Clock::time_point started = now;
   PlanWindow window;
   try {
     window = windows_->plan(plan_->last_configuration(), agents, kWindowSteps,

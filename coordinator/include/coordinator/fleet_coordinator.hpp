@@ -325,6 +325,7 @@ class FleetCoordinator {
   std::unique_ptr<WindowPlanner> windows_;
   std::set<std::pair<int, size_t>> planned_visits_;  // (task, index in its roles) the plan in hand makes
   int first_plan_steps_ = 0;                         // the plan in hand's length before any window
+  Clock::time_point next_window_check_{};            // when extend_plan next looks whether a window is due
   PlanningWorker planning_;              // makes the next plan on a thread of its own
   PlanUnderWay plan_under_way_;
   PlanRetry plan_retry_;
