@@ -78,7 +78,7 @@ PlanWindow WindowPlanner::plan(const Config& from, const std::vector<WindowAgent
       settled = settled && left[a].empty() && at[a] == park[a];
     }
     if (settled) break;
-    Config next = pibt_.next_step(at, goals, deadline);
+    Config next = pibt_.next_step({at, {}}, goals, deadline).cells;
     planner_core::StepFault fault = planner_core::find_step_fault(*graph_, at, next);
     if (fault.what.empty()) fault = planner_core::find_rotation(at, next);
     if (!fault.what.empty()) throw std::logic_error("the lifelong window's step " + std::to_string(step + 1) + " is invalid: " + fault.what);

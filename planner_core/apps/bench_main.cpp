@@ -88,6 +88,11 @@ int main(int argc, char** argv) {
                  "columns south and north; a move against its lane costs 3)")
       ->check(CLI::IsMember({"none", "lanes"}))
       ->capture_default_str();
+  app.add_option("--actions", lifelong.actions,
+                 "experiment lifelong: move4 (up, down, left, right, wait) or rotate (the league's 2023 model: "
+                 "forward, turn clockwise, turn counter-clockwise, wait; agents start facing east)")
+      ->check(CLI::IsMember({"move4", "rotate"}))
+      ->capture_default_str();
   app.add_option("--rollouts", lifelong.rollouts,
                  "experiment lifelong: PIBT runs tried 3 steps ahead each step, the best first step taken (1: plain "
                  "PIBT); they stop at half the step's budget")

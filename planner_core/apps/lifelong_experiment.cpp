@@ -55,8 +55,10 @@ int run_lifelong_experiment(const LifelongExperimentSettings& settings) {
   table << "problem,agents,steps,step_time_s,planner,errands,tasks,errands_per_step,step_ms_p50,step_ms_p99,"
            "step_ms_max,over_budget,invalid,peak_mb,preprocess_ms\n";
   per_step << "problem,step,errands\n";
-  std::printf("lifelong: %d steps, %.3f s per step, planner pibt, guidance %s, %d rollouts (seed %u)\n",
-              settings.steps, settings.step_time_s, settings.guidance.c_str(), settings.rollouts, settings.seed);
+  const planner_core::ActionModel actions = planner_core::parse_action_model(settings.actions, "--actions");
+  std::printf("lifelong: %d steps, %.3f s per step, actions %s, planner pibt, guidance %s, %d rollouts (seed %u)\n",
+              settings.steps, settings.step_time_s, settings.actions.c_str(), settings.guidance.c_str(),
+              settings.rollouts, settings.seed);
   std::printf("%-28s %6s %9s %8s %9s %9s %9s %6s %7s %8s %9s\n", "problem", "agents", "errands", "per step",
               "p50 ms", "p99 ms", "max ms", "over", "invalid", "peak MB", "prep ms");
   for (const std::string& path : problems) {
@@ -64,9 +66,11 @@ int run_lifelong_experiment(const LifelongExperimentSettings& settings) {
     planner_core::PibtLifelongSettings pibt;
     pibt.guidance = planner_core::parse_guidance(settings.guidance, "--guidance");
     pibt.rollouts = settings.rollouts;
+    pibt.actions = actions;
     planner_core::PibtLifelong planner(*problem.graph, settings.seed, pibt);
     planner_core::LifelongLog log;
     planner_core::LifelongSettings lifelong;
+    lifelong.actions = actions;
     lifelong.steps = settings.steps;
     lifelong.step_time_s = settings.step_time_s;
     lifelong.interrupt = settings.interrupt;
@@ -93,7 +97,7 @@ int run_lifelong_experiment(const LifelongExperimentSettings& settings) {
       planner_core::write_lorr_output(output.string(), problem, result, log);
       std::printf("  wrote %s\n", output.c_str());
     }
-    table << name << "," << problem.starts.size() << "," << settings.steps << "," << settings.step_time_s << ",pibt-" << settings.guidance << "-r" << settings.rollouts << ","
+    table << name << "," << problem.starts.size() << "," << settings.steps << "," << settings.step_time_s << ",pibt-" << (actions == planner_core::ActionModel::kRotate ? "rotate-" : "") << settings.guidance << "-r" << settings.rollouts << ","
           << result.errands_finished << "," << result.tasks_finished << "," << per << ","
           << quantile(result.step_ms, 0.5) << "," << quantile(result.step_ms, 0.99) << ","
           << quantile(result.step_ms, 1.0) << "," << result.steps_over_budget << "," << result.invalid_steps << ","

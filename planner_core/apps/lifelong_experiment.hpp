@@ -20,6 +20,7 @@ struct LifelongExperimentSettings {
   double step_time_s = 1.0;
   unsigned seed = 0;
   std::string guidance = "lanes";     // planner_core/guided_distances.hpp
+  std::string actions = "move4";      // planner_core/action_model.hpp
   int rollouts = 128;                 // PibtLifelongSettings::rollouts
   bool league_output = false;         // also write <out-dir>/<problem>.lorr.json (planner_core/lorr_output.hpp)
   const std::atomic<bool>* interrupt = nullptr;  // Ctrl-C: the run under way ends, nothing more runs

@@ -43,40 +43,45 @@ int balanced_period(const Graph& graph, bool rows) {
 
 }  // namespace
 
-GuidedDistances::GuidedDistances(const Graph& graph, Guidance guidance)
+GuidedDistances::GuidedDistances(const Graph& graph, Guidance guidance, ActionModel actions)
     : graph_(graph),
       guidance_(guidance),
+      actions_(actions),
+      headings_(actions == ActionModel::kRotate ? kHeadings : 1),
       row_period_(guidance == Guidance::kLanes ? balanced_period(graph, true) : 1),
       column_period_(guidance == Guidance::kLanes ? balanced_period(graph, false) : 1),
-      // The dearest path costs at most kAgainstLaneCost per vertex.
-      narrow_(static_cast<int64_t>(graph.vertex_count()) * kAgainstLaneCost < 0xFFFF),
+      // The dearest path costs at most kAgainstLaneCost per state.
+      narrow_(static_cast<int64_t>(graph.vertex_count()) * static_cast<int64_t>(headings_) * kAgainstLaneCost < 0xFFFF),
       by_target_(graph.vertex_count()) {}
 
 namespace {
 
-// Dial's algorithm backwards from `target`: a bucket per cost (costs are small integers), so each
-// vertex is settled once, in order of its cost to the target.
-template <class Cost, class MoveCost>
-void search_from(const Graph& graph, Vertex target, std::vector<Cost>& cost, Cost none, const MoveCost& move_cost,
-                 int max_move_cost) {
-  cost.assign(graph.vertex_count(), none);
-  std::vector<std::vector<Vertex>> buckets(max_move_cost + 1);
-  cost[target] = 0;
-  buckets[0].push_back(target);
-  size_t pending = 1;
+// Dial's algorithm backwards from the `targets` states: a bucket per cost (costs are small
+// integers), so each state is settled once, in order of its cost to the nearest target.
+// `predecessors(state, visit)` calls visit(earlier, cost) for each state one step before `state`.
+template <class Cost, class Predecessors>
+void search_from(size_t states, const std::vector<size_t>& targets, std::vector<Cost>& cost, Cost none,
+                 const Predecessors& predecessors, int max_step_cost) {
+  cost.assign(states, none);
+  std::vector<std::vector<size_t>> buckets(max_step_cost + 1);
+  for (size_t target : targets) {
+    cost[target] = 0;
+    buckets[0].push_back(target);
+  }
+  size_t pending = targets.size();
   for (uint32_t d = 0; pending > 0; ++d) {
-    std::vector<Vertex>& bucket = buckets[d % buckets.size()];
+    std::vector<size_t>& bucket = buckets[d % buckets.size()];
     for (size_t i = 0; i < bucket.size(); ++i) {
-      const Vertex u = bucket[i];
+      const size_t u = bucket[i];
       if (cost[u] != d) continue;  // settled cheaper already
-      for (Vertex v : graph.neighbours(u)) {
-        const uint32_t through = d + static_cast<uint32_t>(move_cost(v, u));  // v moves to u
+      predecessors(u, [&](size_t v, int step_cost) {
+        const uint32_t through = d + static_cast<uint32_t>(step_cost);  // v steps to u
         if (through < cost[v]) {
           cost[v] = static_cast<Cost>(through);
           buckets[through % buckets.size()].push_back(v);
           ++pending;
         }
-      }
+      });
     }
     pending -= bucket.size();
     bucket.clear();
@@ -87,12 +92,36 @@ void search_from(const Graph& graph, Vertex target, std::vector<Cost>& cost, Cos
 
 const GuidedDistances::Table& GuidedDistances::search(Vertex target) {
   auto table = std::make_unique<Table>();
-  const auto cost = [this](Vertex from, Vertex to) { return move_cost(from, to); };
   const int dearest = guidance_ == Guidance::kNone ? 1 : kAgainstLaneCost;
+  const size_t states = static_cast<size_t>(graph_.vertex_count()) * headings_;
+  std::vector<size_t> targets;
+  // Four moves: a cell's neighbours step to it.
+  const auto move4 = [this](size_t u, const auto& visit) {
+    for (Vertex v : graph_.neighbours(static_cast<Vertex>(u))) visit(static_cast<size_t>(v), move_cost(v, static_cast<Vertex>(u)));
+  };
+  // Rotation: (cell, h) is reached by turning in place from (cell, h - 1) and (cell, h + 1), or
+  // by a step forward from the cell behind it, facing h.
+  const auto rotate = [this](size_t u, const auto& visit) {
+    const Vertex cell = static_cast<Vertex>(u / kHeadings);
+    const int heading = static_cast<int>(u % kHeadings);
+    const size_t base = static_cast<size_t>(cell) * kHeadings;
+    visit(base + static_cast<size_t>(turned_clockwise(heading)), 1);
+    visit(base + static_cast<size_t>(turned_counter_clockwise(heading)), 1);
+    const Vertex behind = ahead(graph_, cell, (heading + 2) % kHeadings);
+    if (behind != kNoVertex) visit(static_cast<size_t>(behind) * kHeadings + static_cast<size_t>(heading), move_cost(behind, cell));
+  };
+  for (size_t h = 0; h < headings_; ++h) targets.push_back(static_cast<size_t>(target) * headings_ + h);
+  const auto run = [&](auto& cost, auto none) {
+    if (actions_ == ActionModel::kRotate) {
+      search_from(states, targets, cost, none, rotate, dearest);
+    } else {
+      search_from(states, targets, cost, none, move4, dearest);
+    }
+  };
   if (narrow_) {
-    search_from<uint16_t>(graph_, target, table->narrow, 0xFFFF, cost, dearest);
+    run(table->narrow, uint16_t{0xFFFF});
   } else {
-    search_from<uint32_t>(graph_, target, table->wide, 0xFFFFFFFFu, cost, dearest);
+    run(table->wide, uint32_t{0xFFFFFFFFu});
   }
   by_target_[target] = std::move(table);
   return *by_target_[target];

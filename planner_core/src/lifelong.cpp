@@ -16,14 +16,14 @@ namespace planner_core {
 PibtLifelong::PibtLifelong(const Graph& graph, uint32_t seed, PibtLifelongSettings settings)
     : graph_(graph),
       settings_(settings),
-      distances_(graph, settings.guidance),
-      heading_to_(graph.vertex_count(), 0),
+      distances_(graph, settings.guidance, settings.actions),
+      bound_for_(graph.vertex_count(), 0),
       table_held_(graph.vertex_count(), 0),
       rng_(seed),
       standing_on_(graph.vertex_count(), -1),
       entering_(graph.vertex_count(), -1) {}
 
-void PibtLifelong::prepare(const Config&, const Config& goals, const Deadline& deadline) {
+void PibtLifelong::prepare(const Poses&, const Config& goals, const Deadline& deadline) {
   follow_goals(goals, deadline);
 }
 
@@ -32,8 +32,8 @@ void PibtLifelong::follow_goals(const Config& goals, const Deadline& deadline) {
   for (size_t a = 0; a < goals.size(); ++a) {
     const bool changed = !following_ || last_goals_[a] != goals[a];
     if (!changed) continue;
-    if (following_ && --heading_to_[last_goals_[a]] == 0) unneeded_.push_back(last_goals_[a]);
-    if (heading_to_[goals[a]]++ == 0 && !table_held_[goals[a]]) {
+    if (following_ && --bound_for_[last_goals_[a]] == 0) unneeded_.push_back(last_goals_[a]);
+    if (bound_for_[goals[a]]++ == 0 && !table_held_[goals[a]]) {
       table_held_[goals[a]] = 1;
       ++tables_held_;
     }
@@ -46,7 +46,7 @@ void PibtLifelong::follow_goals(const Config& goals, const Deadline& deadline) {
   while (static_cast<size_t>(tables_held_) > budget && !unneeded_.empty()) {
     const Vertex v = unneeded_.front();
     unneeded_.pop_front();
-    if (heading_to_[v] == 0 && table_held_[v]) {
+    if (bound_for_[v] == 0 && table_held_[v]) {
       distances_.forget(v);
       table_held_[v] = 0;
       --tables_held_;
@@ -55,7 +55,16 @@ void PibtLifelong::follow_goals(const Config& goals, const Deadline& deadline) {
   distances_.prepare(new_goals, deadline, DistTable::default_threads());
 }
 
-Config PibtLifelong::next_step(const Config& positions, const Config& goals, const Deadline& deadline) {
+int PibtLifelong::distance(Vertex goal, const Poses& poses, int agent) {
+  if (settings_.actions == ActionModel::kRotate) return distances_.get(goal, poses.cells[agent], poses.headings[agent]);
+  return distances_.get(goal, poses.cells[agent]);
+}
+
+Poses PibtLifelong::next_step(const Poses& now, const Config& goals, const Deadline& deadline) {
+  const Config& positions = now.cells;
+  if (settings_.actions == ActionModel::kRotate && now.headings.size() != positions.size()) {
+    throw std::invalid_argument("PibtLifelong: the rotation model needs a heading per agent");
+  }
   const Config previous_goals = following_ ? last_goals_ : goals;
   follow_goals(goals, deadline);
   if (fraction_.size() != positions.size()) {  // the first step (a rollout starts from a copy of what follows)
@@ -65,34 +74,34 @@ Config PibtLifelong::next_step(const Config& positions, const Config& goals, con
     still_.assign(positions.size(), 0);
     boost_.assign(positions.size(), 0);
   }
-  if (settings_.rollouts <= 1) return one_step(positions, goals, previous_goals);
+  if (settings_.rollouts <= 1) return one_step(now, goals, previous_goals);
   const auto started = std::chrono::steady_clock::now();
   const double share_s = settings_.rollout_share * deadline.seconds_left();
   const int n = static_cast<int>(positions.size());
   const StepState before = state();
   const uint32_t seeds = static_cast<uint32_t>(rng_());
   int64_t best_score = std::numeric_limits<int64_t>::max();
-  Config best_first;
+  Poses best_first;
   StepState after_best;
   for (int run = 0; run < settings_.rollouts; ++run) {
     restore(before);
     if (run > 0) rng_.seed(seeds + static_cast<uint32_t>(run));
-    Config at = one_step(positions, goals, previous_goals);
-    const Config first = at;
+    Poses at = one_step(now, goals, previous_goals);
+    const Poses first = at;
     const StepState after_first = state();
     std::vector<int> reached(n, -1);  // the step an agent first stood on its goal
     for (int a = 0; a < n; ++a) {
-      if (at[a] == goals[a]) reached[a] = 1;
+      if (at.cells[a] == goals[a]) reached[a] = 1;
     }
     for (int step = 2; step <= settings_.rollout_steps; ++step) {
       at = one_step(at, goals, goals);
       for (int a = 0; a < n; ++a) {
-        if (reached[a] < 0 && at[a] == goals[a]) reached[a] = step;
+        if (reached[a] < 0 && at.cells[a] == goals[a]) reached[a] = step;
       }
     }
     int64_t score = 0;
     for (int a = 0; a < n; ++a) {
-      score += reached[a] >= 0 ? reached[a] : settings_.rollout_steps + int64_t{distances_.get(goals[a], at[a])};
+      score += reached[a] >= 0 ? reached[a] : settings_.rollout_steps + int64_t{distance(goals[a], at, a)};
     }
     if (score < best_score) {
       best_score = score;
@@ -113,7 +122,8 @@ void PibtLifelong::restore(const StepState& state) {
   boost_ = state.boost;
 }
 
-Config PibtLifelong::one_step(const Config& positions, const Config& goals, const Config& previous_goals) {
+Poses PibtLifelong::one_step(const Poses& now, const Config& goals, const Config& previous_goals) {
+  const Config& positions = now.cells;
   const int n = static_cast<int>(positions.size());
   std::uniform_real_distribution<double> draw(0, 1);
   for (int a = 0; a < n; ++a) {
@@ -123,30 +133,80 @@ Config PibtLifelong::one_step(const Config& positions, const Config& goals, cons
       still_[a] = 0;
     }
   }
-  next_.assign(n, kNoVertex);
+  next_.cells.assign(n, kNoVertex);
+  next_.headings = now.headings;
   planning_.assign(n, 0);
   for (int a = 0; a < n; ++a) standing_on_[positions[a]] = a;
   // Agents that were stuck first, in the order drawn; then the nearest their goals (measured:
   // 0-9% more errands than the longest waiting first, history 24), ties by a fixed fraction.
   std::vector<double> rank(n);
   for (int a = 0; a < n; ++a) {
-    rank[a] = boost_[a] > 0 ? boost_[a] : fraction_[a] - distances_.get(goals[a], positions[a]);
+    rank[a] = boost_[a] > 0 ? boost_[a] : fraction_[a] - distance(goals[a], now, a);
   }
   std::vector<int> order(n);
   for (int a = 0; a < n; ++a) order[a] = a;
   std::sort(order.begin(), order.end(), [&](int x, int y) { return rank[x] > rank[y]; });
   for (int a : order) {
-    if (next_[a] == kNoVertex) decide(a, -1, positions, goals);
+    if (next_.cells[a] == kNoVertex) decide(a, -1, now, goals);
   }
+  const Config planned = next_.cells;
+  if (settings_.actions == ActionModel::kRotate) take_rotation_actions(now, goals);
   for (int a = 0; a < n; ++a) {
     standing_on_[positions[a]] = -1;
-    entering_[next_[a]] = -1;
-    still_[a] = next_[a] == positions[a] ? still_[a] + 1 : 0;
+    entering_[planned[a]] = -1;
+    still_[a] = next_.cells[a] == positions[a] ? still_[a] + 1 : 0;
   }
   return next_;
 }
 
-bool PibtLifelong::decide(int agent, int pushed_by, const Config& positions, const Config& goals) {
+int64_t PibtLifelong::step_cost(int agent, const Poses& now, Vertex goal, Vertex cell) {
+  const Vertex here = now.cells[agent];
+  if (settings_.actions == ActionModel::kMove4) {
+    return int64_t{cell == here ? 1 : distances_.move_cost(here, cell)} + distances_.get(goal, cell);
+  }
+  const int heading = now.headings[agent];
+  if (cell == here) return 1 + int64_t{distances_.get(goal, here, heading)};
+  // The turns to face the cell, the move, and the cost from there facing on.
+  const int towards = heading_towards(graph_, here, cell);
+  const int turns = towards == heading ? 0 : (towards == (heading + 2) % kHeadings ? 2 : 1);
+  return turns + int64_t{distances_.move_cost(here, cell)} + distances_.get(goal, cell, towards);
+}
+
+void PibtLifelong::take_rotation_actions(const Poses& now, const Config& goals) {
+  const int n = static_cast<int>(now.cells.size());
+  // Which agents stay on their cells: those PIBT kept there, and those that must turn first.
+  std::vector<int> staying;
+  for (int a = 0; a < n; ++a) {
+    const Vertex here = now.cells[a];
+    const Vertex to = next_.cells[a];
+    const int heading = now.headings[a];
+    if (to == here) {
+      staying.push_back(a);
+    } else if (to != ahead(graph_, here, heading)) {
+      const int towards = heading_towards(graph_, here, to);
+      int turned = towards;
+      if (towards == (heading + 2) % kHeadings) {  // half round: the quarter nearer the goal first
+        const int clockwise = turned_clockwise(heading);
+        const int counter = turned_counter_clockwise(heading);
+        turned = distances_.get(goals[a], here, counter) < distances_.get(goals[a], here, clockwise) ? counter : clockwise;
+      }
+      next_.headings[a] = turned;
+      next_.cells[a] = here;
+      staying.push_back(a);
+    }
+  }
+  // An agent that meant to move onto the cell of one that stays stays too, and so on back along
+  // the chain: PIBT gave every cell one taker, so what is left is valid.
+  for (size_t k = 0; k < staying.size(); ++k) {
+    const int taker = entering_[now.cells[staying[k]]];
+    if (taker == -1 || taker == staying[k] || next_.cells[taker] == now.cells[taker]) continue;
+    next_.cells[taker] = now.cells[taker];
+    staying.push_back(taker);
+  }
+}
+
+bool PibtLifelong::decide(int agent, int pushed_by, const Poses& now, const Config& goals) {
+  const Config& positions = now.cells;
   const Vertex here = positions[agent];
   std::array<Vertex, 5> candidates{};
   int count = 0;
@@ -158,9 +218,8 @@ bool PibtLifelong::decide(int agent, int pushed_by, const Config& positions, con
   std::array<int64_t, 5> rank{};
   for (int k = 0; k < count; ++k) {
     const Vertex v = candidates[k];
-    const int cost = v == here ? 1 : distances_.move_cost(here, v);
     const bool taken = standing_on_[v] != -1 && standing_on_[v] != agent;
-    rank[k] = 2 * (int64_t{cost} + distances_.get(goals[agent], v)) + (taken ? 1 : 0);
+    rank[k] = 2 * step_cost(agent, now, goals[agent], v) + (taken ? 1 : 0);
   }
   for (int i = 1; i < count; ++i) {  // insertion sort, keeping the shuffled order of ties
     for (int j = i; j > 0 && rank[j] < rank[j - 1]; --j) {
@@ -176,8 +235,8 @@ bool PibtLifelong::decide(int agent, int pushed_by, const Config& positions, con
     const int there = standing_on_[v];
     if (settings_.forbid_rotations && there != -1 && there != agent && planning_[there]) continue;
     entering_[v] = agent;
-    next_[agent] = v;
-    if (there != -1 && there != agent && next_[there] == kNoVertex && !decide(there, agent, positions, goals)) {
+    next_.cells[agent] = v;
+    if (there != -1 && there != agent && next_.cells[there] == kNoVertex && !decide(there, agent, now, goals)) {
       continue;  // the agent there could not make way
     }
     planning_[agent] = 0;
@@ -185,7 +244,7 @@ bool PibtLifelong::decide(int agent, int pushed_by, const Config& positions, con
   }
   planning_[agent] = 0;
   entering_[here] = agent;
-  next_[agent] = here;
+  next_.cells[agent] = here;
   return false;
 }
 
@@ -223,6 +282,30 @@ StepFault find_step_fault(const Graph& graph, const Config& positions, const Con
 
 std::string invalid_step(const Graph& graph, const Config& positions, const Config& next) {
   return find_step_fault(graph, positions, next).what;
+}
+
+StepFault find_pose_fault(const Graph& graph, ActionModel model, const Poses& now, const Poses& next) {
+  if (model == ActionModel::kRotate) {
+    if (next.headings.size() != next.cells.size() || now.headings.size() != now.cells.size()) {
+      return {-1, -1, "a step without a heading for every agent"};
+    }
+    for (size_t a = 0; a < next.cells.size() && a < now.cells.size(); ++a) {
+      const int agent = static_cast<int>(a);
+      const int from = now.headings[a];
+      const int to = next.headings[a];
+      if (to < 0 || to >= kHeadings) return {agent, -1, "agent " + std::to_string(a) + " faces no heading"};
+      if (next.cells[a] == now.cells[a]) {
+        if (to == (from + 2) % kHeadings) return {agent, -1, "agent " + std::to_string(a) + " turns half round in one step"};
+        continue;
+      }
+      if (to != from || next.cells[a] != ahead(graph, now.cells[a], from)) {
+        return {agent, -1,
+                "agent " + std::to_string(a) + " facing " + heading_letter(from) + " moves from " +
+                    to_string(graph.cell_of(now.cells[a])) + " other than forward"};
+      }
+    }
+  }
+  return find_step_fault(graph, now.cells, next.cells);
 }
 
 StepFault find_rotation(const Config& positions, const Config& next) {
@@ -338,27 +421,46 @@ class TaskBoard {
 
 namespace {
 
-// The league's letter for a step from `from` to `to`: U D L R (row up, row down, column left,
-// column right), W for staying, T for no action (not a move to a neighbouring cell).
-char action_letter(const Graph& graph, Vertex from, Vertex to) {
+// The league's letter for agent a's step from `now` to `next`: in four moves U D L R (row up, row
+// down, column left, column right); in the rotation model F (forward), R (clockwise), C
+// (counter-clockwise); W for staying, T for no action (no step open to the agent).
+char action_letter(const Graph& graph, ActionModel model, const Poses& now, const Poses& next, size_t a) {
+  const Vertex from = now.cells[a];
+  const Vertex to = next.cells[a];
+  if (to < 0 || to >= graph.vertex_count()) return 'T';
+  if (model == ActionModel::kRotate) {
+    if (a >= next.headings.size()) return 'T';
+    const int heading = now.headings[a];
+    if (to == from) {
+      if (next.headings[a] == heading) return 'W';
+      if (next.headings[a] == turned_clockwise(heading)) return 'R';
+      return next.headings[a] == turned_counter_clockwise(heading) ? 'C' : 'T';
+    }
+    return to == ahead(graph, from, heading) && next.headings[a] == heading ? 'F' : 'T';
+  }
   if (to == from) return 'W';
-  if (to < 0 || to >= graph.vertex_count() || !graph.adjacent(from, to)) return 'T';
-  const Cell a = graph.cell_of(from);
-  const Cell b = graph.cell_of(to);
-  if (b.y < a.y) return 'U';
-  if (b.y > a.y) return 'D';
-  return b.x < a.x ? 'L' : 'R';
+  if (!graph.adjacent(from, to)) return 'T';
+  const Cell a_cell = graph.cell_of(from);
+  const Cell b_cell = graph.cell_of(to);
+  if (b_cell.y < a_cell.y) return 'U';
+  if (b_cell.y > a_cell.y) return 'D';
+  return b_cell.x < a_cell.x ? 'L' : 'R';
 }
 
 }  // namespace
 
 LifelongResult run_lifelong(const LorrProblem& problem, LifelongPlanner& planner, const LifelongSettings& settings) {
   const Graph& graph = *problem.graph;
-  Config positions = problem.starts;
+  const ActionModel model = settings.actions;
+  Poses now{problem.starts, {}};
+  if (model == ActionModel::kRotate) now.headings.assign(now.cells.size(), 0);  // east, as the league starts
+  Config& positions = now.cells;
   const int team = static_cast<int>(positions.size());
   LifelongLog* log = settings.log;
   if (log != nullptr) {
     *log = LifelongLog{};
+    log->actions = model;
+    log->start_headings = now.headings;
     log->starts = positions;
     log->actual.assign(team, "");
     log->planned.assign(team, "");
@@ -375,7 +477,7 @@ LifelongResult run_lifelong(const LorrProblem& problem, LifelongPlanner& planner
   };
   {
     const auto started = std::chrono::steady_clock::now();
-    planner.prepare(positions, current_goals(), Deadline::in_seconds(settings.preprocess_time_s, settings.interrupt));
+    planner.prepare(now, current_goals(), Deadline::in_seconds(settings.preprocess_time_s, settings.interrupt));
     result.preprocess_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
   }
   for (int step = 0; step < settings.steps; ++step) {
@@ -385,34 +487,35 @@ LifelongResult run_lifelong(const LorrProblem& problem, LifelongPlanner& planner
     }
     const Config goals = current_goals();
     const auto started = std::chrono::steady_clock::now();
-    Config next = planner.next_step(positions, goals, Deadline::in_seconds(settings.step_time_s, settings.interrupt));
+    Poses next = planner.next_step(now, goals, Deadline::in_seconds(settings.step_time_s, settings.interrupt));
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
     result.step_ms.push_back(ms);
     const bool late = ms > 1000 * settings.step_time_s;
     if (log != nullptr) {
       for (int a = 0; a < team; ++a) {
         if (step > 0) log->planned[a] += ',';
-        log->planned[a] += late || next.size() != positions.size() ? 'T' : action_letter(graph, positions[a], next[a]);
+        log->planned[a] += late || next.cells.size() != positions.size() ? 'T' : action_letter(graph, model, now, next, a);
         if (board.goal(a) != kNoVertex) ++log->cost[a];
       }
     }
     if (late) {
       ++result.steps_over_budget;
-      next = positions;
-    } else if (const StepFault fault = find_step_fault(graph, positions, next); !fault.what.empty()) {
+      next = now;
+    } else if (const StepFault fault = find_pose_fault(graph, model, now, next); !fault.what.empty()) {
       if (result.invalid_steps++ == 0) result.first_invalid = "step " + std::to_string(step) + ": " + fault.what;
       if (log != nullptr) log->errors.push_back({fault.agent1, fault.agent2, step, fault.what});
-      next = positions;
+      next = now;
     }
     board.set_time(step + 1);
     int finished = 0;
     for (int a = 0; a < team; ++a) {
-      result.moves += next[a] != positions[a] ? 1 : 0;
+      result.moves += next.cells[a] != positions[a] ? 1 : 0;
       if (log != nullptr) {
         if (step > 0) log->actual[a] += ',';
-        log->actual[a] += action_letter(graph, positions[a], next[a]);
+        log->actual[a] += action_letter(graph, model, now, next, a);
       }
-      positions[a] = next[a];
+      positions[a] = next.cells[a];
+      if (model == ActionModel::kRotate) now.headings[a] = next.headings[a];
       // One errand per agent and step, as the league counts: a next errand on the same cell is
       // finished at the next step.
       if (board.arrive(a, positions[a], distances, result.tasks_finished)) ++finished;

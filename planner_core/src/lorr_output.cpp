@@ -23,13 +23,14 @@ void write_lorr_output(const std::string& path, const LorrProblem& problem, cons
                        const LifelongLog& log) {
   const Graph& graph = *problem.graph;
   nlohmann::ordered_json out;
-  out["actionModel"] = "MAPF";
+  const bool rotate = log.actions == ActionModel::kRotate;
+  out["actionModel"] = rotate ? "MAPF_T" : "MAPF";
   out["AllValid"] = result.invalid_steps == 0 ? "Yes" : "No";
   out["teamSize"] = log.starts.size();
   nlohmann::json starts = nlohmann::json::array();
-  for (Vertex v : log.starts) {
-    nlohmann::json start = row_and_column(graph, v);
-    start.push_back("N/A");  // no heading in this model
+  for (size_t a = 0; a < log.starts.size(); ++a) {
+    nlohmann::json start = row_and_column(graph, log.starts[a]);
+    start.push_back(rotate ? std::string(1, heading_letter(log.start_headings[a])) : "N/A");
     starts.push_back(start);
   }
   out["start"] = starts;

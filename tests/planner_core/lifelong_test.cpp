@@ -163,9 +163,9 @@ TEST(LifelongStep, AgentsMovingInACycleAreFound) {
 class RotationCounter : public LifelongPlanner {
  public:
   explicit RotationCounter(LifelongPlanner& planner) : planner_(planner) {}
-  Config next_step(const Config& positions, const Config& goals, const Deadline& deadline) override {
-    Config next = planner_.next_step(positions, goals, deadline);
-    if (!find_rotation(positions, next).what.empty()) ++rotations;
+  Poses next_step(const Poses& now, const Config& goals, const Deadline& deadline) override {
+    Poses next = planner_.next_step(now, goals, deadline);
+    if (!find_rotation(now.cells, next.cells).what.empty()) ++rotations;
     return next;
   }
   int rotations = 0;
@@ -263,9 +263,9 @@ TEST(Lifelong, AnInterruptEndsTheRunAtOnce) {
 // A planner that breaks the rules is overruled: everyone waits, and the fault is named.
 class JumpingPlanner : public LifelongPlanner {
  public:
-  Config next_step(const Config& positions, const Config&, const Deadline&) override {
-    Config next = positions;
-    next[0] = positions[1];
+  Poses next_step(const Poses& now, const Config&, const Deadline&) override {
+    Poses next = now;
+    next.cells[0] = now.cells[1];
     return next;
   }
 };

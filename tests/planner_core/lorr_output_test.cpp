@@ -122,16 +122,16 @@ TEST(LorrOutput, TheWrittenRunReplaysToTheRunMeasured) {
 // agents.
 class SlowThenJumpingPlanner : public LifelongPlanner {
  public:
-  Config next_step(const Config& positions, const Config&, const Deadline& deadline) override {
+  Poses next_step(const Poses& now, const Config&, const Deadline& deadline) override {
     if (calls_++ == 0) {
       // Past the budget whatever the machine's load; the next step answers at once, well within
       // its budget even on a loaded machine.
       while (!deadline.expired()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
       std::this_thread::sleep_for(std::chrono::milliseconds(20));
-      return positions;
+      return now;
     }
-    Config next = positions;
-    next[0] = positions[1];
+    Poses next = now;
+    next.cells[0] = now.cells[1];
     return next;
   }
 

@@ -5,18 +5,23 @@
 // in neighbouring lanes instead of meeting head on. Moving against a lane stays allowed (a dead end
 // or a single corridor has only one way), it is only dearer.
 //
+// In the rotation model (action_model.hpp) a table holds a cost per cell and heading: an agent
+// facing away from its way pays its turns (one step each) as well.
+//
 // Which lines take turns depends on the map: on a sortation floor only every other row is a
 // street, so rows taking turns one by one would send every street east. Rows therefore change
 // direction every p rows, for the smallest p in 1..4 that gives about as many east moves as west
 // moves (within a quarter), and columns likewise.
 #pragma once
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "planner_core/action_model.hpp"
 #include "planner_core/deadline.hpp"
 #include "planner_core/graph.hpp"
 
@@ -34,7 +39,7 @@ std::string to_string(Guidance guidance);
 class GuidedDistances {
  public:
   static constexpr int kAgainstLaneCost = 3;
-  GuidedDistances(const Graph& graph, Guidance guidance);
+  GuidedDistances(const Graph& graph, Guidance guidance, ActionModel actions = ActionModel::kMove4);
 
   // The cost of the move from `from` to its neighbour `to`.
   int move_cost(Vertex from, Vertex to) const {
@@ -49,20 +54,31 @@ class GuidedDistances {
   int column_period() const { return column_period_; }
 
   // The cheapest cost from `from` to `target` (kUnreachable if none); searches the target's table
-  // first if it is not held.
-  int get(Vertex target, Vertex from) {
+  // first if it is not held. In the rotation model, from `from` facing `heading` (any heading at
+  // the target will do).
+  int get(Vertex target, Vertex from, int heading = 0) {
     const Table* table = by_target_[target].get();
     if (table == nullptr) table = &search(target);
-    const uint32_t d = table->narrow.empty() ? table->wide[from] : table->narrow[from];
+    const size_t state = static_cast<size_t>(from) * headings_ + static_cast<size_t>(heading);
+    const uint32_t d = table->narrow.empty() ? table->wide[state] : table->narrow[state];
     return d == unreachable() ? kUnreachable : static_cast<int>(d);
   }
+  // The cheapest cost in the rotation model when the agent at `from` may first turn either way
+  // or not at all: the best heading it can face after one step spent in place.
+  int get_after_turning(Vertex target, Vertex from, int heading) {
+    return std::min({get(target, from, heading), get(target, from, turned_clockwise(heading)),
+                     get(target, from, turned_counter_clockwise(heading))});
+  }
+  ActionModel actions() const { return actions_; }
 
   // Searches the tables of `targets` not held yet, on `threads` threads, until the deadline.
   void prepare(const std::vector<Vertex>& targets, const Deadline& deadline, int threads);
 
   bool held(Vertex target) const { return by_target_[target] != nullptr; }
   void forget(Vertex target) { by_target_[target].reset(); }
-  size_t bytes_per_target() const { return static_cast<size_t>(graph_.vertex_count()) * (narrow_ ? 2 : 4); }
+  size_t bytes_per_target() const {
+    return static_cast<size_t>(graph_.vertex_count()) * headings_ * (narrow_ ? 2 : 4);
+  }
   static constexpr int kUnreachable = 1 << 30;
 
  private:
@@ -75,6 +91,8 @@ class GuidedDistances {
 
   const Graph& graph_;
   Guidance guidance_;
+  ActionModel actions_;
+  size_t headings_;  // states per cell: 1, or 4 in the rotation model
   int row_period_ = 1;
   int column_period_ = 1;
   bool narrow_;

@@ -6,8 +6,13 @@
 // is not a valid step (a move to a non-neighbouring cell, two agents on one cell, two agents
 // swapping), is replaced by everyone waiting, as the league does. An agent finishes at most one
 // errand per step. The figure is errands finished within the horizon.
+//
+// Agents act in one of two models (action_model.hpp): four moves, or the league's rotation model
+// (forward, turn clockwise, turn counter-clockwise, wait), every agent facing east at the start
+// as in the league.
 #pragma once
 
+#include <array>
 #include <atomic>
 #include <deque>
 #include <cstdint>
@@ -15,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "planner_core/action_model.hpp"
 #include "planner_core/deadline.hpp"
 #include "planner_core/guided_distances.hpp"
 #include "planner_core/instance.hpp"
@@ -22,20 +28,33 @@
 
 namespace planner_core {
 
-// Decides every agent's next cell from where they stand and the errand each heads for (its
+// Where the agents stand and, in the rotation model, which way each faces (no headings in the
+// four-move model).
+struct Poses {
+  Config cells;
+  Headings headings;
+  bool operator==(const Poses&) const = default;
+};
+
+// Decides every agent's next pose from where they stand and the errand each heads for (its
 // current cell when it has none).
 class LifelongPlanner {
  public:
   virtual ~LifelongPlanner() = default;
-  virtual Config next_step(const Config& positions, const Config& goals, const Deadline& deadline) = 0;
+  virtual Poses next_step(const Poses& now, const Config& goals, const Deadline& deadline) = 0;
   // The league's preprocessing time, before the first step: learn what helps plan these goals.
-  virtual void prepare(const Config& /*positions*/, const Config& /*goals*/, const Deadline& /*deadline*/) {}
+  virtual void prepare(const Poses& /*now*/, const Config& /*goals*/, const Deadline& /*deadline*/) {}
 };
 
 // PIBT (Okumura et al., 2022), one step at a time: agents decide in the order of their priority,
 // the nearest their goals first; an agent takes the free neighbouring cell nearest its goal and
 // pushes the agent standing there to decide next (priority inheritance), or stays. Never two
 // agents on one cell, never a swap.
+//
+// In the rotation model PIBT still picks cells, each neighbour costed with the turns needed to
+// face it (distances per heading); an agent then moves forward if its cell is the one ahead, else
+// stays and turns a quarter towards it. An agent that meant to move onto the cell of one that
+// stays (turning, or kept there) waits as well, and so on back along the chain.
 //
 // Plain PIBT can lock for ever off a biconnected map: an agent at the end of a dead end whose way
 // out is the cell of an agent that wants the dead end, the latter ahead in priority at every step
@@ -51,6 +70,7 @@ class LifelongPlanner {
 // 5,000 steps, 3.4 GB had every table been kept.
 struct PibtLifelongSettings {
   Guidance guidance = Guidance::kNone;
+  ActionModel actions = ActionModel::kMove4;
   // Rollouts: each step, PIBT is run `rollouts` times `rollout_steps` steps ahead, each run with its
   // own tie-breaks (the first with the planner's own), and the first step of the run whose agents
   // end nearest their goals is taken (steps to the goal if reached, else rollout_steps plus the
@@ -70,8 +90,8 @@ struct PibtLifelongSettings {
 class PibtLifelong : public LifelongPlanner {
  public:
   PibtLifelong(const Graph& graph, uint32_t seed, PibtLifelongSettings settings = {});
-  Config next_step(const Config& positions, const Config& goals, const Deadline& deadline) override;
-  void prepare(const Config& positions, const Config& goals, const Deadline& deadline) override;
+  Poses next_step(const Poses& now, const Config& goals, const Deadline& deadline) override;
+  void prepare(const Poses& now, const Config& goals, const Deadline& deadline) override;
 
   int distance_tables() const { return tables_held_; }
   const GuidedDistances& distances() const { return distances_; }
@@ -83,9 +103,15 @@ class PibtLifelong : public LifelongPlanner {
     std::vector<int> still;
     std::vector<double> boost;
   };
-  // One PIBT step from `positions` (goals were `previous_goals` the step before).
-  Config one_step(const Config& positions, const Config& goals, const Config& previous_goals);
-  bool decide(int agent, int pushed_by, const Config& positions, const Config& goals);
+  // One PIBT step from `now` (goals were `previous_goals` the step before).
+  Poses one_step(const Poses& now, const Config& goals, const Config& previous_goals);
+  bool decide(int agent, int pushed_by, const Poses& now, const Config& goals);
+  // The cost to the goal of a step to `cell` (a neighbour or the agent's own); in the rotation
+  // model with the turns to face it.
+  int64_t step_cost(int agent, const Poses& now, Vertex goal, Vertex cell);
+  // Rotation model: turns PIBT's cells into actions (rotation model, above).
+  void take_rotation_actions(const Poses& now, const Config& goals);
+  int distance(Vertex goal, const Poses& poses, int agent);
   StepState state() const { return {rng_, still_, boost_}; }
   void restore(const StepState& state);
   // Searches the distances to goals not seen before, and frees tables of goals nobody needs.
@@ -94,7 +120,7 @@ class PibtLifelong : public LifelongPlanner {
   const Graph& graph_;
   PibtLifelongSettings settings_;
   GuidedDistances distances_;
-  std::vector<int> heading_to_;     // vertex -> agents whose goal it is
+  std::vector<int> bound_for_;      // vertex -> agents whose goal it is
   std::vector<char> table_held_;    // vertex -> its distance table is held
   int tables_held_ = 0;
   std::deque<Vertex> unneeded_;     // goals that lost their last agent, oldest first
@@ -108,7 +134,7 @@ class PibtLifelong : public LifelongPlanner {
   std::vector<int> standing_on_;   // vertex -> agent there now, or -1
   std::vector<int> entering_;      // vertex -> agent there next, or -1
   std::vector<char> planning_;     // per agent: deciding now, waiting for an agent it pushed
-  Config next_;
+  Poses next_;
 };
 
 // What the league's output file records of a run (docs/FORMATS.md, "League of Robot Runners
@@ -126,7 +152,9 @@ struct LifelongLog {
     std::string what;
   };
   std::vector<Vertex> starts;
-  std::vector<std::string> actual;    // per agent, one letter per step: U D L R W
+  ActionModel actions = ActionModel::kMove4;
+  Headings start_headings;            // rotation model
+  std::vector<std::string> actual;    // per agent, one letter per step: U D L R W, or F R C W
   std::vector<std::string> planned;   // as the planner returned it; T when it was late
   std::vector<std::vector<Event>> events;  // per agent
   std::vector<Error> errors;
@@ -140,6 +168,7 @@ struct LifelongSettings {
   double preprocess_time_s = 60;  // the budget before the first step (the league's preprocessing)
   LifelongLog* log = nullptr;     // set: the run is recorded there
   const std::atomic<bool>* interrupt = nullptr;  // set (Ctrl-C): the run ends after the step under way
+  ActionModel actions = ActionModel::kMove4;     // the planner must plan in the same one
 };
 
 struct LifelongResult {
@@ -163,6 +192,10 @@ struct StepFault {
 };
 StepFault find_step_fault(const Graph& graph, const Config& positions, const Config& next);
 std::string invalid_step(const Graph& graph, const Config& positions, const Config& next);
+// Why `next` is no valid step from `now` in `model`: as find_step_fault, and in the rotation
+// model each agent either moves to the cell ahead keeping its heading, or stays and turns a
+// quarter either way or not at all.
+StepFault find_pose_fault(const Graph& graph, ActionModel model, const Poses& now, const Poses& next);
 // Agents of a valid step that move in a cycle (each into the cell the next one leaves), which
 // robots moving one at a time cannot do; empty `what` when there is none.
 StepFault find_rotation(const Config& positions, const Config& next);

@@ -1,6 +1,7 @@
 // A lifelong run written as the League of Robot Runners' output file (the Start-Kit's JSON, read
-// by its PlanViz visualiser), in the move-in-four-directions model the league calls "MAPF":
-// actions U D L R W, starts without a heading. Format: docs/FORMATS.md, "League of Robot Runners
+// by its PlanViz visualiser), in the move-in-four-directions model the league calls "MAPF"
+// (actions U D L R W, starts without a heading) or its rotation model "MAPF_T" (actions F R C W,
+// starts facing E S W or N). Format: docs/FORMATS.md, "League of Robot Runners
 // output".
 #pragma once
 
