@@ -221,6 +221,14 @@ bool PibtLifelong::decide(int agent, int pushed_by, const Poses& now, const Conf
     const bool taken = standing_on_[v] != -1 && standing_on_[v] != agent;
     rank[k] = 2 * step_cost(agent, now, goals[agent], v) + (taken ? 1 : 0);
   }
+  if (settings_.actions == ActionModel::kRotate && pushed_by != -1 && boost_[pushed_by] > 0) {
+    // Pushed on along the way of an agent that was stuck, it would be pushed again and again down
+    // a corridor: a cell to the side is dearer to reach (turns) but lets the pusher pass.
+    const Vertex straight_on = ahead(graph_, here, heading_towards(graph_, positions[pushed_by], here));
+    for (int k = 0; k < count; ++k) {
+      if (candidates[k] == straight_on) rank[k] += 2 * settings_.straight_push_cost;
+    }
+  }
   for (int i = 1; i < count; ++i) {  // insertion sort, keeping the shuffled order of ties
     for (int j = i; j > 0 && rank[j] < rank[j - 1]; --j) {
       std::swap(rank[j], rank[j - 1]);

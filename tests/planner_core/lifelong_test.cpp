@@ -8,6 +8,7 @@
 #include "planner_core/input_error.hpp"
 #include "planner_core/lifelong.hpp"
 #include "planner_core/lorr_problem.hpp"
+#include "tiny_lorr_problem.hpp"
 
 namespace planner_core {
 namespace {
@@ -15,35 +16,6 @@ namespace {
 namespace fs = std::filesystem;
 
 const std::string kRandom = std::string(CTSFLEET_BENCHMARKS_DIR) + "/lorr-2023/random.domain/";
-
-// A problem of our own in a fresh folder: map rows, agent locations, tasks (errands per line).
-class TinyProblem {
- public:
-  TinyProblem(const std::vector<std::string>& rows, const std::vector<std::string>& agents,
-              const std::vector<std::string>& tasks, const std::string& extra = "\"taskAssignmentStrategy\": \"roundrobin\"") {
-    dir_ = fs::temp_directory_path() / ("ctsfleet-lorr-" + std::to_string(::getpid()) + "-" + std::to_string(counter_++));
-    fs::create_directories(dir_);
-    std::ofstream map(dir_ / "tiny.map");
-    map << "type octile\nheight " << rows.size() << "\nwidth " << rows[0].size() << "\nmap\n";
-    for (const std::string& row : rows) map << row << "\n";
-    write("tiny.agents", agents);
-    write("tiny.tasks", tasks);
-    std::ofstream json(dir_ / "tiny.json");
-    json << "{\"mapFile\": \"tiny.map\", \"agentFile\": \"tiny.agents\", \"teamSize\": " << agents.size() - 1
-         << ", \"taskFile\": \"tiny.tasks\", \"numTasksReveal\": 1" << (extra.empty() ? "" : ", " + extra) << "}";
-  }
-  ~TinyProblem() { fs::remove_all(dir_); }
-  std::string path() const { return (dir_ / "tiny.json").string(); }
-  std::string file(const std::string& name) const { return (dir_ / name).string(); }
-  void write(const std::string& name, const std::vector<std::string>& lines) const {
-    std::ofstream out(dir_ / name);
-    for (const std::string& line : lines) out << line << "\n";
-  }
-
- private:
-  static inline int counter_ = 0;
-  fs::path dir_;
-};
 
 std::string error_of(const std::string& path) {
   try {

@@ -85,6 +85,8 @@ struct PibtLifelongSettings {
   // step. Robots executing the plan one move at a time (an Action Dependency Graph) need this: a
   // cycle's moves each wait for the next, for ever. The league allows cycles.
   bool forbid_rotations = false;
+  // Rotation model: what a pushed agent counts against going on straight ahead of its pusher.
+  int straight_push_cost = 4;
 };
 
 class PibtLifelong : public LifelongPlanner {
