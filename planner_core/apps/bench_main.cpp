@@ -98,6 +98,9 @@ int main(int argc, char** argv) {
                  "PIBT); they stop at half the step's budget")
       ->check(ctsfleet::count_in(1, 1'000'000))
       ->capture_default_str();
+  app.add_option("--rollout-steps", lifelong.rollout_steps, "experiment lifelong: how far ahead each rollout runs, in steps")
+      ->check(ctsfleet::count_in(1, 1000))
+      ->capture_default_str();
   app.add_flag("--league-output", lifelong.league_output,
                "experiment lifelong: also write each run as the league's output file, <out-dir>/<problem>.lorr.json "
                "(for PlanViz; about 4 bytes per agent and step)");

@@ -56,9 +56,10 @@ int run_lifelong_experiment(const LifelongExperimentSettings& settings) {
            "step_ms_max,over_budget,invalid,peak_mb,preprocess_ms\n";
   per_step << "problem,step,errands\n";
   const planner_core::ActionModel actions = planner_core::parse_action_model(settings.actions, "--actions");
-  std::printf("lifelong: %d steps, %.3f s per step, actions %s, planner pibt, guidance %s, %d rollouts (seed %u)\n",
-              settings.steps, settings.step_time_s, settings.actions.c_str(), settings.guidance.c_str(),
-              settings.rollouts, settings.seed);
+  std::printf(
+      "lifelong: %d steps, %.3f s per step, actions %s, planner pibt, guidance %s, %d rollouts of %d steps (seed %u)\n",
+      settings.steps, settings.step_time_s, settings.actions.c_str(), settings.guidance.c_str(), settings.rollouts,
+      settings.rollout_steps, settings.seed);
   std::printf("%-28s %6s %9s %8s %9s %9s %9s %6s %7s %8s %9s\n", "problem", "agents", "errands", "per step",
               "p50 ms", "p99 ms", "max ms", "over", "invalid", "peak MB", "prep ms");
   for (const std::string& path : problems) {
@@ -66,6 +67,7 @@ int run_lifelong_experiment(const LifelongExperimentSettings& settings) {
     planner_core::PibtLifelongSettings pibt;
     pibt.guidance = planner_core::parse_guidance(settings.guidance, "--guidance");
     pibt.rollouts = settings.rollouts;
+    pibt.rollout_steps = settings.rollout_steps;
     pibt.actions = actions;
     planner_core::PibtLifelong planner(*problem.graph, settings.seed, pibt);
     planner_core::LifelongLog log;
