@@ -101,6 +101,9 @@ int main(int argc, char** argv) {
   app.add_option("--rollout-steps", lifelong.rollout_steps, "experiment lifelong: how far ahead each rollout runs, in steps")
       ->check(ctsfleet::count_in(1, 1000))
       ->capture_default_str();
+  app.add_flag("--lns", lifelong.lns,
+               "experiment lifelong: improve the best rollout's steps by Large Neighbourhood Search (space-time A* "
+               "for 8 agents around a late one at a time) with half of the rollouts' time");
   app.add_flag("--league-output", lifelong.league_output,
                "experiment lifelong: also write each run as the league's output file, <out-dir>/<problem>.lorr.json "
                "(for PlanViz; about 4 bytes per agent and step)");

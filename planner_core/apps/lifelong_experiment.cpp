@@ -68,6 +68,7 @@ int run_lifelong_experiment(const LifelongExperimentSettings& settings) {
     pibt.guidance = planner_core::parse_guidance(settings.guidance, "--guidance");
     pibt.rollouts = settings.rollouts;
     pibt.rollout_steps = settings.rollout_steps;
+    pibt.lns = settings.lns;
     pibt.actions = actions;
     planner_core::PibtLifelong planner(*problem.graph, settings.seed, pibt);
     planner_core::LifelongLog log;
@@ -90,6 +91,12 @@ int run_lifelong_experiment(const LifelongExperimentSettings& settings) {
                 quantile(result.step_ms, 0.99), quantile(result.step_ms, 1.0), result.steps_over_budget,
                 result.invalid_steps, peak_memory_mb(), result.preprocess_ms);
     if (!result.first_invalid.empty()) std::printf("  first invalid step: %s\n", result.first_invalid.c_str());
+    if (settings.lns) {
+      const planner_core::WindowLnsStats& lns = planner.lns_totals();
+      std::printf("  window LNS: %lld iterations, %lld improvements, window cost %lld -> %lld\n",
+                  static_cast<long long>(lns.iterations), static_cast<long long>(lns.improvements),
+                  static_cast<long long>(lns.cost_before), static_cast<long long>(lns.cost_after));
+    }
     if (pibt.guidance == planner_core::Guidance::kLanes) {
       std::printf("  lanes turn every %d rows and every %d columns\n", planner.distances().row_period(),
                   planner.distances().column_period());
@@ -99,7 +106,7 @@ int run_lifelong_experiment(const LifelongExperimentSettings& settings) {
       planner_core::write_lorr_output(output.string(), problem, result, log);
       std::printf("  wrote %s\n", output.c_str());
     }
-    table << name << "," << problem.starts.size() << "," << settings.steps << "," << settings.step_time_s << ",pibt-" << (actions == planner_core::ActionModel::kRotate ? "rotate-" : "") << settings.guidance << "-r" << settings.rollouts << ","
+    table << name << "," << problem.starts.size() << "," << settings.steps << "," << settings.step_time_s << ",pibt-" << (actions == planner_core::ActionModel::kRotate ? "rotate-" : "") << settings.guidance << "-r" << settings.rollouts << (settings.lns ? "-lns" : "") << ","
           << result.errands_finished << "," << result.tasks_finished << "," << per << ","
           << quantile(result.step_ms, 0.5) << "," << quantile(result.step_ms, 0.99) << ","
           << quantile(result.step_ms, 1.0) << "," << result.steps_over_budget << "," << result.invalid_steps << ","

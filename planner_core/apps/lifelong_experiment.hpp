@@ -23,6 +23,7 @@ struct LifelongExperimentSettings {
   std::string actions = "move4";      // planner_core/action_model.hpp
   int rollouts = 128;                 // PibtLifelongSettings::rollouts
   int rollout_steps = 3;              // PibtLifelongSettings::rollout_steps
+  bool lns = false;                   // PibtLifelongSettings::lns
   bool league_output = false;         // also write <out-dir>/<problem>.lorr.json (planner_core/lorr_output.hpp)
   const std::atomic<bool>* interrupt = nullptr;  // Ctrl-C: the run under way ends, nothing more runs
 };

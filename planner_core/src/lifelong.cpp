@@ -21,7 +21,8 @@ PibtLifelong::PibtLifelong(const Graph& graph, uint32_t seed, PibtLifelongSettin
       table_held_(graph.vertex_count(), 0),
       rng_(seed),
       standing_on_(graph.vertex_count(), -1),
-      entering_(graph.vertex_count(), -1) {}
+      entering_(graph.vertex_count(), -1),
+      lns_(graph, distances_, settings.actions) {}
 
 void PibtLifelong::prepare(const Poses&, const Config& goals, const Deadline& deadline) {
   follow_goals(goals, deadline);
@@ -74,20 +75,23 @@ Poses PibtLifelong::next_step(const Poses& now, const Config& goals, const Deadl
     still_.assign(positions.size(), 0);
     boost_.assign(positions.size(), 0);
   }
-  if (settings_.rollouts <= 1) return one_step(now, goals, previous_goals);
+  if (settings_.rollouts <= 1 && !settings_.lns) return one_step(now, goals, previous_goals);
   const auto started = std::chrono::steady_clock::now();
-  const double share_s = settings_.rollout_share * deadline.seconds_left();
+  const double budget_s = settings_.rollout_share * deadline.seconds_left();
+  const double share_s = settings_.lns ? budget_s / 2 : budget_s;
   const int n = static_cast<int>(positions.size());
   const StepState before = state();
   const uint32_t seeds = static_cast<uint32_t>(rng_());
   int64_t best_score = std::numeric_limits<int64_t>::max();
   Poses best_first;
+  std::vector<Poses> best_window;
   StepState after_best;
   for (int run = 0; run < settings_.rollouts; ++run) {
     restore(before);
     if (run > 0) rng_.seed(seeds + static_cast<uint32_t>(run));
     Poses at = one_step(now, goals, previous_goals);
     const Poses first = at;
+    std::vector<Poses> window{now, first};
     const StepState after_first = state();
     std::vector<int> reached(n, -1);  // the step an agent first stood on its goal
     for (int a = 0; a < n; ++a) {
@@ -95,6 +99,7 @@ Poses PibtLifelong::next_step(const Poses& now, const Config& goals, const Deadl
     }
     for (int step = 2; step <= settings_.rollout_steps; ++step) {
       at = one_step(at, goals, goals);
+      if (settings_.lns) window.push_back(at);
       for (int a = 0; a < n; ++a) {
         if (reached[a] < 0 && at.cells[a] == goals[a]) reached[a] = step;
       }
@@ -106,6 +111,7 @@ Poses PibtLifelong::next_step(const Poses& now, const Config& goals, const Deadl
     if (score < best_score) {
       best_score = score;
       best_first = first;
+      best_window = std::move(window);
       after_best = after_first;
     }
     // Another run only if it fits in the share, at the pace so far.
@@ -113,6 +119,22 @@ Poses PibtLifelong::next_step(const Poses& now, const Config& goals, const Deadl
     if (spent * (run + 2) / (run + 1) > share_s) break;
   }
   restore(after_best);
+  if (settings_.lns) {
+    const double spent = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+    const WindowLnsStats stats =
+        lns_.improve(best_window, goals, Deadline::in_seconds(std::max(0.0, budget_s - spent)), rng_);
+    lns_totals_.iterations += stats.iterations;
+    lns_totals_.improvements += stats.improvements;
+    lns_totals_.cost_before += stats.cost_before;
+    lns_totals_.cost_after += stats.cost_after;
+    // The first step may have changed: agents that now stay count as standing still.
+    for (int a = 0; a < n; ++a) {
+      if (best_window[1].cells[a] != best_first.cells[a]) {
+        still_[a] = best_window[1].cells[a] == positions[a] ? still_[a] + 1 : 0;
+      }
+    }
+    return best_window[1];
+  }
   return best_first;
 }
 

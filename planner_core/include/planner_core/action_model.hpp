@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "planner_core/graph.hpp"
+#include "planner_core/instance.hpp"
 
 namespace planner_core {
 
@@ -24,6 +25,14 @@ std::string to_string(ActionModel model);
 
 using Headings = std::vector<int>;  // one heading (0..3) per agent
 constexpr int kHeadings = 4;
+
+// Where the agents stand and, in the rotation model, which way each faces (no headings in the
+// four-move model).
+struct Poses {
+  Config cells;
+  Headings headings;
+  bool operator==(const Poses&) const = default;
+};
 
 inline int turned_clockwise(int heading) { return (heading + 1) % kHeadings; }
 inline int turned_counter_clockwise(int heading) { return (heading + kHeadings - 1) % kHeadings; }

@@ -25,16 +25,9 @@
 #include "planner_core/guided_distances.hpp"
 #include "planner_core/instance.hpp"
 #include "planner_core/lorr_problem.hpp"
+#include "planner_core/window_lns.hpp"
 
 namespace planner_core {
-
-// Where the agents stand and, in the rotation model, which way each faces (no headings in the
-// four-move model).
-struct Poses {
-  Config cells;
-  Headings headings;
-  bool operator==(const Poses&) const = default;
-};
 
 // Decides every agent's next pose from where they stand and the errand each heads for (its
 // current cell when it has none).
@@ -87,6 +80,9 @@ struct PibtLifelongSettings {
   bool forbid_rotations = false;
   // Rotation model: what a pushed agent counts against going on straight ahead of its pusher.
   int straight_push_cost = 4;
+  // Window LNS (window_lns.hpp): the best rollout's rollout_steps steps are improved by Large
+  // Neighbourhood Search; rollouts then take half of rollout_share, LNS the rest.
+  bool lns = false;
 };
 
 class PibtLifelong : public LifelongPlanner {
@@ -96,6 +92,7 @@ class PibtLifelong : public LifelongPlanner {
   void prepare(const Poses& now, const Config& goals, const Deadline& deadline) override;
 
   int distance_tables() const { return tables_held_; }
+  const WindowLnsStats& lns_totals() const { return lns_totals_; }
   const GuidedDistances& distances() const { return distances_; }
 
  private:
@@ -137,6 +134,8 @@ class PibtLifelong : public LifelongPlanner {
   std::vector<int> entering_;      // vertex -> agent there next, or -1
   std::vector<char> planning_;     // per agent: deciding now, waiting for an agent it pushed
   Poses next_;
+  WindowLns lns_;
+  WindowLnsStats lns_totals_;
 };
 
 // What the league's output file records of a run (docs/FORMATS.md, "League of Robot Runners

@@ -1,0 +1,72 @@
+// Large Neighbourhood Search over a window of the lifelong plan (the idea of the League of Robot
+// Runners' 2023 winner, Jiang et al., "Scaling Lifelong Multi-Agent Path Finding to More Realistic
+// Settings", 2024): PIBT proposes the next `window` steps of every agent; then, while time is
+// left, a few agents around one that is late are taken out and each is planned again by
+// space-time A* through the others' reserved cells, and the new paths are kept if they cost less
+// together. Only the window's first step is carried out; the next step plans afresh.
+//
+// An agent's cost over the window: the cost of its actions until it first stands on its goal
+// (a move its guided cost, a turn or a wait 1), or, if it does not get there, that sum plus its
+// guided distance from where the window leaves it. Paths are kept free of shared cells and swaps
+// at every step of the window, in either action model.
+#pragma once
+
+#include <cstdint>
+#include <random>
+#include <vector>
+
+#include "planner_core/action_model.hpp"
+#include "planner_core/deadline.hpp"
+#include "planner_core/guided_distances.hpp"
+
+namespace planner_core {
+
+struct WindowLnsStats {
+  int64_t iterations = 0;
+  int64_t improvements = 0;
+  int64_t cost_before = 0;
+  int64_t cost_after = 0;
+};
+
+class WindowLns {
+ public:
+  static constexpr int kNeighbourhood = 8;  // agents planned again together
+
+  WindowLns(const Graph& graph, GuidedDistances& distances, ActionModel actions);
+
+  // Improves `window` (window[0]: the poses now; window[t]: after t steps; every step valid) for
+  // agents heading for `goals`, until the deadline.
+  WindowLnsStats improve(std::vector<Poses>& window, const Config& goals, const Deadline& deadline, std::mt19937& rng);
+
+ private:
+  struct Node {
+    int64_t f;
+    int64_t g;
+    int t;
+    Vertex cell;
+    int heading;
+    int parent;  // index in nodes_, -1 for the start
+  };
+  int64_t path_cost(const std::vector<Poses>& window, int agent, Vertex goal);
+  void reserve(const std::vector<Poses>& window, int agent, int who);
+  bool free_at(int t, Vertex cell) const { return occupied_[static_cast<size_t>(t) * cells_ + cell] == -1; }
+  int occupant(int t, Vertex cell) const { return occupied_[static_cast<size_t>(t) * cells_ + cell]; }
+  // Space-time A* for `agent` from window[0] through the reserved cells; writes its path into
+  // `window`. False when every way is blocked.
+  bool plan_agent(std::vector<Poses>& window, int agent, Vertex goal);
+  int heuristic(Vertex goal, Vertex cell, int heading);
+  std::vector<int> neighbourhood(const std::vector<Poses>& window, int late, std::mt19937& rng);
+
+  const Graph& graph_;
+  GuidedDistances& distances_;
+  ActionModel actions_;
+  size_t cells_;
+  int steps_ = 0;
+  std::vector<int> occupied_;      // (t, cell) -> agent there at step t, or -1
+  std::vector<uint32_t> seen_;     // (t, cell, heading) -> search stamp when reached
+  std::vector<int64_t> best_g_;    // (t, cell, heading) -> cheapest cost reached with, this search
+  uint32_t stamp_ = 0;
+  std::vector<Node> nodes_;
+};
+
+}  // namespace planner_core

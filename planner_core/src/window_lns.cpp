@@ -1,0 +1,187 @@
+#include "planner_core/window_lns.hpp"
+
+#include <algorithm>
+#include <queue>
+
+namespace planner_core {
+
+WindowLns::WindowLns(const Graph& graph, GuidedDistances& distances, ActionModel actions)
+    : graph_(graph), distances_(distances), actions_(actions), cells_(static_cast<size_t>(graph.vertex_count())) {}
+
+int WindowLns::heuristic(Vertex goal, Vertex cell, int heading) {
+  return actions_ == ActionModel::kRotate ? distances_.get(goal, cell, heading) : distances_.get(goal, cell);
+}
+
+int64_t WindowLns::path_cost(const std::vector<Poses>& window, int agent, Vertex goal) {
+  if (window[0].cells[agent] == goal) return 0;
+  int64_t cost = 0;
+  for (int t = 1; t <= steps_; ++t) {
+    const Vertex from = window[t - 1].cells[agent];
+    const Vertex to = window[t].cells[agent];
+    cost += to == from ? 1 : distances_.move_cost(from, to);
+    if (to == goal) return cost;
+  }
+  const int heading = actions_ == ActionModel::kRotate ? window[steps_].headings[agent] : 0;
+  return cost + heuristic(goal, window[steps_].cells[agent], heading);
+}
+
+void WindowLns::reserve(const std::vector<Poses>& window, int agent, int who) {
+  for (int t = 0; t <= steps_; ++t) occupied_[static_cast<size_t>(t) * cells_ + window[t].cells[agent]] = who;
+}
+
+bool WindowLns::plan_agent(std::vector<Poses>& window, int agent, Vertex goal) {
+  const bool rotate = actions_ == ActionModel::kRotate;
+  const int headings = rotate ? kHeadings : 1;
+  ++stamp_;
+  nodes_.clear();
+  using Entry = std::pair<std::pair<int64_t, int64_t>, int>;  // (f, -g), node
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<>> open;
+  const Vertex start = window[0].cells[agent];
+  const int start_heading = rotate ? window[0].headings[agent] : 0;
+  nodes_.push_back({heuristic(goal, start, start_heading), 0, 0, start, start_heading, -1});
+  open.push({{nodes_[0].f, 0}, 0});
+  const auto tail_free = [&](int from_t, Vertex cell) {
+    for (int t = from_t + 1; t <= steps_; ++t) {
+      if (!free_at(t, cell)) return false;
+    }
+    return true;
+  };
+  while (!open.empty()) {
+    const int index = open.top().second;
+    open.pop();
+    const Node node = nodes_[index];
+    if (node.t == steps_ || (node.t > 0 && node.cell == goal && tail_free(node.t, node.cell))) {
+      // Write the path back, waiting on the goal after it is reached.
+      for (int t = steps_; t > node.t; --t) {
+        window[t].cells[agent] = node.cell;
+        if (rotate) window[t].headings[agent] = node.heading;
+      }
+      for (int k = index; k != -1 && nodes_[k].t > 0; k = nodes_[k].parent) {
+        window[nodes_[k].t].cells[agent] = nodes_[k].cell;
+        if (rotate) window[nodes_[k].t].headings[agent] = nodes_[k].heading;
+      }
+      return true;
+    }
+    const int t = node.t + 1;
+    const auto visit = [&](Vertex cell, int heading, int cost) {
+      if (!free_at(t, cell)) return;
+      if (cell != node.cell) {
+        const int there = occupant(node.t, cell);  // no swap with the agent standing there
+        if (there != -1 && occupant(t, node.cell) == there) return;
+      }
+      const size_t state = (static_cast<size_t>(t) * cells_ + static_cast<size_t>(cell)) * headings + heading;
+      const int64_t g = node.g + cost;
+      if (seen_[state] == stamp_ && best_g_[state] <= g) return;
+      seen_[state] = stamp_;
+      best_g_[state] = g;
+      const int h = heuristic(goal, cell, heading);
+      if (h >= GuidedDistances::kUnreachable) return;
+      nodes_.push_back({g + h, g, t, cell, heading, index});
+      open.push({{g + h, -g}, static_cast<int>(nodes_.size()) - 1});
+    };
+    if (rotate) {
+      const Vertex forward = ahead(graph_, node.cell, node.heading);
+      if (forward != kNoVertex) visit(forward, node.heading, distances_.move_cost(node.cell, forward));
+      visit(node.cell, turned_clockwise(node.heading), 1);
+      visit(node.cell, turned_counter_clockwise(node.heading), 1);
+    } else {
+      for (Vertex next : graph_.neighbours(node.cell)) visit(next, 0, distances_.move_cost(node.cell, next));
+    }
+    visit(node.cell, node.heading, 1);
+  }
+  return false;
+}
+
+std::vector<int> WindowLns::neighbourhood(const std::vector<Poses>& window, int late, std::mt19937& rng) {
+  // The late agent and those standing nearest it now (breadth first from its cell).
+  std::vector<int> group{late};
+  std::vector<Vertex> frontier{window[0].cells[late]};
+  std::vector<Vertex> reached = frontier;
+  for (size_t k = 0; k < frontier.size() && group.size() < static_cast<size_t>(kNeighbourhood); ++k) {
+    std::vector<Vertex> next(graph_.neighbours(frontier[k]).begin(), graph_.neighbours(frontier[k]).end());
+    std::shuffle(next.begin(), next.end(), rng);
+    for (Vertex v : next) {
+      if (std::find(reached.begin(), reached.end(), v) != reached.end()) continue;
+      reached.push_back(v);
+      frontier.push_back(v);
+      const int there = occupant(0, v);
+      if (there != -1 && group.size() < static_cast<size_t>(kNeighbourhood)) group.push_back(there);
+    }
+    if (reached.size() > 64) break;
+  }
+  return group;
+}
+
+WindowLnsStats WindowLns::improve(std::vector<Poses>& window, const Config& goals, const Deadline& deadline,
+                                  std::mt19937& rng) {
+  WindowLnsStats stats;
+  steps_ = static_cast<int>(window.size()) - 1;
+  if (steps_ < 1) return stats;
+  const int n = static_cast<int>(goals.size());
+  const bool rotate = actions_ == ActionModel::kRotate;
+  const size_t states = static_cast<size_t>(steps_ + 1) * cells_ * (rotate ? kHeadings : 1);
+  occupied_.assign(static_cast<size_t>(steps_ + 1) * cells_, -1);
+  if (seen_.size() != states) {
+    seen_.assign(states, 0);
+    best_g_.assign(states, 0);
+    stamp_ = 0;
+  }
+  for (int a = 0; a < n; ++a) reserve(window, a, a);
+  std::vector<int64_t> cost(n);
+  std::vector<int> late;
+  for (int a = 0; a < n; ++a) {
+    cost[a] = path_cost(window, a, goals[a]);
+    stats.cost_before += cost[a];
+    const int heading = rotate ? window[0].headings[a] : 0;
+    if (cost[a] > heuristic(goals[a], window[0].cells[a], heading)) late.push_back(a);
+  }
+  while (!late.empty() && !deadline.expired()) {
+    ++stats.iterations;
+    const int chosen = late[std::uniform_int_distribution<size_t>(0, late.size() - 1)(rng)];
+    std::vector<int> group = neighbourhood(window, chosen, rng);
+    int64_t old_cost = 0;
+    std::vector<Poses> old_paths(window.size(), Poses{Config(group.size()), Headings(rotate ? group.size() : 0)});
+    for (size_t k = 0; k < group.size(); ++k) {
+      old_cost += cost[group[k]];
+      for (int t = 0; t <= steps_; ++t) {
+        old_paths[t].cells[k] = window[t].cells[group[k]];
+        if (rotate) old_paths[t].headings[k] = window[t].headings[group[k]];
+      }
+      reserve(window, group[k], -1);
+    }
+    std::vector<size_t> order(group.size());
+    for (size_t k = 0; k < order.size(); ++k) order[k] = k;
+    std::shuffle(order.begin(), order.end(), rng);
+    bool planned = true;
+    size_t done = 0;
+    for (; done < order.size(); ++done) {
+      const int a = group[order[done]];
+      if (!plan_agent(window, a, goals[a])) {
+        planned = false;
+        break;
+      }
+      reserve(window, a, a);
+    }
+    int64_t new_cost = 0;
+    if (planned) {
+      for (int a : group) new_cost += path_cost(window, a, goals[a]);
+    }
+    if (planned && new_cost < old_cost) {
+      ++stats.improvements;
+      for (int a : group) cost[a] = path_cost(window, a, goals[a]);
+      continue;
+    }
+    for (size_t k = 0; k < done; ++k) reserve(window, group[order[k]], -1);
+    for (size_t k = 0; k < group.size(); ++k) {
+      for (int t = 0; t <= steps_; ++t) {
+        window[t].cells[group[k]] = old_paths[t].cells[k];
+        if (rotate) window[t].headings[group[k]] = old_paths[t].headings[k];
+      }
+      reserve(window, group[k], group[k]);
+    }
+  }
+  for (int a = 0; a < n; ++a) stats.cost_after += cost[a];
+  return stats;
+}
+
+}  // namespace planner_core
