@@ -25,6 +25,7 @@
 #include <thread>
 
 #include "child_process.hpp"
+#include "run_logs.hpp"
 #include "task_stream_scenario.hpp"
 #include "throwaway_fleet_ca.hpp"
 #include "ctsfleet/data_dir.hpp"
@@ -34,22 +35,11 @@
 #include "planner_core/instance_generator.hpp"
 
 namespace fs = std::filesystem;
+using coordinator::monitor_overlaps;
+using coordinator::read_file;
+using coordinator::read_summary;
 
 namespace {
-
-std::string read_file(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
-// The coordinator's --json summary (its whole stdout); an empty object when it wrote none.
-nlohmann::json read_summary(const std::string& path) {
-  const std::string text = read_file(path);
-  const nlohmann::json summary = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
-  return summary.is_object() ? summary : nlohmann::json::object();
-}
 
 // The wall-clock ms of each "first command of term T" line in a coordinator log, by term.
 std::map<int, int64_t> first_commands(const std::string& log) {
@@ -354,9 +344,7 @@ int main(int argc, char** argv) {
         kill(monitor, SIGINT);
         waitpid(monitor, nullptr, 0);
         stop_discovery_server();
-        const std::string monitor_text = read_file((work / ("monitor-" + tag + ".log")).string());
-        const size_t at = monitor_text.find("overlaps ");
-        const std::string collisions = at == std::string::npos ? "-" : std::to_string(std::atoi(monitor_text.c_str() + at + 9));
+        const std::string collisions = monitor_overlaps(read_file((work / ("monitor-" + tag + ".log")).string()));
         const nlohmann::json summary = read_summary(summary_of(generation));
         if (json) {
           nlohmann::json row = {{"robots", n}, {"scenario", scenario}, {"latencies_ms", latencies_ms},

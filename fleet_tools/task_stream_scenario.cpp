@@ -12,6 +12,7 @@
 #include <thread>
 
 #include "child_process.hpp"
+#include "run_logs.hpp"
 #include "coordinator/fleet_config.hpp"
 #include "ctsfleet/program.hpp"
 #include "fleet_transport/transport.hpp"
@@ -24,13 +25,6 @@ namespace fs = std::filesystem;
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-std::string text_of(const fs::path& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
 
 // Sends SIGINT (then SIGKILL after `grace_s`) and reaps the process.
 void stop_child(pid_t pid, double grace_s) {
@@ -136,11 +130,8 @@ StreamFigures run_fleet_of_processes(const TaskStreamSettings& settings, const p
   for (pid_t pid : agents) kill(pid, SIGTERM);
   for (pid_t pid : agents) waitpid(pid, nullptr, 0);
   stop_child(monitor, 10);
-  const std::string monitor_text = text_of(monitor_log);
-  const size_t at = monitor_text.find("overlaps ");
-  collisions = at == std::string::npos ? "-" : std::to_string(std::atoi(monitor_text.c_str() + at + 9));
-  coordinator_summary = nlohmann::json::parse(text_of(summary_file), nullptr, false);
-  if (!coordinator_summary.is_object()) coordinator_summary = nlohmann::json::object();
+  collisions = monitor_overlaps(read_file(monitor_log.string()));
+  coordinator_summary = read_summary(summary_file.string());
   figures.tasks_per_minute = figures.seconds > 0 ? 60 * figures.tasks_done / figures.seconds : 0;
   figures.accepted = stream.accepted();
   figures.refused = stream.refused();
