@@ -88,68 +88,18 @@ lorr="$data/../../benchmarks/lorr-2023/random.domain/random_50.json"
   --out-dir "$work/lifelong" > "$work/lifelong.out"
 grep -q "^random_50 " "$work/lifelong.out"
 grep -q "^random_50,50,120,1,pibt-lanes-r128," "$work/lifelong/lifelong.csv"
-"$python" - "$work/lifelong/random_50.lorr.json" <<'PY'
-import json, sys
-run = json.load(open(sys.argv[1]))
-assert run["actionModel"] == "MAPF" and run["AllValid"] == "Yes" and run["teamSize"] == 50, run["actionModel"]
-at = [(r, c) for r, c, _ in run["start"]]
-paths = [p.split(",") for p in run["actualPaths"]]
-moves = {"U": (-1, 0), "D": (1, 0), "L": (0, -1), "R": (0, 1), "W": (0, 0)}
-cells = {t[0]: (t[1], t[2]) for t in run["tasks"]}
-finished = {(e[1], a): e[0] for a, events in enumerate(run["events"]) for e in events if e[2] == "finished"}
-checked = 0
-for step in range(120):
-    nxt = [(r + moves[p[step]][0], c + moves[p[step]][1]) for (r, c), p in zip(at, paths)]
-    assert len(set(nxt)) == len(nxt), f"two agents on a cell at step {step}"
-    at = nxt
-    for a in range(50):
-        if (step + 1, a) in finished:
-            assert cells[finished[(step + 1, a)]] == at[a], f"agent {a} finished away from its task"
-            checked += 1
-assert checked == run["numTaskFinished"] > 0, (checked, run["numTaskFinished"])
-PY
+map="$data/../../benchmarks/lorr-2023/random.domain/maps/random-32-32-20.map"
+"$python" "$(dirname "$0")/lorr_replay.py" "$work/lifelong/random_50.lorr.json" "$map"
 # The same in the league's rotation model: an independent replay of forward, turns and waits.
 "$bin/ctsfleet-bench" --experiment lifelong --problem "$lorr" --steps 120 --step-time 1 --league-output \
   --actions rotate --rollouts 1 --out-dir "$work/lifelong-rotate" > "$work/lifelong-rotate.out"
 grep -q "^random_50,50,120,1,pibt-rotate-lanes-r1," "$work/lifelong-rotate/lifelong.csv"
-"$python" - "$work/lifelong-rotate/random_50.lorr.json" "$data/../../benchmarks/lorr-2023/random.domain/maps/random-32-32-20.map" <<'PY'
-import json, sys
-run = json.load(open(sys.argv[1]))
-rows = open(sys.argv[2]).read().split("\n")[4:]
-free = lambda r, c: 0 <= r < 32 and 0 <= c < 32 and rows[r][c] in ".ES"
-assert run["actionModel"] == "MAPF_T" and run["AllValid"] == "Yes" and run["errors"] == [], run["actionModel"]
-assert all(s[2] == "E" for s in run["start"]), "agents start facing east"
-at = [(r, c) for r, c, _ in run["start"]]
-facing = [0] * 50  # east, south, west, north
-ahead = [(0, 1), (1, 0), (0, -1), (-1, 0)]
-paths = [p.split(",") for p in run["actualPaths"]]
-cells = {t[0]: (t[1], t[2]) for t in run["tasks"]}
-finished = {(e[1], a): e[0] for a, events in enumerate(run["events"]) for e in events if e[2] == "finished"}
-checked = turns = forwards = 0
-for step in range(120):
-    nxt = list(at)
-    for a in range(50):
-        action = paths[a][step]
-        assert action in "FRCW", f"agent {a} step {step}: {action}"
-        if action == "F":
-            nxt[a] = (at[a][0] + ahead[facing[a]][0], at[a][1] + ahead[facing[a]][1])
-            assert free(*nxt[a]), f"agent {a} drives into a wall at step {step}"
-            forwards += 1
-        elif action in "RC":
-            facing[a] = (facing[a] + (1 if action == "R" else 3)) % 4
-            turns += 1
-    assert len(set(nxt)) == len(nxt), f"two agents on a cell at step {step}"
-    for a in range(50):
-        for b in range(50):
-            assert a == b or not (nxt[a] == at[b] and nxt[b] == at[a] and at[a] != at[b]), f"swap at step {step}"
-    at = nxt
-    for a in range(50):
-        if (step + 1, a) in finished:
-            assert cells[finished[(step + 1, a)]] == at[a], f"agent {a} finished away from its task"
-            checked += 1
-assert checked == run["numTaskFinished"] > 0, (checked, run["numTaskFinished"])
-assert turns > 0 and forwards > turns, (turns, forwards)
-PY
+"$python" "$(dirname "$0")/lorr_replay.py" "$work/lifelong-rotate/random_50.lorr.json" "$map"
+# And with window LNS: its steps replay as validly.
+"$bin/ctsfleet-bench" --experiment lifelong --problem "$lorr" --steps 60 --step-time 0.2 --league-output \
+  --actions rotate --rollout-steps 8 --lns --out-dir "$work/lifelong-lns" > "$work/lifelong-lns.out"
+grep -q "window LNS: [1-9]" "$work/lifelong-lns.out"
+"$python" "$(dirname "$0")/lorr_replay.py" "$work/lifelong-lns/random_50.lorr.json" "$map"
 set +e
 "$bin/ctsfleet-bench" --experiment lifelong --problem "$lorr" --actions diagonal > /dev/null 2> "$work/err"
 code=$?
