@@ -95,7 +95,7 @@ write_basic_package_version_file(${CMAKE_BINARY_DIR}/ctsfleetConfigVersion.cmake
 install(FILES ${CMAKE_BINARY_DIR}/ctsfleetConfig.cmake ${CMAKE_BINARY_DIR}/ctsfleetConfigVersion.cmake
   DESTINATION ${CTSFLEET_CMAKE_DESTINATION})
 
-# Debian package: dependencies from shlibdeps, files under /usr.
+# Debian package: dependencies from dpkg-shlibdeps, files under /usr.
 set(CPACK_PACKAGE_NAME ctsfleet)
 set(CPACK_PACKAGE_VENDOR "ctsfleet developers")
 set(CPACK_PACKAGE_CONTACT "ctsfleet developers <ctsfleet@example.org>")
@@ -107,9 +107,12 @@ set(CPACK_RESOURCE_FILE_LICENSE ${PROJECT_SOURCE_DIR}/LICENSE)
 set(CPACK_PACKAGING_INSTALL_PREFIX /usr)
 set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
 set(CPACK_DEBIAN_PACKAGE_SECTION science)
-set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
 # ctsfleet-plot, ctsfleet-ca, and what the CMake package (find_package(ctsfleet)) finds itself:
-# yaml-cpp's CMake files and headers; the rest from shlibdeps.
+# yaml-cpp's CMake files and headers; the libraries the programs link from dpkg-shlibdeps, which
+# cmake/deb-depends.cmake runs on the programs when the package is made.
+set(CPACK_PROJECT_CONFIG_FILE ${PROJECT_SOURCE_DIR}/cmake/deb-depends.cmake)
+set(CPACK_CTSFLEET_PROGRAM_FILES ${CTSFLEET_PROGRAMS})
+list(TRANSFORM CPACK_CTSFLEET_PROGRAM_FILES PREPEND ${CMAKE_BINARY_DIR}/bin/)
 set(CPACK_DEBIAN_PACKAGE_DEPENDS "python3, python3-matplotlib, openssl, libyaml-cpp-dev")
 set(CPACK_DEBIAN_PACKAGE_RECOMMENDS "dbus-daemon")
 set(CPACK_DEBIAN_PACKAGE_CONTROL_STRICT_PERMISSION ON)
