@@ -62,6 +62,7 @@ int main(int argc, char** argv) {
   int64_t iterations = 0;
   bool verbose = false, json = false;
   SolverConfig config;
+  std::string actions = "move4";
   app.add_option("-i,--instance", instance_path, "instance: CTS-MAPF .yaml or MovingAI .scen")
       ->required()
       ->check(CLI::ExistingFile);
@@ -77,6 +78,12 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember(solver_names()))
       ->capture_default_str();
   app.add_option("--seed", config.seed, "random seed")->capture_default_str();
+  app.add_option("--actions", actions,
+                 "how robots move: move4 (a step to any neighbour) or rotate (forward, quarter turn or wait, each "
+                 "one step; headings from the instance's 'heading' fields, east when absent; cts-pibt and "
+                 "cts-pibt-anytime only)")
+      ->check(CLI::IsMember({"move4", "rotate"}))
+      ->capture_default_str();
   app.add_option("--svg", svg_path, "also draw the plan as an SVG picture")->check(ctsfleet::writable_file());
   app.add_option("--exact-task-limit", config.task_order.exact_task_limit,
                  "Held-Karp task ordering up to this many tasks per agent")
@@ -100,10 +107,12 @@ int main(int argc, char** argv) {
   return program.main(argc, argv, [&] {
     // The time limit and every reported time count from here, before the instance is read.
     SolveOptions options{Deadline::in_seconds(seconds, &ctsfleet::stop_requested()), {}, Clock::now()};
-    const Instance instance = [&] {
+    check_action_model(config.solver, parse_action_model(actions, "--actions"));
+    Instance instance = [&] {
       const ctsfleet::StopsAtOnce reading("ctsfleet-solve", "reading " + instance_path);
       return load_instance(instance_path, scen_agents, map);
     }();
+    instance.actions = parse_action_model(actions, "--actions");
     options.deadline = options.deadline.within(options.deadline.seconds_left() - output_reserve_s(instance, seconds));
     if (iterations > 0) options.deadline = options.deadline.with_work_budget(iterations * kWorkPerIteration);
     if (verbose) {
@@ -129,11 +138,13 @@ int main(int argc, char** argv) {
     put("agents", instance.agent_count());
     put("tasks", instance.task_count());
     put("seed", config.seed);
+    if (instance.actions == ActionModel::kRotate) put("actions", actions);
     put("solver_version", ctsfleet::version_text());
     if (iterations > 0) put("iterations", iterations);
     put("solved", result.solved ? 1 : 0);
     if (result.solved) {
-      const ValidationReport report = validate(instance, result.solution, ValidationOptions{config.forbid_rotations});
+      const ValidationReport report =
+          validate(instance, result.solution, ValidationOptions{config.forbid_rotations}, result.headings);
       if (!report.ok()) {
         std::cerr << "error: the solver's plan failed validation; nothing written\n" << report.summary();
         return ctsfleet::kExitInternalError;
@@ -143,6 +154,7 @@ int main(int argc, char** argv) {
       put("makespan", report.makespan);
       put("sum_of_loss", result.sum_of_loss);
       file.solution = result.solution;
+      file.headings = result.headings;
     }
     put("lower_bound", result.lower_bound);
     put("soc_lb", result.lower_bound);

@@ -35,4 +35,14 @@ int heading_towards(const Graph& graph, Vertex from, Vertex to) {
 
 char heading_letter(int heading) { return "ESWN"[heading]; }
 
+int heading_of_letter(char letter) {
+  switch (letter) {
+    case 'E': return 0;
+    case 'S': return 1;
+    case 'W': return 2;
+    case 'N': return 3;
+    default: return -1;
+  }
+}
+
 }  // namespace planner_core

@@ -1,8 +1,10 @@
 #include "planner_core/cts_pibt.hpp"
 
+#include <optional>
 #include <random>
 
 #include "planner_core/cts_lacam.hpp"
+#include "planner_core/turning_execution.hpp"
 
 namespace planner_core {
 
@@ -15,10 +17,33 @@ SolveResult CtsPibt::solve(const Instance& instance, const SolveOptions& options
   pibt_config.forbid_rotations = pibt_config.forbid_rotations || config_.forbid_rotations;
   ExtendedPibt pibt(instance, dist, pibt_config, rng);
 
+  // The rotation model: Extended-PIBT plans with turns (costs per cell and heading for every task
+  // and goal); for each sequence it also plans four-way moves, as in the four-way model and with
+  // the same random numbers, and adds the turns (turning_execution.hpp); the cheaper plan is
+  // kept. The complete search plans four-way moves too, its plan turned the same way.
+  const bool turning = instance.actions == ActionModel::kRotate;
+  std::optional<GuidedDistances> turning_distances;
+  Instance four_way = instance;
+  four_way.actions = ActionModel::kMove4;
+  std::mt19937 four_way_rng(config_.seed);
+  ExtendedPibt four_way_pibt(four_way, dist, pibt_config, four_way_rng);
+  if (turning) {
+    turning_distances.emplace(*instance.graph, Guidance::kNone, ActionModel::kRotate);
+    pibt.use_rotation_model(*turning_distances);
+  }
+  const auto keep_turned = [&](SolveResult& result, const Solution& plan, const std::vector<std::vector<int>>& orders,
+                               int sequence_index, const std::string& by) {
+    const std::optional<TurningPlan> turned = execute_with_turns(instance, plan, !config_.forbid_rotations);
+    if (turned) keep_if_better(result, instance, turned->cells, orders, sequence_index, started, options, by, turned->headings);
+  };
+
   SolveResult result;
-  result.lower_bound = sequencer.lower_bound();
+  result.lower_bound = turning ? tour_lower_bound(instance, *turning_distances, config_.task_order)
+                               : sequencer.lower_bound();
   result.preprocessing_ms = elapsed_ms(started);
-  CompleteSearch complete(instance, dist, config_, rng, anytime_);
+  CompleteSearch complete(four_way, dist, config_, rng, anytime_);
+  SolveResult four_way_result;  // the complete search's plans in the rotation model (turned when kept)
+  SolveResult& complete_result = turning ? four_way_result : result;
   bool no_plan_exists = false;
   while (!options.deadline.expired()) {
     if (config_.max_sequences > 0 && result.sequences_tried >= config_.max_sequences) break;
@@ -31,23 +56,40 @@ SolveResult CtsPibt::solve(const Instance& instance, const SolveOptions& options
     if (outcome == ExtendedPibt::Outcome::kStepLimit) ++result.pibt_failures;
     if (outcome == ExtendedPibt::Outcome::kSolved) {
       keep_if_better(result, instance, pibt.plan(), sequence->orders, sequence->index, started, options,
-                     "Extended-PIBT");
-    } else if (anytime_ && !result.solved && config_.complete_fallback) {
+                     "Extended-PIBT", pibt.headings());
+    }
+    if (turning && !options.deadline.expired()) {
+      four_way_pibt.reset(*sequence);
+      if (four_way_pibt.run(options.deadline) == ExtendedPibt::Outcome::kSolved) {
+        keep_turned(result, four_way_pibt.plan(), sequence->orders, sequence->index, "Extended-PIBT (four-way, turned)");
+      }
+    }
+    if (anytime_ && !result.solved && config_.complete_fallback) {
       // The anytime loop gives the complete search as much work as the failed sequence took.
       const int64_t spent = options.deadline.work_done() - work_before_sequence;
-      if (complete.search(options.deadline.within_work(std::max(Deadline::work_of(0.05), spent)), options, result) ==
-          CompleteSearch::Outcome::kNoPlanExists) {
+      const CompleteSearch::Outcome searched = complete.search(
+          options.deadline.within_work(std::max(Deadline::work_of(0.05), spent)), options, complete_result);
+      if (searched == CompleteSearch::Outcome::kNoPlanExists) {
         no_plan_exists = true;
         break;
+      }
+      if (turning && four_way_result.solved) {
+        keep_turned(result, four_way_result.solution, four_way_result.orders, 0, "the complete search (turned)");
       }
     }
     if (!anytime_) break;
   }
   // Never give up before the deadline: the complete search takes over.
   if (!result.solved && !no_plan_exists && config_.complete_fallback && !options.deadline.expired()) {
-    if (complete.search(options.deadline, options, result) == CompleteSearch::Outcome::kFound) {
-      complete.refine(options, result);
+    if (complete.search(options.deadline, options, complete_result) == CompleteSearch::Outcome::kFound) {
+      complete.refine(options, complete_result);
     }
+    if (turning && four_way_result.solved) {
+      keep_turned(result, four_way_result.solution, four_way_result.orders, 0, "the complete search (turned)");
+    }
+  }
+  if (turning && !result.solved && !four_way_result.failure_reason.empty()) {
+    result.failure_reason = four_way_result.failure_reason;
   }
   if (!result.solved && result.failure_reason.empty()) {
     result.failure_reason = result.pibt_failures > 0 ? "Extended-PIBT hit its step limit on every sequence tried"

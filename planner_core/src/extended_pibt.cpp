@@ -22,7 +22,7 @@ ExtendedPibt::ExtendedPibt(const Instance& instance, DistTable& dist, const Pibt
       swap_(*instance.graph, occupied_now_, [this](int agent, Vertex v) { return distance_to_target(agent, v); },
             [this](int agent) { return target_of(agent); }) {}
 
-void ExtendedPibt::reset(const JointSequence& sequence, const Solution& prefix) {
+void ExtendedPibt::reset(const JointSequence& sequence, const Solution& prefix, const HeadingPlan& prefix_headings) {
   const int n = instance_.agent_count();
   agents_.assign(n, {});
   std::uniform_real_distribution<float> unit(0.0f, 1.0f);
@@ -43,6 +43,12 @@ void ExtendedPibt::reset(const JointSequence& sequence, const Solution& prefix) 
   step_limit_ = static_cast<int>(config_.step_limit_factor * static_cast<double>(longest_tour)) + config_.step_limit_slack;
 
   plan_ = prefix.empty() ? Solution{instance_.starts} : prefix;
+  headings_.clear();
+  if (turning_) {
+    Headings start(n);
+    for (int a = 0; a < n; ++a) start[a] = instance_.start_heading(a);
+    headings_ = prefix.empty() ? HeadingPlan{start} : prefix_headings;
+  }
   for (int t = 0; t < static_cast<int>(plan_.size()); ++t) {
     for (int a = 0; a < n; ++a) mark_visits(a, plan_[t][a], t);
   }
@@ -107,11 +113,13 @@ bool ExtendedPibt::step() {
   for (int a : order_) {
     if (to_[a] == kNoVertex) plan_move(a);
   }
+  planned_ = to_;
+  if (turning_) take_rotation_actions();
 
   // Commit the step and clear the scratch entries this step touched.
   for (int a = 0; a < n; ++a) {
     occupied_now_[from_[a]] = kNobody;
-    occupied_next_[to_[a]] = kNobody;
+    occupied_next_[planned_[a]] = kNobody;
   }
   plan_.push_back(to_);
   const int time = static_cast<int>(plan_.size()) - 1;
@@ -145,7 +153,12 @@ bool ExtendedPibt::plan_move(int agent) {
   // Ties in distance are broken by a random order drawn for this call.
   std::shuffle(candidates.begin(), candidates.begin() + count, rng_);
   MoveKeys to_target{};
-  for (int k = 0; k < count; ++k) to_target[k] = dist_.get(target, candidates[k]);
+  if (turning_) {
+    const int heading = headings_.back()[agent];
+    for (int k = 0; k < count; ++k) to_target[k] = turning_cost(agent, here, heading, candidates[k]);
+  } else {
+    for (int k = 0; k < count; ++k) to_target[k] = dist_.get(target, candidates[k]);
+  }
   sort_by_key(candidates, to_target, count);
   if (guide_) {
     const Vertex preferred = guide_->next(agent, agents_[agent].next, here);
@@ -178,6 +191,49 @@ bool ExtendedPibt::plan_move(int agent) {
   to_[agent] = here;
   occupied_next_[here] = agent;
   return false;
+}
+
+int ExtendedPibt::turning_cost(int agent, Vertex here, int heading, Vertex v) {
+  const Vertex target = target_of(agent);
+  if (v == here) return 1 + turning_->get(target, here, heading);
+  const int towards = heading_towards(*instance_.graph, here, v);
+  return turns_between(heading, towards) + 1 + turning_->get(target, v, towards);
+}
+
+void ExtendedPibt::take_rotation_actions() {
+  const Graph& graph = *instance_.graph;
+  const int n = instance_.agent_count();
+  Headings next = headings_.back();
+  // Who stays on its cell: those PIBT kept there, and those that must turn before they move.
+  std::vector<int> staying;
+  for (int a = 0; a < n; ++a) {
+    const Vertex here = from_[a];
+    if (to_[a] == here) {
+      staying.push_back(a);
+      continue;
+    }
+    const int heading = next[a];
+    if (to_[a] == ahead(graph, here, heading)) continue;
+    int turned = heading_towards(graph, here, to_[a]);
+    if (turns_between(heading, turned) == 2) {  // half round: the quarter nearer the target first
+      const Vertex target = target_of(a);
+      const int clockwise = turned_clockwise(heading);
+      const int counter = turned_counter_clockwise(heading);
+      turned = turning_->get(target, here, counter) < turning_->get(target, here, clockwise) ? counter : clockwise;
+    }
+    next[a] = turned;
+    to_[a] = here;
+    staying.push_back(a);
+  }
+  // Whoever meant to enter the cell of an agent that stays waits too, and so on back along the
+  // chain. PIBT gave every cell one taker, so the step left is free of conflicts.
+  for (size_t k = 0; k < staying.size(); ++k) {
+    const int taker = occupied_next_[from_[staying[k]]];
+    if (taker == kNobody || taker == staying[k] || to_[taker] == from_[taker]) continue;
+    to_[taker] = from_[taker];
+    staying.push_back(taker);
+  }
+  headings_.push_back(std::move(next));
 }
 
 ExtendedPibt::Outcome ExtendedPibt::run(const Deadline& deadline) {

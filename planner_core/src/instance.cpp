@@ -2,6 +2,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -64,11 +65,12 @@ Instance load_instance_yaml(const std::string& path) {
   const Graph& graph = *instance.graph;
 
   std::map<Vertex, int> start_owner, goal_owner;
+  Headings headings;
   const YAML::Node agents = root["agents"];
   for (size_t i = 0; i < agents.size(); ++i) {
     const std::string field = "agents[" + std::to_string(i) + "]";
     const YAML::Node agent = agents[i];
-    ctx.only_keys(agent, {"start", "goal"}, field);
+    ctx.only_keys(agent, {"start", "goal", "heading"}, field);
     if (!agent["start"]) ctx.fail(agent, field, "missing 'start'");
     if (!agent["goal"]) ctx.fail(agent, field, "missing 'goal'");
     const Vertex s = free_vertex(graph, ctx.cell(agent["start"], field + ".start"), ctx, agent["start"], field + ".start");
@@ -81,6 +83,16 @@ Instance load_instance_yaml(const std::string& path) {
     }
     instance.starts.push_back(s);
     instance.goals.push_back(g);
+    // The heading at the start, for the rotation model (E when absent).
+    std::string letter = "E";
+    ctx.read(agent, "heading", field, letter);
+    if (letter.size() != 1 || heading_of_letter(letter[0]) < 0) {
+      ctx.fail(agent["heading"], field + ".heading", "\"" + cut(letter) + "\" is no heading (E, S, W or N)");
+    }
+    headings.push_back(heading_of_letter(letter[0]));
+  }
+  if (std::any_of(headings.begin(), headings.end(), [](int h) { return h != 0; })) {
+    instance.start_headings = std::move(headings);
   }
 
   const YAML::Node tasks = root["tasks"];
@@ -196,6 +208,9 @@ std::string instance_to_yaml(const Instance& instance, const std::string& map_re
     put_cell(out, graph.cell_of(instance.starts[a]));
     out << YAML::Key << "goal" << YAML::Value;
     put_cell(out, graph.cell_of(instance.goals[a]));
+    if (instance.start_heading(a) != 0) {
+      out << YAML::Key << "heading" << YAML::Value << std::string(1, heading_letter(instance.start_heading(a)));
+    }
     out << YAML::EndMap;
   }
   out << YAML::EndSeq << YAML::Key << "tasks" << YAML::Value << YAML::BeginSeq;

@@ -79,12 +79,17 @@ std::string format_solution(const Graph& graph, const SolutionFile& file) {
   for (size_t t = 0; t < file.solution.size(); ++t) {
     append_number(out, static_cast<int64_t>(t));
     out.push_back(':');
-    for (Vertex v : file.solution[t]) {
-      const Cell c = graph.cell_of(v);
+    const bool with_headings = t < file.headings.size();
+    for (size_t a = 0; a < file.solution[t].size(); ++a) {
+      const Cell c = graph.cell_of(file.solution[t][a]);
       out.push_back('(');
       append_number(out, c.x);
       out.push_back(',');
       append_number(out, c.y);
+      if (with_headings) {
+        out.push_back(',');
+        out.push_back(heading_letter(file.headings[t][a]));
+      }
       out.append("),");
     }
     out.push_back('\n');
@@ -107,7 +112,7 @@ SolutionFile read_solution(const std::string& path, const Graph& graph) {
   std::string line;
   int line_no = 0;
   bool in_body = false;
-  const std::regex cell_pattern(R"(\((-?\d+),(-?\d+)\))");
+  const std::regex cell_pattern(R"(\((-?\d+),(-?\d+)(,([^)]*))?\))");
   while (std::getline(in, line)) {
     ++line_no;
     if (!line.empty() && line.back() == '\r') line.pop_back();
@@ -136,6 +141,7 @@ SolutionFile read_solution(const std::string& path, const Graph& graph) {
                        std::to_string(t));
     }
     Config config;
+    Headings headings;
     const std::string rest = line.substr(colon + 1);
     for (auto it = std::sregex_iterator(rest.begin(), rest.end(), cell_pattern); it != std::sregex_iterator(); ++it) {
       // A coordinate past int is refused naming the line, never wrapped, never an exception that
@@ -148,7 +154,22 @@ SolutionFile read_solution(const std::string& path, const Graph& graph) {
         throw InputError(where + ": a cell (" + cut(x, 20) + "," + cut(y, 20) + ") past the range of a coordinate");
       }
       config.push_back(graph.vertex_at(cell));
+      if ((*it)[3].matched) {
+        const std::string letter = (*it)[4];
+        if (letter.size() != 1 || heading_of_letter(letter[0]) < 0) {
+          throw InputError(where + ": \"" + cut(letter, 20) + "\" is no heading (E, S, W or N)");
+        }
+        headings.push_back(heading_of_letter(letter[0]));
+      }
     }
+    if (!headings.empty() && headings.size() != config.size()) {
+      throw InputError(where + ": some cells have a heading and some do not");
+    }
+    if (t > 0 && headings.empty() != file.headings.empty()) {
+      throw InputError(where + ": " + (headings.empty() ? "no headings, as the lines before have"
+                                                          : "headings, which the lines before do not have"));
+    }
+    if (!headings.empty()) file.headings.push_back(std::move(headings));
     file.solution.push_back(std::move(config));
   }
   if (!in_body) throw InputError(path + ": no 'solution=' line");

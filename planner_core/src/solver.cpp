@@ -12,13 +12,14 @@ namespace planner_core {
 
 void keep_if_better(SolveResult& result, const Instance& instance, const Solution& plan,
                     const std::vector<std::vector<int>>& orders, int sequence_index, Clock::time_point started,
-                    const SolveOptions& options, const std::string& solver) {
+                    const SolveOptions& options, const std::string& solver, const HeadingPlan& headings) {
   const int64_t cost = flowtime(plan, instance.goals);
   if (result.solved && cost >= result.flowtime) return;
-  const ValidationReport report = validate(instance, plan);
+  const ValidationReport report = validate(instance, plan, {}, headings);
   if (!report.ok()) throw std::logic_error(solver + " produced an invalid plan:\n" + report.summary());
   result.solved = true;
   result.solution = plan;
+  result.headings = headings;
   result.orders = orders;
   result.flowtime = cost;
   result.makespan = report.makespan;
@@ -33,6 +34,15 @@ void keep_if_better(SolveResult& result, const Instance& instance, const Solutio
 }
 
 std::vector<std::string> solver_names() { return {"cts-pibt", "cts-pibt-anytime", "cts-pll-v1", "cts-pll-v2", "cts-pll-v3", "cts-lacam", "lacam", "lacam-star"}; }
+
+bool plans_with_turns(const std::string& solver) { return solver == "cts-pibt" || solver == "cts-pibt-anytime"; }
+
+void check_action_model(const std::string& solver, ActionModel model) {
+  if (model == ActionModel::kRotate && !plans_with_turns(solver)) {
+    throw std::invalid_argument("solver '" + solver +
+                                "' plans four-way moves only; in the rotation model use cts-pibt or cts-pibt-anytime");
+  }
+}
 
 std::unique_ptr<Solver> make_solver(const SolverConfig& config) {
   if (config.solver == "cts-pibt") return std::make_unique<CtsPibt>(config, false);

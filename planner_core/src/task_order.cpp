@@ -28,6 +28,27 @@ TourMatrix::TourMatrix(const Instance& instance, int agent, DistTable& dist)
   for (int from = 0; from < n; ++from) d_[from * n] = d_[from];
 }
 
+TourMatrix::TourMatrix(const Instance& instance, int agent, GuidedDistances& turning)
+    : task_count_(static_cast<int>(instance.tasks_of_agent[agent].size())),
+      task_ids_(instance.tasks_of_agent[agent]) {
+  std::vector<Vertex> points;
+  points.push_back(instance.starts[agent]);
+  for (int t : task_ids_) points.push_back(instance.tasks[t].at);
+  points.push_back(instance.goals[agent]);
+  const int n = static_cast<int>(points.size());
+  d_.resize(static_cast<size_t>(n) * n);
+  for (int to = 1; to < n; ++to) {
+    d_[to] = turning.get(points[to], points[0], instance.start_heading(agent));
+    for (int from = 1; from < n; ++from) {
+      int best = GuidedDistances::kUnreachable;
+      for (int h = 0; h < kHeadings; ++h) best = std::min(best, turning.get(points[to], points[from], h));
+      d_[from * n + to] = best;
+    }
+  }
+  // No tour returns to its start; the column is filled only so that no entry is unset.
+  for (int from = 0; from < n; ++from) d_[from * n] = d_[from];
+}
+
 int TourMatrix::path_cost(int from_point, const std::vector<int>& locals) const {
   int cost = 0;
   int at = from_point;
@@ -196,6 +217,15 @@ int64_t tour_lower_bound(const Instance& instance, DistTable& dist, const TaskOr
   int64_t bound = 0;
   for (int a = 0; a < instance.agent_count(); ++a) {
     const TourMatrix matrix(instance, a, dist);
+    bound += OrderSolver(matrix, config).lower_bound();
+  }
+  return bound;
+}
+
+int64_t tour_lower_bound(const Instance& instance, GuidedDistances& turning, const TaskOrderConfig& config) {
+  int64_t bound = 0;
+  for (int a = 0; a < instance.agent_count(); ++a) {
+    const TourMatrix matrix(instance, a, turning);
     bound += OrderSolver(matrix, config).lower_bound();
   }
   return bound;

@@ -18,6 +18,8 @@ std::string to_string(Violation::Kind kind) {
     case Violation::Kind::kNotOnGoal: return "not-on-goal";
     case Violation::Kind::kTaskMissed: return "task-missed";
     case Violation::Kind::kRotation: return "rotation";
+    case Violation::Kind::kHeading: return "heading";
+    case Violation::Kind::kAction: return "action";
   }
   return "unknown";
 }
@@ -35,7 +37,77 @@ std::string ValidationReport::summary(size_t max_lines) const {
   return out.str();
 }
 
-ValidationReport validate(const Instance& instance, const Solution& solution, const ValidationOptions& options) {
+namespace {
+
+// The rotation model's rules: every heading given and in range, the start headings at t = 0, and
+// each step forward along the heading (heading kept), a quarter turn in place, or a wait.
+// `on_map` and `cell` as in validate(); moves between cells that are not neighbours are reported there.
+template <typename OnMap, typename CellText>
+void check_actions(const Instance& instance, const Solution& solution, const HeadingPlan& headings,
+                   const OnMap& on_map, const CellText& cell, std::vector<Violation>& out) {
+  using Kind = Violation::Kind;
+  const Graph& graph = *instance.graph;
+  const int n = instance.agent_count();
+  const auto at = [](int t) { return "t=" + std::to_string(t) + ": agent "; };
+  if (headings.size() != solution.size()) {
+    out.push_back({Kind::kHeading, -1, -1, -1,
+                   "a plan in the rotation model needs headings at every timestep: " +
+                       std::to_string(headings.size()) + " for " + std::to_string(solution.size()) + " timesteps"});
+    return;
+  }
+  for (size_t t = 0; t < headings.size(); ++t) {
+    const int time = static_cast<int>(t);
+    if (static_cast<int>(headings[t].size()) != n) {
+      out.push_back({Kind::kHeading, time, -1, -1,
+                     "t=" + std::to_string(t) + ": " + std::to_string(headings[t].size()) + " headings for " +
+                         std::to_string(n) + " agents"});
+      return;
+    }
+    for (int a = 0; a < n; ++a) {
+      if (headings[t][a] < 0 || headings[t][a] >= kHeadings) {
+        out.push_back({Kind::kHeading, time, a, -1, at(time) + std::to_string(a) + " has no heading"});
+        return;
+      }
+    }
+  }
+  for (int a = 0; a < n; ++a) {
+    if (headings[0][a] != instance.start_heading(a)) {
+      out.push_back({Kind::kHeading, 0, a, -1,
+                     "agent " + std::to_string(a) + " starts facing " + heading_letter(headings[0][a]) + ", not " +
+                         heading_letter(instance.start_heading(a))});
+    }
+  }
+  for (size_t t = 1; t < solution.size(); ++t) {
+    const int time = static_cast<int>(t);
+    for (int a = 0; a < n; ++a) {
+      const Vertex from = solution[t - 1][a];
+      const Vertex to = solution[t][a];
+      const int facing = headings[t - 1][a];
+      const int next_facing = headings[t][a];
+      if (!on_map(from) || !on_map(to)) continue;
+      if (from == to) {
+        if (turns_between(facing, next_facing) > 1) {
+          out.push_back({Kind::kAction, time, a, -1,
+                         at(time) + std::to_string(a) + " turns half round at " + cell(to) + " in one step"});
+        }
+      } else if (!graph.adjacent(from, to)) {
+        continue;  // a jump, reported by validate()
+      } else if (to != ahead(graph, from, facing)) {
+        out.push_back({Kind::kAction, time, a, -1,
+                       at(time) + std::to_string(a) + " moves " + cell(from) + " -> " + cell(to) + " facing " +
+                           heading_letter(facing) + ": only the cell ahead can be entered"});
+      } else if (next_facing != facing) {
+        out.push_back({Kind::kAction, time, a, -1,
+                       at(time) + std::to_string(a) + " moves and turns in one step at " + cell(to)});
+      }
+    }
+  }
+}
+
+}  // namespace
+
+ValidationReport validate(const Instance& instance, const Solution& solution, const ValidationOptions& options,
+                          const HeadingPlan& headings) {
   using Kind = Violation::Kind;
   ValidationReport report;
   auto& out = report.violations;
@@ -137,6 +209,7 @@ ValidationReport validate(const Instance& instance, const Solution& solution, co
     }
     std::swap(agent_before, agent_at);
   }
+  if (instance.actions == ActionModel::kRotate) check_actions(instance, solution, headings, on_map, cell, out);
   report.flowtime = flowtime(solution, instance.goals);
   report.makespan = makespan(solution, instance.goals);
   if (options.first_stretch) return report;  // the plan goes on: goals and tasks come later

@@ -10,7 +10,6 @@
 #include <vector>
 
 #include "planner_core/graph.hpp"
-#include "planner_core/instance.hpp"
 
 namespace planner_core {
 
@@ -43,7 +42,14 @@ Vertex ahead(const Graph& graph, Vertex v, int heading);
 // The heading that faces neighbour `to` from `from` (they must be neighbours).
 int heading_towards(const Graph& graph, Vertex from, Vertex to);
 
-// The league's letter for a heading: E S W N.
+// The league's letter for a heading: E S W N; and back (-1 for any other character).
 char heading_letter(int heading);
+int heading_of_letter(char letter);
+
+// The turns from one heading to another: 0, 1 (a quarter either way) or 2.
+inline int turns_between(int from, int to) {
+  const int difference = (to - from + kHeadings) % kHeadings;
+  return difference == 3 ? 1 : difference;
+}
 
 }  // namespace planner_core

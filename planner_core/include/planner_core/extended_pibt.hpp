@@ -11,6 +11,7 @@
 #include "planner_core/corridor_swap.hpp"
 #include "planner_core/deadline.hpp"
 #include "planner_core/dist_table.hpp"
+#include "planner_core/guided_distances.hpp"
 #include "planner_core/joint_sequencer.hpp"
 #include "planner_core/solution.hpp"
 
@@ -46,9 +47,16 @@ class ExtendedPibt {
 
   ExtendedPibt(const Instance& instance, DistTable& dist, const PibtConfig& config, std::mt19937& rng);
 
+  // Plans in the rotation model (the instance's model must be kRotate): a move is ranked by the
+  // turns to face it plus the cost on from there, read from `turning` (a table per cell and
+  // heading, which must outlive the runs); a chosen neighbour that is not ahead becomes a quarter
+  // turn towards it, and whoever meant to enter the cell of an agent that stays waits as well.
+  void use_rotation_model(GuidedDistances& turning) { turning_ = &turning; }
+
   // Starts a run for `sequence` from the instance's starts, or from the last configuration of
-  // `prefix` (whose visits count) when it is given.
-  void reset(const JointSequence& sequence, const Solution& prefix = {});
+  // `prefix` (whose visits count) when it is given; in the rotation model `prefix_headings` are
+  // the prefix's headings.
+  void reset(const JointSequence& sequence, const Solution& prefix = {}, const HeadingPlan& prefix_headings = {});
   // Paths to follow where they lead (null: none); `guide` must outlive the runs it guides.
   void set_guide(const Scatter* guide) { guide_ = guide; }
   // Steps until every agent has visited its tasks and stands on its goal, the step limit, a stall
@@ -58,6 +66,7 @@ class ExtendedPibt {
   bool step();
 
   const Solution& plan() const { return plan_; }
+  const HeadingPlan& headings() const { return headings_; }  // empty in the four-move model
   bool finished(int agent) const;                 // all tasks visited and on its goal
   bool tasks_done(int agent) const { return agents_[agent].next == agents_[agent].task_count; }
   int last_target_time(int agent) const { return agents_[agent].last_target_time; }
@@ -80,6 +89,9 @@ class ExtendedPibt {
   int64_t remaining_distance(int agent, Vertex at);
   bool plan_move(int agent);  // funcExPIBT of Algorithm 1
   int distance_to_target(int agent, Vertex v) { return dist_.get(target_of(agent), v); }
+  // Rotation model: the cost of stepping towards neighbour `v` (or staying, v == here) and on to the target.
+  int turning_cost(int agent, Vertex here, int heading, Vertex v);
+  void take_rotation_actions();  // turns the cells chosen into forward moves, turns and waits
 
   const Instance& instance_;
   DistTable& dist_;
@@ -87,6 +99,8 @@ class ExtendedPibt {
   std::mt19937& rng_;
   std::vector<AgentState> agents_;
   Solution plan_;
+  HeadingPlan headings_;
+  GuidedDistances* turning_ = nullptr;
   int step_limit_ = 0;
   int finished_count_ = 0;
   int best_progress_ = 0;       // most targets ever reached at once in this run
@@ -100,7 +114,7 @@ class ExtendedPibt {
   };
 
   // Scratch state of one step, indexed by vertex and reset only where touched.
-  Config from_, to_;
+  Config from_, to_, planned_;
   std::vector<int> occupied_now_, occupied_next_;
   std::vector<char> planning_;  // agents on the current priority-inheritance chain
   std::vector<int> order_;

@@ -14,6 +14,7 @@ namespace planner_core {
 
 using Vertex = int;  // dense id of a free cell, 0 .. vertex_count()-1 (numbered in 8 x 4 tiles: graph.cpp)
 constexpr Vertex kNoVertex = -1;
+using Config = std::vector<Vertex>;  // one vertex per agent at one timestep
 constexpr int kMaxDegree = 4;  // 4-connected grid: up, down, left, right
 
 // The moves open to an agent in one step (its neighbours and staying), with a key per move.

@@ -5,11 +5,10 @@
 #include <string>
 #include <vector>
 
+#include "planner_core/action_model.hpp"
 #include "planner_core/graph.hpp"
 
 namespace planner_core {
-
-using Config = std::vector<Vertex>;  // one vertex per agent at one timestep
 
 struct Task {
   Vertex at = kNoVertex;
@@ -23,6 +22,11 @@ struct Instance {
   std::vector<Task> tasks;
   std::vector<std::vector<int>> tasks_of_agent;  // agent -> task ids, ascending
   std::string source;                            // file it came from, for messages
+  // How agents move (action_model.hpp); a plan in the rotation model carries headings as well.
+  ActionModel actions = ActionModel::kMove4;
+  Headings start_headings;  // rotation model: each agent's heading at t = 0; empty = all east
+
+  int start_heading(int agent) const { return start_headings.empty() ? 0 : start_headings[agent]; }
 
   int agent_count() const { return static_cast<int>(starts.size()); }
   int task_count() const { return static_cast<int>(tasks.size()); }

@@ -50,6 +50,7 @@ struct Improvement {
 struct SolveResult {
   bool solved = false;
   Solution solution;
+  HeadingPlan headings;  // the plan's headings in the rotation model; empty otherwise
   std::vector<std::vector<int>> orders;  // agent -> task ids in the order the solution follows
   int64_t flowtime = 0;
   int makespan = 0;
@@ -87,11 +88,17 @@ class Solver {
 // Keeps `plan` in `result` when it is the first plan or cheaper than the one kept: validates it
 // (an invalid plan is a bug: std::logic_error naming `solver`), records the improvement and
 // reports it through options.on_solution.
+// In the rotation model `headings` are the plan's headings.
 void keep_if_better(SolveResult& result, const Instance& instance, const Solution& plan,
                     const std::vector<std::vector<int>>& orders, int sequence_index, Clock::time_point started,
-                    const SolveOptions& options, const std::string& solver);
+                    const SolveOptions& options, const std::string& solver, const HeadingPlan& headings = {});
 
 std::vector<std::string> solver_names();
+// The solvers that plan in the rotation model (action_model.hpp): cts-pibt and cts-pibt-anytime.
+// The others plan four-way moves only.
+bool plans_with_turns(const std::string& solver);
+// Throws std::invalid_argument naming the solvers that can when `solver` cannot plan in `model`.
+void check_action_model(const std::string& solver, ActionModel model);
 // Throws std::invalid_argument for an unknown solver name.
 std::unique_ptr<Solver> make_solver(const SolverConfig& config);
 

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "planner_core/dist_table.hpp"
+#include "planner_core/guided_distances.hpp"
 #include "planner_core/instance.hpp"
 
 namespace planner_core {
@@ -20,6 +21,10 @@ struct TaskOrderConfig {
 class TourMatrix {
  public:
   TourMatrix(const Instance& instance, int agent, DistTable& dist);
+  // The rotation model's costs, turns included (`turning` holds a table per cell and heading): from
+  // the start facing its start heading; from a task or the goal facing whichever way is best, so
+  // that the costs stay below those of any tour (and symmetric, as turning is).
+  TourMatrix(const Instance& instance, int agent, GuidedDistances& turning);
   int task_count() const { return task_count_; }
   int task_id(int local) const { return task_ids_[local]; }  // local 0..m-1 -> instance task id
   // Distance between points; point 0 is the start, 1..m the tasks, m+1 the goal.
@@ -64,6 +69,8 @@ class OrderSolver {
 // Sum over agents of the shortest single-agent tour start -> its tasks -> goal, ignoring other
 // agents: exact within config.exact_task_limit tasks, an MST bound beyond. No plan has a lower flowtime.
 int64_t tour_lower_bound(const Instance& instance, DistTable& dist, const TaskOrderConfig& config);
+// The same in the rotation model: each tour's turns count as well.
+int64_t tour_lower_bound(const Instance& instance, GuidedDistances& turning, const TaskOrderConfig& config);
 
 // Improves `locals` (a path from_point -> locals -> goal) in place with 2-opt and Or-opt moves;
 // the first `fixed_prefix` entries stay where they are.

@@ -23,6 +23,8 @@ struct Violation {
     kNotOnGoal,       // the agent does not end on its goal
     kTaskMissed,      // a task not visited by one of its agents before it settles on its goal
     kRotation,        // agents moving in a cycle in one step (only with ValidationOptions::forbid_rotations)
+    kHeading,         // rotation model: a heading missing, not 0..3, or not the start heading at t = 0
+    kAction,          // rotation model: a step that is not forward, a quarter turn or a wait
   };
   Kind kind;
   int time = -1;
@@ -51,6 +53,10 @@ struct ValidationOptions {
   bool first_stretch = false;
 };
 
-ValidationReport validate(const Instance& instance, const Solution& solution, const ValidationOptions& options = {});
+// In the rotation model (instance.actions) `headings` must hold every agent's heading at every
+// timestep; each step is then a move to the cell ahead keeping the heading, a quarter turn in
+// place, or a wait.
+ValidationReport validate(const Instance& instance, const Solution& solution, const ValidationOptions& options = {},
+                          const HeadingPlan& headings = {});
 
 }  // namespace planner_core
