@@ -81,8 +81,14 @@ int main(int argc, char** argv) {
   app.add_option("--actions", actions,
                  "how robots move: move4 (a step to any neighbour) or rotate (forward, quarter turn or wait, each "
                  "one step; headings from the instance's 'heading' fields, east when absent; cts-pibt and "
-                 "cts-pibt-anytime only)")
+                 "cts-pibt-anytime plan with turns, the others plan four-way moves to which turns are added)")
       ->check(CLI::IsMember({"move4", "rotate"}))
+      ->capture_default_str();
+  std::string turns = "both";
+  app.add_option("--turns", turns,
+                 "cts-pibt* with --actions rotate: 'planned' (Extended-PIBT plans with turns), 'added' (four-way "
+                 "plans, turns added as robots would carry them out) or 'both', keeping the cheaper; to measure each")
+      ->check(CLI::IsMember({"both", "planned", "added"}))
       ->capture_default_str();
   app.add_option("--svg", svg_path, "also draw the plan as an SVG picture")->check(ctsfleet::writable_file());
   app.add_option("--exact-task-limit", config.task_order.exact_task_limit,
@@ -107,12 +113,13 @@ int main(int argc, char** argv) {
   return program.main(argc, argv, [&] {
     // The time limit and every reported time count from here, before the instance is read.
     SolveOptions options{Deadline::in_seconds(seconds, &ctsfleet::stop_requested()), {}, Clock::now()};
-    check_action_model(config.solver, parse_action_model(actions, "--actions"));
     Instance instance = [&] {
       const ctsfleet::StopsAtOnce reading("ctsfleet-solve", "reading " + instance_path);
       return load_instance(instance_path, scen_agents, map);
     }();
     instance.actions = parse_action_model(actions, "--actions");
+    config.plan_with_turns = turns != "added";
+    config.add_turns = turns != "planned";
     options.deadline = options.deadline.within(options.deadline.seconds_left() - output_reserve_s(instance, seconds));
     if (iterations > 0) options.deadline = options.deadline.with_work_budget(iterations * kWorkPerIteration);
     if (verbose) {

@@ -4,6 +4,7 @@
 #include <random>
 
 #include "planner_core/cts_lacam.hpp"
+#include "planner_core/turned_solver.hpp"
 #include "planner_core/turning_execution.hpp"
 
 namespace planner_core {
@@ -38,7 +39,7 @@ SolveResult CtsPibt::solve(const Instance& instance, const SolveOptions& options
   };
 
   SolveResult result;
-  result.lower_bound = turning ? tour_lower_bound(instance, *turning_distances, config_.task_order)
+  result.lower_bound = turning ? turning_lower_bound(instance, config_.task_order, sequencer.lower_bound())
                                : sequencer.lower_bound();
   result.preprocessing_ms = elapsed_ms(started);
   CompleteSearch complete(four_way, dist, config_, rng, anytime_);
@@ -51,14 +52,16 @@ SolveResult CtsPibt::solve(const Instance& instance, const SolveOptions& options
     if (!sequence) break;
     ++result.sequences_tried;
     const int64_t work_before_sequence = options.deadline.work_done();
-    pibt.reset(*sequence);
-    const ExtendedPibt::Outcome outcome = pibt.run(options.deadline);
-    if (outcome == ExtendedPibt::Outcome::kStepLimit) ++result.pibt_failures;
-    if (outcome == ExtendedPibt::Outcome::kSolved) {
-      keep_if_better(result, instance, pibt.plan(), sequence->orders, sequence->index, started, options,
-                     "Extended-PIBT", pibt.headings());
+    if (!turning || config_.plan_with_turns) {
+      pibt.reset(*sequence);
+      const ExtendedPibt::Outcome outcome = pibt.run(options.deadline);
+      if (outcome == ExtendedPibt::Outcome::kStepLimit) ++result.pibt_failures;
+      if (outcome == ExtendedPibt::Outcome::kSolved) {
+        keep_if_better(result, instance, pibt.plan(), sequence->orders, sequence->index, started, options,
+                       "Extended-PIBT", pibt.headings());
+      }
     }
-    if (turning && !options.deadline.expired()) {
+    if (turning && config_.add_turns && !options.deadline.expired()) {
       four_way_pibt.reset(*sequence);
       if (four_way_pibt.run(options.deadline) == ExtendedPibt::Outcome::kSolved) {
         keep_turned(result, four_way_pibt.plan(), sequence->orders, sequence->index, "Extended-PIBT (four-way, turned)");

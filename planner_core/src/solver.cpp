@@ -6,6 +6,7 @@
 #include "planner_core/cts_pibt.hpp"
 #include "planner_core/cts_pll.hpp"
 #include "planner_core/lacam_solver.hpp"
+#include "planner_core/turned_solver.hpp"
 #include "planner_core/validator.hpp"
 
 namespace planner_core {
@@ -37,22 +38,26 @@ std::vector<std::string> solver_names() { return {"cts-pibt", "cts-pibt-anytime"
 
 bool plans_with_turns(const std::string& solver) { return solver == "cts-pibt" || solver == "cts-pibt-anytime"; }
 
-void check_action_model(const std::string& solver, ActionModel model) {
-  if (model == ActionModel::kRotate && !plans_with_turns(solver)) {
-    throw std::invalid_argument("solver '" + solver +
-                                "' plans four-way moves only; in the rotation model use cts-pibt or cts-pibt-anytime");
-  }
-}
+namespace {
 
-std::unique_ptr<Solver> make_solver(const SolverConfig& config) {
-  if (config.solver == "cts-pibt") return std::make_unique<CtsPibt>(config, false);
-  if (config.solver == "cts-pibt-anytime") return std::make_unique<CtsPibt>(config, true);
+std::unique_ptr<Solver> make_four_way_solver(const SolverConfig& config) {
   if (config.solver == "cts-pll-v1") return std::make_unique<CtsPll>(config, CtsPll::Variant::kV1);
   if (config.solver == "cts-pll-v2") return std::make_unique<CtsPll>(config, CtsPll::Variant::kV2);
   if (config.solver == "cts-pll-v3") return std::make_unique<CtsPll>(config, CtsPll::Variant::kV3);
   if (config.solver == "cts-lacam") return std::make_unique<CtsLacam>(config);
   if (config.solver == "lacam") return std::make_unique<LacamSolver>(config, false);
   if (config.solver == "lacam-star") return std::make_unique<LacamSolver>(config, true);
+  return nullptr;
+}
+
+}  // namespace
+
+std::unique_ptr<Solver> make_solver(const SolverConfig& config) {
+  if (config.solver == "cts-pibt") return std::make_unique<CtsPibt>(config, false);
+  if (config.solver == "cts-pibt-anytime") return std::make_unique<CtsPibt>(config, true);
+  if (std::unique_ptr<Solver> four_way = make_four_way_solver(config)) {
+    return std::make_unique<TurnedSolver>(std::move(four_way), config);
+  }
   std::string known;
   for (const std::string& name : solver_names()) known += (known.empty() ? "" : ", ") + name;
   throw std::invalid_argument("unknown solver '" + config.solver + "' (known: " + known + ")");

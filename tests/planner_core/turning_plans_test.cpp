@@ -3,8 +3,6 @@
 // the lower bound with turns, and CTS-PIBT planning with turns on the benchmark instances.
 #include <gtest/gtest.h>
 
-#include <stdexcept>
-
 #include "planner_core/input_error.hpp"
 #include "planner_core/solver.hpp"
 #include "planner_core/task_order.hpp"
@@ -231,15 +229,36 @@ TEST(TurningCtsPibt, SolvesBenchmarkInstancesWithValidTurningPlans) {
   }
 }
 
-TEST(TurningCtsPibt, OtherSolversAreRefusedByName) {
-  EXPECT_NO_THROW(check_action_model("cts-pll-v3", ActionModel::kMove4));
-  EXPECT_NO_THROW(check_action_model("cts-pibt", ActionModel::kRotate));
-  try {
-    check_action_model("cts-pll-v3", ActionModel::kRotate);
-    FAIL() << "no error";
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("solver 'cts-pll-v3' plans four-way moves only"), std::string::npos);
+// The other solvers plan four-way moves and get turns added: valid plans in the rotation model,
+// and no cheaper than what CTS-PIBT's bound allows. LaCAM and LaCAM* plan plain MAPF (no tasks).
+TEST(TurningSolvers, EverySolverPlansInTheRotationModel) {
+  Instance with_tasks = load_instance(testing::data_path("instances/random-32-32-20-N10-M30-00.yaml"));
+  with_tasks.actions = ActionModel::kRotate;
+  with_tasks.start_headings.assign(with_tasks.agent_count(), kNorth);
+  Instance without_tasks = with_tasks;
+  without_tasks.tasks.clear();
+  without_tasks.index_tasks();
+  for (const std::string& solver : solver_names()) {
+    const Instance& instance = solver.rfind("lacam", 0) == 0 ? without_tasks : with_tasks;
+    SolverConfig config;
+    config.solver = solver;
+    config.max_sequences = 3;
+    const SolveResult result = make_solver(config)->solve(instance, SolveOptions{Deadline::in_seconds(1)});
+    ASSERT_TRUE(result.solved) << solver << ": " << result.failure_reason;
+    const ValidationReport report = validate(instance, result.solution, {}, result.headings);
+    EXPECT_TRUE(report.ok()) << solver << ": " << report.summary();
+    EXPECT_EQ(result.flowtime, report.flowtime) << solver;
+    EXPECT_GE(result.flowtime, result.lower_bound) << solver;
+    EXPECT_GT(result.first_solution_ms, 0) << solver;
   }
+  // In the four-way model the same solvers give plans with no headings, as before.
+  with_tasks.actions = ActionModel::kMove4;
+  SolverConfig config;
+  config.solver = "cts-pll-v3";
+  const SolveResult four_way = make_solver(config)->solve(with_tasks, SolveOptions{Deadline::in_seconds(1)});
+  ASSERT_TRUE(four_way.solved);
+  EXPECT_TRUE(four_way.headings.empty());
+  EXPECT_TRUE(validate(with_tasks, four_way.solution).ok());
 }
 
 }  // namespace

@@ -1,0 +1,29 @@
+// Any solver in the rotation model (action_model.hpp): the solver plans four-way moves, then each
+// agent carries its path out with turns (turning_execution.hpp). For the solvers that do not plan
+// with turns themselves (all but cts-pibt and cts-pibt-anytime); in the four-way model the
+// solver's own result, unchanged.
+#pragma once
+
+#include <memory>
+
+#include "planner_core/solver.hpp"
+
+namespace planner_core {
+
+class TurnedSolver : public Solver {
+ public:
+  TurnedSolver(std::unique_ptr<Solver> four_way, const SolverConfig& config)
+      : four_way_(std::move(four_way)), config_(config) {}
+  SolveResult solve(const Instance& instance, const SolveOptions& options) override;
+
+ private:
+  std::unique_ptr<Solver> four_way_;
+  SolverConfig config_;
+};
+
+// The lower bound with turns (task_order.hpp) when its tables, one per cell and heading for each
+// task and goal, fit in `memory_bytes`; else `four_way_bound`, which is lower but still a bound.
+int64_t turning_lower_bound(const Instance& instance, const TaskOrderConfig& config, int64_t four_way_bound,
+                            size_t memory_bytes = size_t{1} << 30);
+
+}  // namespace planner_core
