@@ -89,9 +89,15 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"none", "lanes"}))
       ->capture_default_str();
   app.add_option("--actions", lifelong.actions,
-                 "experiment lifelong: move4 (up, down, left, right, wait) or rotate (the league's 2023 model: "
-                 "forward, turn clockwise, turn counter-clockwise, wait; agents start facing east)")
+                 "move4 (up, down, left, right, wait) or rotate (the league's 2023 model: forward, turn clockwise, "
+                 "turn counter-clockwise, wait); for instance files as ctsfleet-solve --actions (headings from "
+                 "the instances, east when absent; the CSV's solver gets '+rotate'), and for experiment lifelong "
+                 "(agents start facing east)")
       ->check(CLI::IsMember({"move4", "rotate"}))
+      ->capture_default_str();
+  std::string turns = "both";
+  app.add_option("--turns", turns, "with --actions rotate, as ctsfleet-solve --turns: planned, added or both")
+      ->check(CLI::IsMember({"both", "planned", "added"}))
       ->capture_default_str();
   app.add_option("--rollouts", lifelong.rollouts,
                  "experiment lifelong: PIBT runs tried 3 steps ahead each step, the best first step taken (1: plain "
@@ -181,22 +187,27 @@ int main(int argc, char** argv) {
     nlohmann::json summary_json = nlohmann::json::object();
     csv << csv_header() << "\n";
     int errors = 0;
+    const ActionModel actions = parse_action_model(lifelong.actions, "--actions");
+    config.plan_with_turns = turns != "added";
+    config.add_turns = turns != "planned";
     for (const std::string& solver : solvers) {
       config.solver = solver;
-      std::fprintf(stderr, "%s: %zu instances, %.1f s each, %d threads\n", solver.c_str(), files.size(), seconds,
+      const std::string name = solver + (actions == ActionModel::kRotate ? "+rotate" : "") +
+                               (actions == ActionModel::kRotate && turns != "both" ? "-" + turns : "");
+      std::fprintf(stderr, "%s: %zu instances, %.1f s each, %d threads\n", name.c_str(), files.size(), seconds,
                    threads);
-      const auto rows = run_benchmark(files, config, seconds, iterations, threads, [&](const BenchmarkRow&, int done) {
-        draw_progress(done, static_cast<int>(files.size()));
-      });
+      const auto rows = run_benchmark(
+          files, config, seconds, iterations, threads,
+          [&](const BenchmarkRow&, int done) { draw_progress(done, static_cast<int>(files.size())); }, actions);
       for (const BenchmarkRow& row : rows) {
-        csv << to_csv(row, solver) << "\n";
+        csv << to_csv(row, name) << "\n";
         if (!row.error.empty()) {
           ++errors;
           std::fprintf(stderr, "%s: %s\n", row.file.c_str(), row.error.c_str());
         }
       }
       if (json) {
-        nlohmann::json& settings = summary_json[solver] = nlohmann::json::array();
+        nlohmann::json& settings = summary_json[name] = nlohmann::json::array();
         for (const BenchmarkSummary& s : summarise(rows)) {
           settings.push_back({{"map", s.map}, {"agents", s.agents}, {"tasks", s.tasks}, {"instances", s.instances},
                               {"solved", s.solved}, {"median_first_ms", s.median_first_ms},
@@ -204,7 +215,7 @@ int main(int argc, char** argv) {
         }
         continue;
       }
-      std::printf("\n%s (time limit %.1f s)\n", solver.c_str(), seconds);
+      std::printf("\n%s (time limit %.1f s)\n", name.c_str(), seconds);
       std::printf("| map | N | M | instances | success | median first (ms) | mean flowtime | mean flowtime/LB |\n");
       std::printf("|---|---|---|---|---|---|---|---|\n");
       for (const BenchmarkSummary& s : summarise(rows)) {

@@ -31,7 +31,8 @@ Setting setting_of(const std::string& file) {
   return {stem, 0, 0};
 }
 
-BenchmarkRow run_one(const std::string& file, const SolverConfig& config, double seconds, int64_t iterations) {
+BenchmarkRow run_one(const std::string& file, const SolverConfig& config, double seconds, int64_t iterations,
+                     ActionModel actions) {
   BenchmarkRow row;
   row.file = file;
   const Setting setting = setting_of(file);
@@ -39,7 +40,8 @@ BenchmarkRow run_one(const std::string& file, const SolverConfig& config, double
   try {
     // As ctsfleet-solve: the limit and the times count from before the instance is read.
     const SolveOptions options{Deadline::for_limits(seconds, iterations), {}, Clock::now()};
-    const Instance instance = load_instance(file);
+    Instance instance = load_instance(file);
+    instance.actions = actions;
     row.map = instance.graph->name;
     row.agents = instance.agent_count();
     row.tasks = instance.task_count();
@@ -49,7 +51,8 @@ BenchmarkRow run_one(const std::string& file, const SolverConfig& config, double
     row.lower_bound = result.lower_bound;
     row.sequences = result.sequences_tried;
     if (result.solved) {
-      const ValidationReport report = validate(instance, result.solution, ValidationOptions{config.forbid_rotations});
+      const ValidationReport report =
+          validate(instance, result.solution, ValidationOptions{config.forbid_rotations}, result.headings);
       if (!report.ok()) {
         row.error = "invalid plan: " + report.violations.front().message;
       } else {
@@ -80,14 +83,15 @@ std::vector<std::string> sample_per_setting(std::vector<std::string> files, int 
 
 std::vector<BenchmarkRow> run_benchmark(const std::vector<std::string>& files, const SolverConfig& config,
                                         double seconds, int64_t iterations, int threads,
-                                        const std::function<void(const BenchmarkRow&, int done)>& on_row) {
+                                        const std::function<void(const BenchmarkRow&, int done)>& on_row,
+                                        ActionModel actions) {
   std::vector<BenchmarkRow> rows(files.size());
   std::atomic<size_t> next{0};
   std::mutex report;
   int done = 0;
   const auto worker = [&] {
     for (size_t i = next++; i < files.size(); i = next++) {
-      rows[i] = run_one(files[i], config, seconds, iterations);
+      rows[i] = run_one(files[i], config, seconds, iterations, actions);
       const std::lock_guard<std::mutex> lock(report);
       ++done;
       if (on_row) on_row(rows[i], done);

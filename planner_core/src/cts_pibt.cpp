@@ -28,8 +28,11 @@ SolveResult CtsPibt::solve(const Instance& instance, const SolveOptions& options
   four_way.actions = ActionModel::kMove4;
   std::mt19937 four_way_rng(config_.seed);
   ExtendedPibt four_way_pibt(four_way, dist, pibt_config, four_way_rng);
+  bool plan_with_turns = config_.plan_with_turns;
   if (turning) {
     turning_distances.emplace(*instance.graph, Guidance::kNone, ActionModel::kRotate);
+    // Too many tables to hold (8 bytes per cell for each task and goal): turns added only.
+    plan_with_turns = plan_with_turns && turning_tables_fit(instance, *turning_distances);
     pibt.use_rotation_model(*turning_distances);
   }
   const auto keep_turned = [&](SolveResult& result, const Solution& plan, const std::vector<std::vector<int>>& orders,
@@ -39,7 +42,10 @@ SolveResult CtsPibt::solve(const Instance& instance, const SolveOptions& options
   };
 
   SolveResult result;
-  result.lower_bound = turning ? turning_lower_bound(instance, config_.task_order, sequencer.lower_bound())
+  // With turns, the tables are searched up front (PIBT needs them too) in at most a quarter of the time.
+  result.lower_bound = turning ? turning_lower_bound(instance, *turning_distances, config_.task_order,
+                                                     sequencer.lower_bound(),
+                                                     options.deadline.slice(0.25 * options.deadline.budget_left_s()))
                                : sequencer.lower_bound();
   result.preprocessing_ms = elapsed_ms(started);
   CompleteSearch complete(four_way, dist, config_, rng, anytime_);
@@ -52,7 +58,7 @@ SolveResult CtsPibt::solve(const Instance& instance, const SolveOptions& options
     if (!sequence) break;
     ++result.sequences_tried;
     const int64_t work_before_sequence = options.deadline.work_done();
-    if (!turning || config_.plan_with_turns) {
+    if (!turning || plan_with_turns) {
       pibt.reset(*sequence);
       const ExtendedPibt::Outcome outcome = pibt.run(options.deadline);
       if (outcome == ExtendedPibt::Outcome::kStepLimit) ++result.pibt_failures;
@@ -61,7 +67,7 @@ SolveResult CtsPibt::solve(const Instance& instance, const SolveOptions& options
                        "Extended-PIBT", pibt.headings());
       }
     }
-    if (turning && config_.add_turns && !options.deadline.expired()) {
+    if (turning && (config_.add_turns || !plan_with_turns) && !options.deadline.expired()) {
       four_way_pibt.reset(*sequence);
       if (four_way_pibt.run(options.deadline) == ExtendedPibt::Outcome::kSolved) {
         keep_turned(result, four_way_pibt.plan(), sequence->orders, sequence->index, "Extended-PIBT (four-way, turned)");

@@ -7,17 +7,40 @@
 
 namespace planner_core {
 
-int64_t turning_lower_bound(const Instance& instance, const TaskOrderConfig& config, int64_t four_way_bound,
-                            size_t memory_bytes) {
+namespace {
+
+std::vector<Vertex> targets_of(const Instance& instance) {
   std::set<Vertex> targets(instance.goals.begin(), instance.goals.end());
   for (const Task& task : instance.tasks) targets.insert(task.at);
-  GuidedDistances turning(*instance.graph, Guidance::kNone, ActionModel::kRotate);
-  if (targets.size() * turning.bytes_per_target() > memory_bytes) return four_way_bound;
+  return {targets.begin(), targets.end()};
+}
+
+}  // namespace
+
+bool turning_tables_fit(const Instance& instance, const GuidedDistances& turning) {
+  return targets_of(instance).size() * turning.bytes_per_target() <= kTurningTablesBudget;
+}
+
+int64_t turning_lower_bound(const Instance& instance, GuidedDistances& turning, const TaskOrderConfig& config,
+                            int64_t four_way_bound, const Deadline& deadline) {
+  if (!turning_tables_fit(instance, turning)) return four_way_bound;
+  const std::vector<Vertex> targets = targets_of(instance);
+  turning.prepare(targets, deadline, 2);
+  for (Vertex target : targets) {
+    if (!turning.held(target)) return four_way_bound;
+  }
   return tour_lower_bound(instance, turning, config);
 }
 
 SolveResult TurnedSolver::solve(const Instance& instance, const SolveOptions& options) {
   if (instance.actions != ActionModel::kRotate) return four_way_->solve(instance, options);
+  // The bound first, in a tenth of the time, while the tables are needed only for it.
+  int64_t lower_bound = 0;
+  {
+    GuidedDistances turning(*instance.graph, Guidance::kNone, ActionModel::kRotate);
+    lower_bound = turning_lower_bound(instance, turning, config_.task_order, 0,
+                                      options.deadline.slice(0.1 * options.deadline.budget_left_s()));
+  }
   Instance four_way = instance;
   four_way.actions = ActionModel::kMove4;
   SolveOptions four_way_options = options;
@@ -33,7 +56,7 @@ SolveResult TurnedSolver::solve(const Instance& instance, const SolveOptions& op
   result.sum_of_loss = 0;
   result.first_solution_ms = -1;
   result.improvements.clear();
-  result.lower_bound = turning_lower_bound(instance, config_.task_order, planned.lower_bound);
+  result.lower_bound = lower_bound > 0 ? lower_bound : planned.lower_bound;
   if (planned.solved) {
     const std::optional<TurningPlan> turned = execute_with_turns(instance, planned.solution, !config_.forbid_rotations);
     if (turned) {

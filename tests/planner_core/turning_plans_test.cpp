@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "planner_core/input_error.hpp"
+#include "planner_core/turned_solver.hpp"
 #include "planner_core/solver.hpp"
 #include "planner_core/task_order.hpp"
 #include "planner_core/turning_execution.hpp"
@@ -203,6 +204,43 @@ TEST(TurningLowerBound, CountsTheTurnsEveryTourNeeds) {
   GuidedDistances turning(*instance.graph, Guidance::kNone, ActionModel::kRotate);
   EXPECT_EQ(tour_lower_bound(instance, dist, TaskOrderConfig{}), 4);
   EXPECT_EQ(tour_lower_bound(instance, turning, TaskOrderConfig{}), 7);
+}
+
+TEST(TurningLowerBound, WithNoTimeLeftTheFourWayBoundStands) {
+  Instance instance = load_instance(testing::data_path("instances/random-32-32-20-N10-M30-00.yaml"));
+  instance.actions = ActionModel::kRotate;
+  GuidedDistances turning(*instance.graph, Guidance::kNone, ActionModel::kRotate);
+  EXPECT_EQ(turning_lower_bound(instance, turning, TaskOrderConfig{}, 1234, Deadline::in_seconds(0)), 1234);
+  const int64_t with_turns = turning_lower_bound(instance, turning, TaskOrderConfig{}, 1234, Deadline::in_seconds(60));
+  DistTable dist(*instance.graph);
+  EXPECT_GT(with_turns, tour_lower_bound(instance, dist, TaskOrderConfig{}));
+}
+
+// Plans for robots (--no-rotations) in the rotation model: no agents moving round a cycle in one
+// step, whichever way the plan was made; and the same seed gives the same plan.
+TEST(TurningSolvers, PlansForRobotsHaveNoCyclesAndRepeatWithTheSeed) {
+  Instance instance = load_instance(testing::data_path("instances/maze-32-32-2-N50-M60-00.yaml"));
+  instance.actions = ActionModel::kRotate;
+  for (const std::string solver : {"cts-pibt", "cts-pibt-anytime", "cts-pll-v3"}) {
+    for (const std::string turns : {"planned", "added"}) {
+      SolverConfig config;
+      config.solver = solver;
+      config.forbid_rotations = true;
+      config.max_sequences = 2;
+      config.plan_with_turns = turns == "planned";
+      config.add_turns = turns == "added";
+      const auto solve = [&] {
+        return make_solver(config)->solve(instance, SolveOptions{Deadline::in_seconds(60).with_work_budget(Deadline::work_of(0.3))});
+      };
+      const SolveResult first = solve();
+      ASSERT_TRUE(first.solved) << solver << " " << turns << ": " << first.failure_reason;
+      const ValidationReport report = validate(instance, first.solution, ValidationOptions{true}, first.headings);
+      EXPECT_TRUE(report.ok()) << solver << " " << turns << ": " << report.summary();
+      const SolveResult second = solve();
+      EXPECT_EQ(second.solution, first.solution) << solver << " " << turns;
+      EXPECT_EQ(second.headings, first.headings) << solver << " " << turns;
+    }
+  }
 }
 
 // CTS-PIBT in the rotation model on benchmark instances: solved, valid with headings, no lower

@@ -45,7 +45,8 @@ std::vector<std::string> sample_per_setting(std::vector<std::string> files, int 
 // each instance.
 std::vector<BenchmarkRow> run_benchmark(const std::vector<std::string>& files, const SolverConfig& config,
                                         double seconds, int64_t iterations, int threads,
-                                        const std::function<void(const BenchmarkRow&, int done)>& on_row = {});
+                                        const std::function<void(const BenchmarkRow&, int done)>& on_row = {},
+                                        ActionModel actions = ActionModel::kMove4);
 
 std::vector<BenchmarkSummary> summarise(const std::vector<BenchmarkRow>& rows);
 std::string csv_header();

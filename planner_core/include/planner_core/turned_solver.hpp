@@ -6,6 +6,7 @@
 
 #include <memory>
 
+#include "planner_core/guided_distances.hpp"
 #include "planner_core/solver.hpp"
 
 namespace planner_core {
@@ -21,9 +22,15 @@ class TurnedSolver : public Solver {
   SolverConfig config_;
 };
 
-// The lower bound with turns (task_order.hpp) when its tables, one per cell and heading for each
-// task and goal, fit in `memory_bytes`; else `four_way_bound`, which is lower but still a bound.
-int64_t turning_lower_bound(const Instance& instance, const TaskOrderConfig& config, int64_t four_way_bound,
-                            size_t memory_bytes = size_t{1} << 30);
+// The tables of `turning` (a GuidedDistances per cell and heading) for every task and goal fit in
+// kTurningTablesBudget bytes.
+constexpr size_t kTurningTablesBudget = size_t{1} << 30;
+bool turning_tables_fit(const Instance& instance, const GuidedDistances& turning);
+
+// The lower bound with turns (task_order.hpp) when the tables for every task and goal fit in the
+// budget and are searched (on two threads) before `deadline`; else `four_way_bound`, lower but
+// still a bound.
+int64_t turning_lower_bound(const Instance& instance, GuidedDistances& turning, const TaskOrderConfig& config,
+                            int64_t four_way_bound, const Deadline& deadline);
 
 }  // namespace planner_core
