@@ -41,30 +41,42 @@ SolveResult TurnedSolver::solve(const Instance& instance, const SolveOptions& op
     lower_bound = turning_lower_bound(instance, turning, config_.task_order, 0,
                                       options.deadline.slice(0.1 * options.deadline.budget_left_s()));
   }
+  SolveResult result;
+  bool cycles = false;
+  const auto keep_turned = [&](const SolveResult& planned) {
+    const std::optional<TurningPlan> turned = execute_with_turns(instance, planned.solution, !config_.forbid_rotations);
+    if (!turned) {
+      cycles = true;
+      return;
+    }
+    keep_if_better(result, instance, turned->cells, planned.orders, 0, options.started, options,
+                   config_.solver + " (turned)", turned->headings);
+  };
   Instance four_way = instance;
   four_way.actions = ActionModel::kMove4;
   SolveOptions four_way_options = options;
-  four_way_options.on_solution = nullptr;  // its figures are not those of the plan the robots get
+  // The first plan is turned as soon as it is found (the time to a first plan is the turned one's);
+  // later ones only at the end, the final plan being the cheapest four-way plan.
+  four_way_options.on_solution = [&](const SolveResult& planned) {
+    if (!result.solved) keep_turned(planned);
+  };
   const SolveResult planned = four_way_->solve(four_way, four_way_options);
+  if (planned.solved) keep_turned(planned);
 
-  SolveResult result = planned;
-  result.solved = false;
-  result.solution.clear();
-  result.headings.clear();
-  result.flowtime = 0;
-  result.makespan = 0;
-  result.sum_of_loss = 0;
-  result.first_solution_ms = -1;
-  result.improvements.clear();
+  const SolveResult turned = result;
+  result = planned;  // the search's figures (sequences, releases, iterations, ...)
+  result.solved = turned.solved;
+  result.solution = turned.solution;
+  result.headings = turned.headings;
+  result.flowtime = turned.flowtime;
+  result.makespan = turned.makespan;
+  result.sum_of_loss = turned.sum_of_loss;
+  result.first_solution_ms = turned.first_solution_ms;
+  result.improvements = turned.improvements;
+  result.orders = turned.orders;
   result.lower_bound = lower_bound > 0 ? lower_bound : planned.lower_bound;
-  if (planned.solved) {
-    const std::optional<TurningPlan> turned = execute_with_turns(instance, planned.solution, !config_.forbid_rotations);
-    if (turned) {
-      keep_if_better(result, instance, turned->cells, planned.orders, 0, options.started, options,
-                     config_.solver + " (turned)", turned->headings);
-    } else {
-      result.failure_reason = "the four-way plan has agents moving in a cycle, which robots that turn cannot follow";
-    }
+  if (planned.solved && !turned.solved && cycles) {
+    result.failure_reason = "the four-way plan has agents moving in a cycle, which robots that turn cannot follow";
   }
   result.comp_time_ms = elapsed_ms(options.started);
   return result;
