@@ -16,13 +16,18 @@ SolveResult CtsPibt::solve(const Instance& instance, const SolveOptions& options
   JointSequencer sequencer(instance, dist, config_.task_order, options.deadline);
   PibtConfig pibt_config = config_.pibt;
   pibt_config.forbid_rotations = pibt_config.forbid_rotations || config_.forbid_rotations;
-  ExtendedPibt pibt(instance, dist, pibt_config, rng);
+  const bool turning = instance.actions == ActionModel::kRotate;
+  // With turns, no swap operation: backing off means turning round, and two agents that took
+  // turns to back off turned to and fro for ever (measured: the first sequence of 4 of 5 dense
+  // maze instances solved without it, none with it).
+  PibtConfig turning_config = pibt_config;
+  turning_config.swap = false;
+  ExtendedPibt pibt(instance, dist, turning ? turning_config : pibt_config, rng);
 
   // The rotation model: Extended-PIBT plans with turns (costs per cell and heading for every task
   // and goal); for each sequence it also plans four-way moves, as in the four-way model and with
   // the same random numbers, and adds the turns (turning_execution.hpp); the cheaper plan is
   // kept. The complete search plans four-way moves too, its plan turned the same way.
-  const bool turning = instance.actions == ActionModel::kRotate;
   std::optional<GuidedDistances> turning_distances;
   Instance four_way = instance;
   four_way.actions = ActionModel::kMove4;
