@@ -191,6 +191,7 @@ int main(int argc, char** argv) {
     config.plan_with_turns = turns != "added";
     config.add_turns = turns != "planned";
     for (const std::string& solver : solvers) {
+      if (ctsfleet::stop_requested().load()) break;
       config.solver = solver;
       const std::string name = solver + (actions == ActionModel::kRotate ? "+rotate" : "") +
                                (actions == ActionModel::kRotate && turns != "both" ? "-" + turns : "");
@@ -198,7 +199,8 @@ int main(int argc, char** argv) {
                    threads);
       const auto rows = run_benchmark(
           files, config, seconds, iterations, threads,
-          [&](const BenchmarkRow&, int done) { draw_progress(done, static_cast<int>(files.size())); }, actions);
+          [&](const BenchmarkRow&, int done) { draw_progress(done, static_cast<int>(files.size())); }, actions,
+          &ctsfleet::stop_requested());
       for (const BenchmarkRow& row : rows) {
         csv << to_csv(row, name) << "\n";
         if (!row.error.empty()) {
@@ -228,6 +230,8 @@ int main(int argc, char** argv) {
     } else {
       std::printf("\nrows written to %s\n", csv_path.c_str());
     }
+    // Ctrl-C or SIGTERM: the solve in hand stopped, the instances left were not run (rows so marked).
+    if (ctsfleet::stop_requested().load()) return ctsfleet::kExitInterrupted;
     return errors > 0 ? 1 : 0;
   });
 }

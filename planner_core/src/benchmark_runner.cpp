@@ -32,14 +32,14 @@ Setting setting_of(const std::string& file) {
 }
 
 BenchmarkRow run_one(const std::string& file, const SolverConfig& config, double seconds, int64_t iterations,
-                     ActionModel actions) {
+                     ActionModel actions, const std::atomic<bool>* interrupt) {
   BenchmarkRow row;
   row.file = file;
   const Setting setting = setting_of(file);
   row.map = setting.map;
   try {
     // As ctsfleet-solve: the limit and the times count from before the instance is read.
-    const SolveOptions options{Deadline::for_limits(seconds, iterations), {}, Clock::now()};
+    const SolveOptions options{Deadline::for_limits(seconds, iterations, interrupt), {}, Clock::now()};
     Instance instance = load_instance(file);
     instance.actions = actions;
     row.map = instance.graph->name;
@@ -84,14 +84,19 @@ std::vector<std::string> sample_per_setting(std::vector<std::string> files, int 
 std::vector<BenchmarkRow> run_benchmark(const std::vector<std::string>& files, const SolverConfig& config,
                                         double seconds, int64_t iterations, int threads,
                                         const std::function<void(const BenchmarkRow&, int done)>& on_row,
-                                        ActionModel actions) {
+                                        ActionModel actions, const std::atomic<bool>* interrupt) {
   std::vector<BenchmarkRow> rows(files.size());
   std::atomic<size_t> next{0};
   std::mutex report;
   int done = 0;
   const auto worker = [&] {
     for (size_t i = next++; i < files.size(); i = next++) {
-      rows[i] = run_one(files[i], config, seconds, iterations, actions);
+      if (interrupt && interrupt->load()) {  // stopped: the instances left are not run
+        rows[i].file = files[i];
+        rows[i].error = "not run: interrupted";
+        continue;
+      }
+      rows[i] = run_one(files[i], config, seconds, iterations, actions, interrupt);
       const std::lock_guard<std::mutex> lock(report);
       ++done;
       if (on_row) on_row(rows[i], done);

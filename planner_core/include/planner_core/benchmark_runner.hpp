@@ -2,6 +2,7 @@
 // instance, and a summary per setting (map, N, M).
 #pragma once
 
+#include <atomic>
 #include <functional>
 #include <string>
 #include <vector>
@@ -46,7 +47,8 @@ std::vector<std::string> sample_per_setting(std::vector<std::string> files, int 
 std::vector<BenchmarkRow> run_benchmark(const std::vector<std::string>& files, const SolverConfig& config,
                                         double seconds, int64_t iterations, int threads,
                                         const std::function<void(const BenchmarkRow&, int done)>& on_row = {},
-                                        ActionModel actions = ActionModel::kMove4);
+                                        ActionModel actions = ActionModel::kMove4,
+                                        const std::atomic<bool>* interrupt = nullptr);
 
 std::vector<BenchmarkSummary> summarise(const std::vector<BenchmarkRow>& rows);
 std::string csv_header();
