@@ -11,7 +11,7 @@ constexpr int kInfinity = std::numeric_limits<int>::max() / 4;
 constexpr int kHardExactLimit = 24;  // beyond this the Held-Karp table would not fit in memory
 }  // namespace
 
-TourMatrix::TourMatrix(const Instance& instance, int agent, DistTable& dist)
+TourMatrix::TourMatrix(const Instance& instance, int agent, const Distance& distance)
     : task_count_(static_cast<int>(instance.tasks_of_agent[agent].size())),
       task_ids_(instance.tasks_of_agent[agent]) {
   std::vector<Vertex> points;
@@ -20,34 +20,25 @@ TourMatrix::TourMatrix(const Instance& instance, int agent, DistTable& dist)
   points.push_back(instance.goals[agent]);
   const int n = static_cast<int>(points.size());
   d_.resize(static_cast<size_t>(n) * n);
-  // Distances are symmetric: every entry comes from a search from a task or the goal, which the
-  // path planners need anyway, and none from the start.
   for (int to = 1; to < n; ++to) {
-    for (int from = 0; from < n; ++from) d_[from * n + to] = dist.get(points[to], points[from]);
+    for (int from = 0; from < n; ++from) d_[from * n + to] = distance(points[from], points[to], from == 0);
   }
+  // No tour returns to its start: the column is filled from the row (as distances are symmetric).
   for (int from = 0; from < n; ++from) d_[from * n] = d_[from];
 }
 
+// Every entry comes from a search from a task or the goal, which the path planners need anyway,
+// and none from the start.
+TourMatrix::TourMatrix(const Instance& instance, int agent, DistTable& dist)
+    : TourMatrix(instance, agent, [&](Vertex from, Vertex to, bool) { return dist.get(to, from); }) {}
+
 TourMatrix::TourMatrix(const Instance& instance, int agent, GuidedDistances& turning)
-    : task_count_(static_cast<int>(instance.tasks_of_agent[agent].size())),
-      task_ids_(instance.tasks_of_agent[agent]) {
-  std::vector<Vertex> points;
-  points.push_back(instance.starts[agent]);
-  for (int t : task_ids_) points.push_back(instance.tasks[t].at);
-  points.push_back(instance.goals[agent]);
-  const int n = static_cast<int>(points.size());
-  d_.resize(static_cast<size_t>(n) * n);
-  for (int to = 1; to < n; ++to) {
-    d_[to] = turning.get(points[to], points[0], instance.start_heading(agent));
-    for (int from = 1; from < n; ++from) {
-      int best = GuidedDistances::kUnreachable;
-      for (int h = 0; h < kHeadings; ++h) best = std::min(best, turning.get(points[to], points[from], h));
-      d_[from * n + to] = best;
-    }
-  }
-  // No tour returns to its start; the column is filled only so that no entry is unset.
-  for (int from = 0; from < n; ++from) d_[from * n] = d_[from];
-}
+    : TourMatrix(instance, agent, [&](Vertex from, Vertex to, bool from_start) {
+        if (from_start) return turning.get(to, from, instance.start_heading(agent));
+        int best = GuidedDistances::kUnreachable;
+        for (int h = 0; h < kHeadings; ++h) best = std::min(best, turning.get(to, from, h));
+        return best;
+      }) {}
 
 int TourMatrix::path_cost(int from_point, const std::vector<int>& locals) const {
   int cost = 0;

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <vector>
 
@@ -34,6 +35,10 @@ class TourMatrix {
   int path_cost(int from_point, const std::vector<int>& locals) const;  // from_point -> locals -> goal
 
  private:
+  // distance(from, to, from_is_the_start)
+  using Distance = std::function<int(Vertex, Vertex, bool)>;
+  TourMatrix(const Instance& instance, int agent, const Distance& distance);
+
   int task_count_;
   std::vector<int> task_ids_;
   std::vector<int> d_;
