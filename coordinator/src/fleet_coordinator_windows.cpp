@@ -59,6 +59,7 @@ void FleetCoordinator::extend_plan(fleet_transport::Transport& transport) {
     near_the_end = near_the_end || (!plan_->done(a) && end - plan_->carried_out_until(a) <= kLeadSteps);
   }
   if (end - std::max(slowest, first_plan_steps_) > kMaxLeadSteps) return;
+  credit_visits_at_rest();
   const std::vector<WindowAgent> agents = window_agents();
   // Or a robot has made every move and has tasks to go to, or is not parked yet.
   const planner_core::Config& last = plan_->last_configuration();
@@ -109,17 +110,24 @@ void FleetCoordinator::extend_plan(fleet_transport::Transport& transport) {
   publish_plan(transport, 0, planning_ms);
 }
 
-std::vector<WindowAgent> FleetCoordinator::window_agents() {
+void FleetCoordinator::credit_visits_at_rest() {
+  // A robot that ended its moves on the cell of a task added since: that is its visit.
+  for (int a = 0; a < plan_->agent_count(); ++a) {
+    const RobotRecord& robot = *robot_of_agent(a);
+    if (robot.role >= 0 && plan_->done(a)) {
+      credit_visits(robot.role, mission_vertex(robot.last.cell_x, robot.last.cell_y), robot.id);
+    }
+  }
+}
+
+std::vector<WindowAgent> FleetCoordinator::window_agents() const {
   const planner_core::Graph& graph = *plan_->graph();
   const planner_core::Config& last = plan_->last_configuration();
   std::vector<WindowAgent> agents(plan_->agent_count());
   for (int a = 0; a < plan_->agent_count(); ++a) {
     agents[a].park = last[a];
-    RobotRecord& robot = *robot_of_agent(a);
-    const int role = robot.role;
+    const int role = robot_of_agent(a)->role;
     if (role < 0) continue;  // an extra robot stays where it is
-    // A robot that ended its moves on the cell of a task added since: that is its visit.
-    if (plan_->done(a)) credit_visits(role, mission_vertex(robot.last.cell_x, robot.last.cell_y), robot.id);
     const Vertex goal = graph.vertex_at(mission_.graph->cell_of(mission_.goals[role]));
     if (goal != planner_core::kNoVertex) agents[a].park = goal;
     for (int t : mission_.tasks_of_agent[role]) {

@@ -248,7 +248,8 @@ class FleetCoordinator {
   // The robots of a new plan, its figures, its epoch in the journal; then it is carried out.
   void take_plan(const PlanningOutcome& outcome);
   void extend_plan(fleet_transport::Transport& transport);
-  std::vector<WindowAgent> window_agents();
+  void credit_visits_at_rest();  // the visits owed where robots that made every move stand
+  std::vector<WindowAgent> window_agents() const;  // where each robot still has to go, and park
   void note_window(const PlanWindow& window, double planning_ms);
   void mark_planned_visits(const planner_core::Solution& steps);
   bool grows_by_windows(const std::string& robot_id) const;
