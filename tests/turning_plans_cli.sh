@@ -23,10 +23,12 @@ for solver in cts-pibt cts-pibt-anytime; do
   grep -q "solved=1" "$work/summary"
   grep -q "^actions=rotate$" "$work/$solver.txt"
   grep -q "^0:(30,21,N),(0,4,W),(" "$work/$solver.txt"
-  "$python" "$check" "$ctsval" "$work/turning.yaml" "$work/$solver.txt"
-  # The same figures as the solver's, from the independent checker.
+  "$python" "$check" "$ctsval" "$work/turning.yaml" "$work/$solver.txt" | tee "$work/checked"
+  # The same figures as the solver's, from the independent checker. (Its output is read from a
+  # file: grep -q on a pipe stops reading at the first match, and the checker's next line met a
+  # closed pipe.)
   flowtime="$(grep '^flowtime=' "$work/$solver.txt" | cut -d= -f2)"
-  "$python" "$check" "$ctsval" "$work/turning.yaml" "$work/$solver.txt" | grep -q "flowtime=$flowtime "
+  grep -q "flowtime=$flowtime " "$work/checked"
 done
 
 # The checker can fail: a wrong start heading.
@@ -42,7 +44,8 @@ if "$python" "$check" "$ctsval" "$work/turning.yaml" "$work/four-way.txt" > "$wo
 fi
 
 # CTS-PLL plans four-way moves; the turns are added: the checker accepts its plan as well.
-"$bin/ctsfleet-solve" -i "$work/turning.yaml" --solver cts-pll-v3 --actions rotate -t 2 -o "$work/pll.txt" | grep -q "solved=1"
+"$bin/ctsfleet-solve" -i "$work/turning.yaml" --solver cts-pll-v3 --actions rotate -t 2 -o "$work/pll.txt" > "$work/summary"
+grep -q "solved=1" "$work/summary"
 "$python" "$check" "$ctsval" "$work/turning.yaml" "$work/pll.txt"
 sed -e 's/heading: W/heading: west/' "$work/turning.yaml" > "$work/bad-heading.yaml"
 set +e

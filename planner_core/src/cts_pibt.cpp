@@ -56,6 +56,9 @@ SolveResult CtsPibt::solve(const Instance& instance, const SolveOptions& options
   CompleteSearch complete(four_way, dist, config_, rng, anytime_);
   SolveResult four_way_result;  // the complete search's plans in the rotation model (turned when kept)
   SolveResult& complete_result = turning ? four_way_result : result;
+  // Its four-way plans are not reported as they are found: the turned ones are, when kept.
+  SolveOptions complete_options = options;
+  if (turning) complete_options.on_solution = nullptr;
   bool no_plan_exists = false;
   while (!options.deadline.expired()) {
     if (config_.max_sequences > 0 && result.sequences_tried >= config_.max_sequences) break;
@@ -82,7 +85,7 @@ SolveResult CtsPibt::solve(const Instance& instance, const SolveOptions& options
       // The anytime loop gives the complete search as much work as the failed sequence took.
       const int64_t spent = options.deadline.work_done() - work_before_sequence;
       const CompleteSearch::Outcome searched = complete.search(
-          options.deadline.within_work(std::max(Deadline::work_of(0.05), spent)), options, complete_result);
+          options.deadline.within_work(std::max(Deadline::work_of(0.05), spent)), complete_options, complete_result);
       if (searched == CompleteSearch::Outcome::kNoPlanExists) {
         no_plan_exists = true;
         break;
@@ -95,8 +98,8 @@ SolveResult CtsPibt::solve(const Instance& instance, const SolveOptions& options
   }
   // Never give up before the deadline: the complete search takes over.
   if (!result.solved && !no_plan_exists && config_.complete_fallback && !options.deadline.expired()) {
-    if (complete.search(options.deadline, options, complete_result) == CompleteSearch::Outcome::kFound) {
-      complete.refine(options, complete_result);
+    if (complete.search(options.deadline, complete_options, complete_result) == CompleteSearch::Outcome::kFound) {
+      complete.refine(complete_options, complete_result);
     }
     if (turning && four_way_result.solved) {
       keep_turned(result, four_way_result.solution, four_way_result.orders, 0, "the complete search (turned)");
