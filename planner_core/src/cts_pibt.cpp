@@ -29,12 +29,14 @@ SolveResult CtsPibt::solve(const Instance& instance, const SolveOptions& options
   // the same random numbers, and adds the turns (turning_execution.hpp); the cheaper plan is
   // kept. The complete search plans four-way moves too, its plan turned the same way.
   std::optional<GuidedDistances> turning_distances;
-  Instance four_way = instance;
-  four_way.actions = ActionModel::kMove4;
+  std::optional<Instance> four_way_copy;  // the instance in the four-way model (turning only)
   std::mt19937 four_way_rng(config_.seed);
-  ExtendedPibt four_way_pibt(four_way, dist, pibt_config, four_way_rng);
+  std::optional<ExtendedPibt> four_way_pibt;
   bool plan_with_turns = config_.plan_with_turns;
   if (turning) {
+    four_way_copy.emplace(instance);
+    four_way_copy->actions = ActionModel::kMove4;
+    four_way_pibt.emplace(*four_way_copy, dist, pibt_config, four_way_rng);
     turning_distances.emplace(*instance.graph, Guidance::kNone, ActionModel::kRotate);
     // Too many tables to hold (8 bytes per cell for each task and goal): turns added only.
     plan_with_turns = plan_with_turns && turning_tables_fit(instance, *turning_distances);
@@ -53,7 +55,7 @@ SolveResult CtsPibt::solve(const Instance& instance, const SolveOptions& options
                                                      options.deadline.slice(0.25 * options.deadline.budget_left_s()))
                                : sequencer.lower_bound();
   result.preprocessing_ms = elapsed_ms(started);
-  CompleteSearch complete(four_way, dist, config_, rng, anytime_);
+  CompleteSearch complete(turning ? *four_way_copy : instance, dist, config_, rng, anytime_);
   SolveResult four_way_result;  // the complete search's plans in the rotation model (turned when kept)
   SolveResult& complete_result = turning ? four_way_result : result;
   // Its four-way plans are not reported as they are found: the turned ones are, when kept.
@@ -76,9 +78,9 @@ SolveResult CtsPibt::solve(const Instance& instance, const SolveOptions& options
       }
     }
     if (turning && (config_.add_turns || !plan_with_turns) && !options.deadline.expired()) {
-      four_way_pibt.reset(*sequence);
-      if (four_way_pibt.run(options.deadline) == ExtendedPibt::Outcome::kSolved) {
-        keep_turned(result, four_way_pibt.plan(), sequence->orders, sequence->index, "Extended-PIBT (four-way, turned)");
+      four_way_pibt->reset(*sequence);
+      if (four_way_pibt->run(options.deadline) == ExtendedPibt::Outcome::kSolved) {
+        keep_turned(result, four_way_pibt->plan(), sequence->orders, sequence->index, "Extended-PIBT (four-way, turned)");
       }
     }
     if (anytime_ && !result.solved && config_.complete_fallback) {

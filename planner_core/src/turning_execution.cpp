@@ -49,68 +49,96 @@ std::optional<TurningPlan> execute_with_turns(const Instance& instance, const So
   out.headings.push_back(headings);
   std::vector<char> acted(n);
   std::vector<int> occupant(graph.vertex_count(), -1);  // who stood on each cell before this step
-  std::vector<int> chain;
+  // waiting[cell]: the agent facing `cell` whose passage there comes right after its occupant's.
+  std::vector<int> waiting(graph.vertex_count(), -1);
+  std::vector<int> ready;           // agents that may step forward now
+  std::vector<char> colour(n);      // cycle search: 0 not seen, 1 on the path followed, 2 done
+  std::vector<int> path;
   int moving = 0;
-  for (const Route& route : routes) moving += route.cells.size() > 1 ? 1 : 0;
+  std::vector<int> active;  // the agents with moves left, the only ones a step looks at
+  for (int a = 0; a < n; ++a) {
+    if (routes[a].cells.size() > 1) active.push_back(a);
+  }
+  moving = static_cast<int>(active.size());
+  const auto next_passage = [&](int a) { return routes[a].passage[routes[a].at + 1]; };
+  const auto next_cell = [&](int a) { return routes[a].cells[routes[a].at + 1]; };
+  // Steps `a` forward; whoever waited for the cell it leaves may follow in the same step.
   const auto step_forward = [&](int a, Config& cells) {
     Route& route = routes[a];
-    ++passed[route.cells[route.at]];
+    const Vertex left = route.cells[route.at];
+    ++passed[left];
     ++route.at;
     cells[a] = route.cells[route.at];
     if (route.at + 1 == route.cells.size()) --moving;
     acted[a] = 1;
+    const int follower = waiting[left];
+    if (follower >= 0 && !acted[follower] && next_passage(follower) == passed[left]) ready.push_back(follower);
   };
-  // The agent that `a`, facing its next cell, waits for: the one standing there, whose passage
-  // comes just before a's and which has not acted yet; -1 when there is none such.
+  // The agent that `a` waits for: the one standing on a's next cell, which has not acted yet.
   const auto waits_for = [&](int a) {
-    const Route& route = routes[a];
-    if (acted[a] || route.at + 1 >= route.cells.size()) return -1;
-    const Vertex next = route.cells[route.at + 1];
-    if (headings[a] != heading_towards(graph, route.cells[route.at], next)) return -1;
-    const int other = occupant[next];
-    if (other < 0 || acted[other] || passed[next] + 1 != route.passage[route.at + 1]) return -1;
-    return routes[other].passage[routes[other].at] == passed[next] ? other : -1;
+    if (acted[a] || routes[a].at + 1 >= routes[a].cells.size()) return -1;
+    const Vertex next = next_cell(a);
+    return waiting[next] == a && occupant[next] >= 0 && !acted[occupant[next]] ? occupant[next] : -1;
   };
   while (moving > 0) {
     Config cells = out.cells.back();
     for (int a = 0; a < n; ++a) occupant[cells[a]] = a;
     std::fill(acted.begin(), acted.end(), 0);
-    bool any = false;
-    // Turns need nobody; a move waits until the passages before it have left the cell. An agent
-    // leaving lets the one behind follow in the same step, so go round until nothing changes.
-    for (bool changed = true; changed;) {
-      changed = false;
-      for (int a = 0; a < n; ++a) {
-        Route& route = routes[a];
-        if (acted[a] || route.at + 1 >= route.cells.size()) continue;
-        const Vertex here = route.cells[route.at];
-        const Vertex next = route.cells[route.at + 1];
-        const int towards = heading_towards(graph, here, next);
-        if (headings[a] != towards) {
-          headings[a] = turns_between(headings[a], towards) == 2 || towards == turned_clockwise(headings[a])
-                            ? turned_clockwise(headings[a])
-                            : turned_counter_clockwise(headings[a]);
-        } else if (passed[next] == route.passage[route.at + 1]) {
-          step_forward(a, cells);
-        } else {
-          continue;
-        }
+    // Turns need nobody; a move waits until the passages before it have left the cell.
+    for (int a : active) {
+      Route& route = routes[a];
+      const Vertex next = next_cell(a);
+      const int towards = heading_towards(graph, route.cells[route.at], next);
+      if (headings[a] != towards) {
+        headings[a] = turns_between(headings[a], towards) == 2 || towards == turned_clockwise(headings[a])
+                          ? turned_clockwise(headings[a])
+                          : turned_counter_clockwise(headings[a]);
         acted[a] = 1;
-        changed = any = true;
+      } else if (passed[next] == next_passage(a)) {
+        ready.push_back(a);
+      } else if (passed[next] + 1 == next_passage(a)) {
+        waiting[next] = a;
       }
-      // Agents that wait on each other round a cycle move together, each into the cell the next leaves.
-      for (int a = 0; a < n && allow_cycles && !changed; ++a) {
-        chain.assign(1, a);
-        for (int next = waits_for(a); next >= 0 && next != a && chain.size() <= static_cast<size_t>(n);
-             next = waits_for(next)) {
-          chain.push_back(next);
+    }
+    bool any = std::any_of(active.begin(), active.end(), [&](int a) { return acted[a] != 0; });
+    for (bool cycle_moved = true; cycle_moved;) {
+      while (!ready.empty()) {
+        const int a = ready.back();
+        ready.pop_back();
+        step_forward(a, cells);
+        any = true;
+      }
+      // Agents that wait on each other round a cycle move together, each into the cell the next
+      // leaves. Each agent waits for one other at most: follow the links, each agent once.
+      cycle_moved = false;
+      for (int a : active) colour[a] = 0;
+      for (int start : active) {
+        if (!allow_cycles) break;
+        path.clear();
+        int a = start;
+        while (a >= 0 && colour[a] == 0) {
+          colour[a] = 1;
+          path.push_back(a);
+          a = waits_for(a);
         }
-        if (chain.size() < 3 || waits_for(chain.back()) != a) continue;
-        for (int member : chain) step_forward(member, cells);
-        changed = any = true;
+        if (a >= 0 && colour[a] == 1) {  // back on the path: a cycle from a on
+          const auto first = std::find(path.begin(), path.end(), a);
+          if (path.end() - first >= 3) {
+            // All of them act now: none is released as another's follower and moved twice.
+            for (auto member = first; member != path.end(); ++member) acted[*member] = 1;
+            for (auto member = first; member != path.end(); ++member) step_forward(*member, cells);
+            cycle_moved = any = true;
+          }
+        }
+        for (int member : path) colour[member] = 2;
       }
     }
     for (const Config& before = out.cells.back(); Vertex v : before) occupant[v] = -1;
+    for (int a : active) {
+      if (routes[a].at + 1 < routes[a].cells.size()) waiting[next_cell(a)] = -1;
+      waiting[routes[a].cells[routes[a].at]] = -1;
+    }
+    std::erase_if(active, [&](int a) { return routes[a].at + 1 >= routes[a].cells.size(); });
     if (!any) return std::nullopt;  // everyone waits on someone: the plan had a cycle
     out.cells.push_back(std::move(cells));
     out.headings.push_back(headings);
