@@ -77,7 +77,8 @@ int main(int argc, char** argv) {
   bool json = false;
   std::string vendor, agent_vendor, backend = "sim", log_dir = "out/sim-logs";
   int robots = 8, domain = -1;
-  double step = 0.1, jitter = 0.2;
+  double step = 0.1, jitter = 0.2, turn = 0;
+  std::string actions;
   unsigned seed = 1;
   app.add_option("--robots", robots, "number of robot agents (at most the mission map's free cells)")
       ->check(ctsfleet::count_in(1, 10'000))
@@ -99,6 +100,11 @@ int main(int argc, char** argv) {
   app.add_option("--jitter", jitter, "sim: each move takes step * (1 + U[0, jitter])")
       ->check(ctsfleet::number_in(0, 10))
       ->capture_default_str();
+  app.add_option("--turn", turn, "sim: seconds per quarter turn in place (0: turns take no time)")
+      ->check(ctsfleet::number_in(0, 3600))
+      ->capture_default_str();
+  app.add_option("--actions", actions, "plans with turns (rotate) or without (move4); default: the config's")
+      ->check(CLI::IsMember({"move4", "rotate"}));
   app.add_option("--seed", seed, "sim: random seed of the first agent")->capture_default_str();
   app.add_option("--log-dir", log_dir, "where the agents' logs go")->check(ctsfleet::writable_folder())->capture_default_str();
   app.add_flag("--json", json, "the coordinator prints its mission summary as one JSON object");
@@ -264,6 +270,7 @@ int main(int argc, char** argv) {
                                          "--lease", std::to_string(config.lease_s),
                                          "--step", std::to_string(step),
                                          "--jitter", std::to_string(jitter),
+                                         "--turn", std::to_string(turn),
                                          "--seed", std::to_string(seed + r)};
         if (!config.dds_config_dir.empty()) args.insert(args.end(), {"--dds-config-dir", config.dds_config_dir});
         if (toio) args.insert(args.end(), {"--cube", "toio-" + std::to_string(r), "--mat", mat_path});
@@ -274,6 +281,7 @@ int main(int argc, char** argv) {
       std::vector<std::string> coordinator_args = {(here / "ctsfleet-coordinator").string(), "--config", config_path,
                                                    "--dds", vendor, "--domain", std::to_string(domain)};
       if (json) coordinator_args.push_back("--json");
+      if (!actions.empty()) coordinator_args.insert(coordinator_args.end(), {"--actions", actions});
       if (secure) coordinator_args.insert(coordinator_args.end(), {"--security", fleet_ca.string()});
       coordinator_args.insert(coordinator_args.end(), discovery_options.begin(), discovery_options.end());
       const pid_t coordinator_pid = coordinator::start_child(coordinator_args, "");

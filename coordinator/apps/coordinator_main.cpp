@@ -24,7 +24,7 @@ using namespace coordinator;
 struct Overrides {
   std::string vendor;
   int domain = -1;
-  std::string network_interface, peers, discovery_server, security_dir, identity;
+  std::string network_interface, peers, discovery_server, security_dir, identity, actions;
 
   void add_to(CLI::App& app) {
     app.add_option("--dds", vendor, "override dds.vendor")->check(CLI::IsMember({"cyclone", "fastdds"}));
@@ -35,6 +35,8 @@ struct Overrides {
                    std::string("override dds.discovery_server. ") + fleet_transport::kDiscoveryServerHelp);
     app.add_option("--security", security_dir, "override security.fleet_dir: the fleet directory made by ctsfleet-ca");
     app.add_option("--identity", identity, "override security.identity: the name this coordinator is enrolled as");
+    app.add_option("--actions", actions, "override planner.actions: rotate plans with turns, move4 without")
+        ->check(CLI::IsMember({"move4", "rotate"}));
   }
   void apply(FleetConfig& config) const {
     if (!vendor.empty()) config.dds_vendor = vendor;
@@ -44,6 +46,13 @@ struct Overrides {
     if (!peers.empty()) config.peers = peers;
     if (!security_dir.empty()) config.security_dir = security_dir;
     if (!identity.empty()) config.security_identity = identity;
+    if (!actions.empty()) {
+      config.actions = actions == "rotate" ? planner_core::ActionModel::kRotate : planner_core::ActionModel::kMove4;
+      if (config.lifelong && config.actions == planner_core::ActionModel::kRotate) {
+        throw planner_core::InputError("--actions rotate: not available with lifelong: true (" + config.source +
+                                       ") yet; the lifelong windows plan without turns");
+      }
+    }
   }
 };
 

@@ -1,32 +1,42 @@
 #include "coordinator/action_dependency_graph.hpp"
 
 #include <stdexcept>
+#include <string>
 
 namespace coordinator {
 
 using planner_core::Vertex;
 
-ActionDependencyGraph::ActionDependencyGraph(const planner_core::Solution& plan) {
+ActionDependencyGraph::ActionDependencyGraph(const planner_core::Solution& plan, const planner_core::HeadingPlan& headings) {
   if (plan.empty()) return;
   moves_.assign(plan[0].size(), {});
   forgotten_.assign(plan[0].size(), 0);
   last_ = plan[0];
-  extend(plan);
+  extend(plan, headings);
 }
 
-void ActionDependencyGraph::extend(const planner_core::Solution& more) {
+void ActionDependencyGraph::extend(const planner_core::Solution& more, const planner_core::HeadingPlan& headings) {
   if (more.empty()) return;
   if (more[0] != last_) throw std::invalid_argument("the plan's extension does not start where the plan ends");
+  if (!headings.empty() && headings.size() != more.size()) {
+    throw std::invalid_argument("the plan has " + std::to_string(more.size()) + " steps but headings for " +
+                                std::to_string(headings.size()));
+  }
   const int robots = robot_count();
+  const auto heading = [&](size_t s, int r) { return headings.empty() ? -1 : headings[s][r]; };
   for (size_t s = 1; s < more.size(); ++s) {
     const int time = steps_ + static_cast<int>(s);
     // This step's departures first: a move may follow a robot leaving its target in the same step.
     std::vector<int> moving;
     for (int r = 0; r < robots; ++r) {
-      if (more[s][r] == more[s - 1][r]) continue;
+      if (more[s][r] == more[s - 1][r]) {
+        // A turn in place is a move with no dependencies; a wait is no move.
+        if (heading(s, r) != heading(s - 1, r)) moves_[r].push_back({more[s][r], more[s][r], time, heading(s, r), {}});
+        continue;
+      }
       moving.push_back(r);
       last_departures_[more[s - 1][r]][r] = move_count(r);
-      moves_[r].push_back({more[s - 1][r], more[s][r], time, {}});
+      moves_[r].push_back({more[s - 1][r], more[s][r], time, heading(s, r), {}});
     }
     // Each move waits for every other robot's latest departure from its target so far.
     for (int r : moving) {

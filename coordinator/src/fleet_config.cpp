@@ -69,8 +69,16 @@ void read_robots(const planner_core::YamlContext& r, const YAML::Node& robots, F
 
 // planner: the solvers of the first plan and of replans, and their budgets.
 void read_planner(const planner_core::YamlContext& r, const YAML::Node& planner, FleetConfig& config) {
-  r.only_keys(planner, {"solver", "time_limit_s", "replan_solver", "replan_time_limit_s", "pibt_swap", "seed", "iterations"},
+  r.only_keys(planner,
+              {"solver", "time_limit_s", "replan_solver", "replan_time_limit_s", "pibt_swap", "seed", "iterations",
+               "actions"},
               "planner");
+  if (const YAML::Node actions = planner["actions"]) {
+    std::string text;
+    r.read(planner, "actions", "planner", text);
+    if (text != "move4" && text != "rotate") r.fail(actions, "planner.actions", "must be move4 or rotate, not '" + text + "'");
+    config.actions = text == "rotate" ? planner_core::ActionModel::kRotate : planner_core::ActionModel::kMove4;
+  }
   r.read(planner, "solver", "planner", config.solver);
   r.read(planner, "time_limit_s", "planner", config.plan_time_s);
   r.read(planner, "replan_solver", "planner", config.replan_solver);
@@ -181,6 +189,10 @@ FleetConfig load_fleet_config(const std::string& path) {
   if (const YAML::Node dds = root["dds"]) read_dds(r, dds, config);
   if (const YAML::Node security = root["security"]) read_security(r, security, config);
   if (const YAML::Node timing = root["timing"]) read_timing(r, timing, config);
+  if (config.lifelong && config.actions == planner_core::ActionModel::kRotate) {
+    r.fail(root["planner"]["actions"], "planner.actions",
+           "rotate is not available with lifelong: true yet (the lifelong windows plan without turns); use move4");
+  }
   return config;
 }
 

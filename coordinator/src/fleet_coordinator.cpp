@@ -40,6 +40,7 @@ FleetCoordinator::FleetCoordinator(const FleetConfig& config, planner_core::Inst
       follower_(config_.lease_s, config_.silence_timeout_s, PublishSchedule::kStatusPeriodS),
       desk_(identity_.incarnation) {
   clocks_.started = clocks_.last_silence_check = Clock::now();
+  mission_.actions = config_.actions;  // plans with turns or without: the fleet's choice, not the file's
   if (options_.standby) {
     identity_.role = fleet_transport::CoordinatorRole::kStandby;
     phase_ = Phase::kStandby;

@@ -35,7 +35,7 @@ FleetCoordinator::PlanningInputs FleetCoordinator::planning_inputs() const {
   }
   for (planner_core::Vertex cell : refused_processes_.cells()) inputs.blocked.insert(cell);
   for (const RobotRecord* robot : robots_.ready_robots()) {
-    inputs.members.push_back({robot->id, {robot->last.cell_x, robot->last.cell_y}, robot->role});
+    inputs.members.push_back({robot->id, {robot->last.cell_x, robot->last.cell_y}, robot->role, robot->last.heading});
     inputs.incarnations.push_back(robot->incarnation);
   }
   inputs.replan_requests = replans_.count();
@@ -59,6 +59,9 @@ std::string FleetCoordinator::what_changed_since(const PlanningInputs& then) con
              planner_core::to_string(is.cell);
     }
     if (is.role != was.role) return "robot " + is.robot_id + " changed role";
+    if (config_.actions == planner_core::ActionModel::kRotate && is.heading != was.heading) {
+      return "robot " + is.robot_id + " turned";
+    }
     if (now.incarnations[k] != then.incarnations[k]) return "robot " + is.robot_id + " restarted";
   }
   if (now.blocked != then.blocked) return "the cells to keep clear changed";
@@ -118,8 +121,9 @@ bool FleetCoordinator::finish_planning(PlanningOutcome outcome, fleet_transport:
   const planner_core::SolverConfig solver_config = config_.solver_config(plan_under_way_.first_plan);
   int visits = 0;
   for (const auto& task : instance.tasks) visits += static_cast<int>(task.agents.size());
-  spdlog::info("plan epoch {}: {} robots, {} task visits, flowtime {}, makespan {} ({}, seed {}, planned in {:.0f} ms)",
+  spdlog::info("plan epoch {}: {} robots, {} task visits, flowtime {}, makespan {}{} ({}, seed {}, planned in {:.0f} ms)",
                epoch_, instance.agent_count(), visits, report.flowtime, report.makespan,
+               instance.actions == planner_core::ActionModel::kRotate ? " with turns" : "",
                plan_under_way_.lifelong_window ? "a first lifelong window" : solver_config.solver,
                solver_config.seed, summary_.last_planning_ms);
   this->report("replan", "",
@@ -155,7 +159,7 @@ void FleetCoordinator::take_plan(const PlanningOutcome& outcome) {
     for (int a = 0; a < plan_->agent_count(); ++a) summary_.steps_of_replaced_plans += plan_->agent(a).finished;
   }
   plan_ = std::make_unique<PlanExecution>(epoch_, instance.graph, outcome.result.solution, built.robots,
-                                          identity_.incarnation);
+                                          identity_.incarnation, outcome.result.headings);
   for (int a = 0; a < plan_->agent_count(); ++a) summary_.steps_planned += plan_->move_count(a);
   if (config_.lifelong) {  // the plan will grow by windows, which take up what it does not do
     windows_ = std::make_unique<WindowPlanner>(instance.graph, static_cast<uint32_t>(config_.seed) + static_cast<uint32_t>(epoch_));

@@ -45,6 +45,7 @@ PlanInstance build_plan_instance(const planner_core::Instance& mission, const Mi
   planner_core::Instance& instance = out.instance;
   instance.graph = graph;
   instance.source = "replan";
+  instance.actions = mission.actions;
   const auto open = [&](Vertex v) { return graph->is_open(v); };
 
   std::set<Vertex> goals_taken;
@@ -74,6 +75,12 @@ PlanInstance build_plan_instance(const planner_core::Instance& mission, const Mi
     }
     instance.starts.push_back(start);
     instance.goals.push_back(goal);
+    if (instance.actions == planner_core::ActionModel::kRotate) {
+      if (member->heading < 0 || member->heading > 3) {
+        out.notes.push_back("robot " + member->robot_id + " reports no heading; planned as facing east");
+      }
+      instance.start_headings.push_back(member->heading >= 0 && member->heading <= 3 ? member->heading : 0);
+    }
     plan_role.push_back(member->role);
     out.robots.push_back(member->robot_id);
   }

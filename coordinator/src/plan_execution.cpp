@@ -5,8 +5,9 @@
 namespace coordinator {
 
 PlanExecution::PlanExecution(int epoch, std::shared_ptr<const planner_core::Graph> graph,
-                             const planner_core::Solution& plan, std::vector<std::string> robots, uint64_t coordinator)
-    : epoch_(epoch), coordinator_(coordinator), graph_(std::move(graph)), adg_(plan), starts_(plan.empty() ? planner_core::Config{} : plan[0]) {
+                             const planner_core::Solution& plan, std::vector<std::string> robots, uint64_t coordinator,
+                             const planner_core::HeadingPlan& headings)
+    : epoch_(epoch), coordinator_(coordinator), graph_(std::move(graph)), adg_(plan, headings), starts_(plan.empty() ? planner_core::Config{} : plan[0]) {
   agents_.resize(robots.size());
   for (size_t a = 0; a < robots.size(); ++a) agents_[a].robot_id = std::move(robots[a]);
 }
@@ -42,7 +43,8 @@ std::optional<planner_core::Cell> PlanExecution::confirm(int a, const fleet_tran
   Agent& agent = agents_[a];
   const planner_core::Cell cell = target(a, agent.finished);
   if (state.coordinator != coordinator_ || state.plan_epoch != epoch_ || state.action_index != agent.finished ||
-      state.status == fleet_transport::RobotStatus::kMoving || state.cell_x != cell.x || state.cell_y != cell.y) {
+      state.status == fleet_transport::RobotStatus::kMoving || state.cell_x != cell.x || state.cell_y != cell.y ||
+      (move(a, agent.finished).heading >= 0 && state.heading != move(a, agent.finished).heading)) {
     return std::nullopt;
   }
   ++agent.finished;
@@ -67,6 +69,7 @@ std::optional<fleet_transport::StepCommand> PlanExecution::due_command(int a, Cl
   command.target_y = cell.y;
   command.target_pose_x = cell.x;
   command.target_pose_y = cell.y;
+  command.target_heading = move(a, next).heading;
   command.deadline_ms = deadline_ms;
   command.sent_ms = fleet_transport::wall_clock_ms();
   command.coordinator = coordinator_;

@@ -83,7 +83,8 @@ void PlanningWorker::run() {
         planner_core::ValidationOptions options;
         options.forbid_rotations = request.solver.forbid_rotations || request.lifelong_window;
         options.first_stretch = request.lifelong_window;
-        outcome.report = planner_core::validate(request.built.instance, outcome.result.solution, options);
+        outcome.report =
+            planner_core::validate(request.built.instance, outcome.result.solution, options, outcome.result.headings);
       }
     } catch (const std::exception& e) {  // a solver bug must not end the mission
       outcome.error = std::string("the solver threw: ") + e.what();

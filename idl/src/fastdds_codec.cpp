@@ -89,6 +89,7 @@ fleet::RobotState to_wire(const RobotState& state) {
   wire.stamp_ms(state.stamp_ms);
   wire.incarnation(state.incarnation);
   wire.coordinator(state.coordinator);
+  wire.heading(state.heading);
   return wire;
 }
 
@@ -106,6 +107,7 @@ fleet::StepCommand to_wire(const StepCommand& command) {
   wire.sent_ms(command.sent_ms);
   wire.robot_incarnation(command.robot_incarnation);
   wire.refused(command.refused);
+  wire.target_heading(command.target_heading);
   return wire;
 }
 
@@ -242,13 +244,15 @@ RobotState from_wire(const fleet::RobotState& wire) {
   state.stamp_ms = wire.stamp_ms();
   state.incarnation = wire.incarnation();
   state.coordinator = wire.coordinator();
+  state.heading = wire.heading();
   return state;
 }
 
 StepCommand from_wire(const fleet::StepCommand& wire) {
   return {wire.robot_id().to_string(), wire.plan_epoch(),    wire.action_index(),  wire.target_x(),
           wire.target_y(),             wire.target_pose_x(), wire.target_pose_y(), wire.deadline_ms(),
-          wire.coordinator(),          wire.sent_ms(),       wire.robot_incarnation(), wire.refused()};
+          wire.coordinator(),          wire.sent_ms(),       wire.robot_incarnation(), wire.refused(),
+          wire.target_heading()};
 }
 
 CoordinatorStatus from_wire(const fleet::CoordinatorStatus& wire) {

@@ -72,6 +72,13 @@ int main(int argc, char** argv) {
   app.add_option("--jitter", sim.jitter, "sim: each move takes step * (1 + U[0, jitter])")
       ->check(ctsfleet::number_in(0, 10))
       ->capture_default_str();
+  app.add_option("--turn", sim.turn_s, "sim: seconds per quarter turn in place (0: turns take no time)")
+      ->check(ctsfleet::number_in(0, 3600))
+      ->capture_default_str();
+  std::string heading = "E";
+  app.add_option("--heading", heading, "sim: the way the robot faces at the start")
+      ->check(CLI::IsMember({"E", "S", "W", "N"}))
+      ->capture_default_str();
   app.add_option("--delay-probability", sim.delay_probability, "sim: chance of an extra delay per move")
       ->check(ctsfleet::number_in(0, 1));
   app.add_option("--delay", sim.delay_s, "sim: length of that delay in seconds")->check(ctsfleet::number_in(0, 3600));
@@ -108,6 +115,7 @@ int main(int argc, char** argv) {
         start.x > 100000 || start.y > 100000) {
       throw InputError("--start: must be x,y with x and y in [0, 100000], not '" + start_text + "'");
     }
+    sim.start_heading = std::string("ESWN").find(heading.at(0));
     if (sim.teleport_after_moves >= 0) {
       if (std::sscanf(teleport_to.c_str(), "%d,%d%c", &sim.teleport_to.x, &sim.teleport_to.y, &trailing) != 2 ||
           sim.teleport_to.x < 0 || sim.teleport_to.y < 0 || sim.teleport_to.x > 100000 || sim.teleport_to.y > 100000) {

@@ -162,7 +162,7 @@ int corners(const std::string& mat_file, const std::string& cube, const std::str
   const int w = mat.grid_width() - 1, h = mat.grid_height() - 1;
   bool all_good = true;
   for (Cell corner : {Cell{0, 0}, Cell{w, 0}, Cell{w, h}, Cell{0, h}}) {
-    if (!robot.start_move(corner)) {
+    if (!robot.start_move(corner, -1)) {
       std::printf("%s refused the move to (%d,%d): %s\n", cube.c_str(), corner.x, corner.y, robot.fault_reason().c_str());
       return 1;
     }

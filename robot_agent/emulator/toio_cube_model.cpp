@@ -64,6 +64,8 @@ std::vector<Notification> ToioCubeModel::write(Characteristic characteristic, co
         const uint16_t x = u16(value, 7), y = u16(value, 9);
         move.target_x = x == 0xFFFF ? pose_.x : x;
         move.target_y = y == 0xFFFF ? pose_.y : y;
+        const uint16_t theta = u16(value, 11);
+        if ((theta >> 13) <= 2) move.target_angle = normalized(theta & 0x1FFF);  // absolute: shortest, +, -
         if (!on_mat_) {
           out.push_back(motor_response(move, 2));  // ID missed
           move_.reset();
@@ -143,14 +145,26 @@ std::vector<Notification> ToioCubeModel::advance(double dt) {
         const double step = std::min(distance, speed_per_unit_ * move.max_speed * budget);
         pose_.x += dx / distance * step;
         pose_.y += dy / distance * step;
+        budget -= step / (speed_per_unit_ * move.max_speed);
       }
     }
     move.time_left -= dt;
     if (std::hypot(move.target_x - pose_.x, move.target_y - pose_.y) < 1.0) {
       pose_.x = move.target_x;
       pose_.y = move.target_y;
-      out.push_back(motor_response(move, 0));
-      move_.reset();
+      // At the target: the rotation after moving, with what is left of this tick.
+      const double turn = move.target_angle ? std::remainder(*move.target_angle - pose_.angle_deg, 360.0) : 0.0;
+      if (!blocked_ && std::abs(turn) > 1e-6) {
+        const double turn_step = std::min(std::abs(turn), kTurnRateDegPerS * std::max(budget, 0.0));
+        pose_.angle_deg = normalized(pose_.angle_deg + std::copysign(turn_step, turn));
+      }
+      if (std::abs(std::remainder(move.target_angle.value_or(pose_.angle_deg) - pose_.angle_deg, 360.0)) < 1e-6) {
+        out.push_back(motor_response(move, 0));
+        move_.reset();
+      } else if (move.time_left <= 0) {
+        out.push_back(motor_response(move, 1));
+        move_.reset();
+      }
     } else if (move.time_left <= 0) {
       const bool reached = std::hypot(move.target_x - pose_.x, move.target_y - pose_.y) <= kReachedDistance;
       out.push_back(motor_response(move, reached ? 0 : 1));

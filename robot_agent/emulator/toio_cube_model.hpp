@@ -1,6 +1,7 @@
 // ToioCubeModel: one emulated toio Core Cube, the peripheral side of the protocol, without D-Bus.
 // It keeps the cube's pose on the mat, obeys motor and configuration writes (move-to-target turns
-// in place towards the target, then drives straight at a speed set by max_speed), and produces the
+// in place towards the target, then drives straight at a speed set by max_speed, then turns to the
+// target's angle if it has one: absolute rotation types 0-2), and produces the
 // notifications a real cube sends: Position ID at the configured rate, ID missed when lifted, 83/84
 // motor responses, configuration replies. Written from the spec independently of the central's
 // codec (robot_agent/toio_protocol.hpp; only the UUIDs are shared), so the two check each other
@@ -56,6 +57,7 @@ class ToioCubeModel {
     uint8_t control_id = 0;
     bool multiple = false;
     double target_x = 0, target_y = 0;
+    std::optional<double> target_angle;  // absolute angle to turn to after moving (none: no rotation)
     double time_left = 10;
     uint8_t max_speed = 80;
   };

@@ -68,6 +68,25 @@ double MatCalibration::grid_heading_deg() const {
   return heading;
 }
 
+double MatCalibration::heading_on_mat_deg(int heading) const {
+  const Cell ahead[] = {{1, 0}, {0, 1}, {-1, 0}, {0, -1}};
+  const Cell step = ahead[((heading % 4) + 4) % 4];
+  const Eigen::Vector2d direction = linear_ * Eigen::Vector2d(step.x, step.y);
+  double angle = std::atan2(direction.y(), direction.x()) * 180.0 / std::numbers::pi;
+  if (angle < 0) angle += 360.0;
+  return angle;
+}
+
+int MatCalibration::nearest_heading(double mat_angle_deg) const {
+  int best = 0;
+  double best_difference = 360;
+  for (int heading = 0; heading < 4; ++heading) {
+    const double difference = std::abs(std::remainder(mat_angle_deg - heading_on_mat_deg(heading), 360.0));
+    if (difference < best_difference) best = heading, best_difference = difference;
+  }
+  return best;
+}
+
 double MatCalibration::smallest_pitch() const {
   // Neighbours differ by one grid axis; the mat distance is the length of that column.
   return std::min(linear_.col(0).norm(), linear_.col(1).norm());

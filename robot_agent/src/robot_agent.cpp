@@ -4,6 +4,8 @@
 
 #include <spdlog/spdlog.h>
 
+#include "planner_core/compass.hpp"
+
 #include <cstdlib>
 
 namespace robot_agent {
@@ -221,6 +223,11 @@ void RobotAgent::wait_for_command(std::chrono::steady_clock::duration timeout) {
   loop_must_look_again_ = false;
 }
 
+int RobotAgent::moves_started_off_heading() const {
+  const std::lock_guard<std::mutex> stepping(step_mutex_);
+  return moves_started_off_heading_;
+}
+
 std::chrono::steady_clock::duration RobotAgent::idle_time() const {
   const std::lock_guard<std::mutex> stepping(step_mutex_);
   const auto now = std::chrono::steady_clock::now();
@@ -256,10 +263,25 @@ void RobotAgent::step_locked(fleet_transport::Transport& transport, bool reporti
     }
     if (command) {
       const int dx = std::abs(command->target_x - report.cell.x), dy = std::abs(command->target_y - report.cell.y);
+      const Cell target{command->target_x, command->target_y};
+      const int travel = planner_core::heading_between(report.cell, target);
       if (dx + dy > 1) {
         reject(*command, "not a neighbouring cell of (" + std::to_string(report.cell.x) + "," +
                              std::to_string(report.cell.y) + ")");
-      } else if (backend_.start_move({command->target_x, command->target_y})) {
+      } else if (command->target_heading < -1 || command->target_heading > 3) {
+        reject(*command, "target heading " + std::to_string(command->target_heading) + " is not -1, 0, 1, 2 or 3");
+      } else if (travel >= 0 && command->target_heading >= 0 && command->target_heading != travel) {
+        reject(*command, "a move to (" + std::to_string(target.x) + "," + std::to_string(target.y) +
+                             ") ends facing " + std::to_string(travel) + ", not " +
+                             std::to_string(command->target_heading));
+      } else if (backend_.start_move(target, command->target_heading)) {
+        if (travel >= 0 && command->target_heading >= 0 && report.heading >= 0 && report.heading != travel) {
+          ++moves_started_off_heading_;
+          spdlog::warn("{}: the move to ({},{}) of epoch {} step {} goes facing {}, but the robot faced {}: it "
+                       "turned first (the plan has it facing the wrong way)",
+                       settings_.robot_id, target.x, target.y, command->plan_epoch, command->action_index, travel,
+                       report.heading);
+        }
         moving_to_ = {command->target_x, command->target_y};
         executing_epoch_ = command->plan_epoch;
         executing_index_ = command->action_index;
@@ -288,6 +310,7 @@ void RobotAgent::step_locked(fleet_transport::Transport& transport, bool reporti
   state.pose_x = report.pose_x;
   state.pose_y = report.pose_y;
   state.pose_theta = report.pose_theta;
+  state.heading = report.heading;
   state.plan_epoch = executing_epoch_;
   state.action_index = executing_index_;
   state.status = report.fault ? RobotStatus::kFault

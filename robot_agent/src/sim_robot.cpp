@@ -1,13 +1,34 @@
 #include "robot_agent/sim_robot.hpp"
 
+#include <algorithm>
+#include <numbers>
+
+#include "planner_core/compass.hpp"
 
 namespace robot_agent {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+Clock::duration seconds(double s) {
+  return std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(s));
+}
+
+// The quarter turns from one heading to another: 0, 1 or 2.
+int quarter_turns(int from, int to) {
+  const int difference = ((to - from) % 4 + 4) % 4;
+  return difference == 3 ? 1 : difference;
+}
+
+}  // namespace
 
 SimRobot::SimRobot(Cell start, const SimSettings& settings)
     : settings_(settings),
       rng_(settings.seed),
       started_(Clock::now()),
       cell_(start),
+      heading_(((settings.start_heading % 4) + 4) % 4),
       arrived_ms_(wall_clock_ms()) {}
 
 double SimRobot::since_start_s() const { return std::chrono::duration<double>(Clock::now() - started_).count(); }
@@ -16,19 +37,29 @@ bool SimRobot::reporting_enabled() const { return settings_.silent_at_s < 0 || s
 
 bool SimRobot::should_crash() const { return settings_.crash_at_s >= 0 && since_start_s() >= settings_.crash_at_s; }
 
-bool SimRobot::start_move(Cell target) {
+bool SimRobot::start_move(Cell target, int target_heading) {
   if (target_) return false;
-  double seconds = settings_.step_s * (1.0 + std::uniform_real_distribution<double>(0.0, settings_.jitter)(rng_));
+  const int travel = planner_core::heading_between(cell_, target);
+  const int end_heading = travel >= 0 ? travel : target_heading >= 0 ? target_heading % 4 : heading_;
+  const int turns = quarter_turns(heading_, end_heading);
+  const double stretch = 1.0 + std::uniform_real_distribution<double>(0.0, settings_.jitter)(rng_);
+  // A turn in place is a step of its own (no move after it); a wait or a move takes step_s.
+  const bool turn_only = travel < 0 && turns > 0;
+  double turn_seconds = turns * settings_.turn_s * stretch;
+  double seconds_total = turn_only ? turn_seconds : turn_seconds + settings_.step_s * stretch;
   if (settings_.delay_probability > 0 && std::bernoulli_distribution(settings_.delay_probability)(rng_)) {
-    seconds += settings_.delay_s;
+    seconds_total += settings_.delay_s;
   }
   const double now = since_start_s();
-  if (settings_.stall_at_s >= 0 && now + seconds > settings_.stall_at_s && now < settings_.stall_at_s + settings_.stall_for_s) {
-    seconds += settings_.stall_at_s + settings_.stall_for_s - now;  // stuck until the stall ends
+  if (settings_.stall_at_s >= 0 && now + seconds_total > settings_.stall_at_s &&
+      now < settings_.stall_at_s + settings_.stall_for_s) {
+    seconds_total += settings_.stall_at_s + settings_.stall_for_s - now;  // stuck until the stall ends
   }
   target_ = target;
+  target_heading_ = end_heading;
   move_started_ = Clock::now();
-  move_ends_ = move_started_ + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(seconds));
+  turn_ends_ = move_started_ + seconds(turn_only ? seconds_total : turn_seconds);
+  move_ends_ = move_started_ + seconds(seconds_total);
   return true;
 }
 
@@ -41,6 +72,7 @@ BackendReport SimRobot::poll() {
   const Clock::time_point now = Clock::now();
   if (target_ && now >= move_ends_) {
     cell_ = *target_;
+    heading_ = target_heading_;
     target_.reset();
     arrived_ms_ = wall_clock_ms();
     ++moves_done_;
@@ -57,12 +89,21 @@ BackendReport SimRobot::poll() {
   report.moving = target_.has_value();
   report.pose_x = cell_.x;
   report.pose_y = cell_.y;
+  report.pose_theta = planner_core::heading_angle(heading_);
   if (target_) {
-    const double f = std::chrono::duration<double>(now - move_started_).count() /
-                     std::max(1e-9, std::chrono::duration<double>(move_ends_ - move_started_).count());
-    report.pose_x += (target_->x - cell_.x) * f;
-    report.pose_y += (target_->y - cell_.y) * f;
+    const auto fraction = [](Clock::time_point from, Clock::time_point to, Clock::time_point at) {
+      if (to <= from) return at >= to ? 1.0 : 0.0;
+      return std::clamp(std::chrono::duration<double>(at - from) / (to - from), 0.0, 1.0);
+    };
+    // Turning first (the shorter way round), then driving.
+    const int turn = ((target_heading_ - heading_) % 4 + 4) % 4;
+    const double signed_quarters = turn == 3 ? -1 : turn;
+    report.pose_theta += signed_quarters * (std::numbers::pi / 2) * fraction(move_started_, turn_ends_, now);
+    const double driven = fraction(turn_ends_, move_ends_, now);
+    report.pose_x += (target_->x - cell_.x) * driven;
+    report.pose_y += (target_->y - cell_.y) * driven;
   }
+  report.heading = planner_core::nearest_heading(report.pose_theta);
   report.battery_percent = 100;
   return report;
 }

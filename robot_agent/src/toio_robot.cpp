@@ -17,6 +17,9 @@ std::chrono::milliseconds millis(double seconds) {
 
 // The spec's "target reached": within 15 mat units of it.
 constexpr double kReachedDistance = 15;
+// A cube within this of a heading faces it: more than the spec's 4 degrees of "reached", so that a
+// cube nudged a little is not turned again, far less than the 45 degrees that make another heading.
+constexpr double kFacingToleranceDeg = 10;
 
 std::string cell_text(Cell cell) { return "(" + std::to_string(cell.x) + "," + std::to_string(cell.y) + ")"; }
 
@@ -39,10 +42,11 @@ ToioRobot::~ToioRobot() {
 
 // ---- Agent side -------------------------------------------------------------------------------
 
-bool ToioRobot::start_move(Cell target) {
+bool ToioRobot::start_move(Cell target, int target_heading) {
   const std::lock_guard<std::mutex> lock(mutex_);
   if (!fault_.empty() || !have_cell_ || move_) return false;
-  if (target == cell_) {  // a wait: nothing to drive
+  const bool turn = target == cell_ && target_heading >= 0 && !facing(target_heading);
+  if (target == cell_ && !turn) {  // a wait: nothing to drive
     arrived_ms_ = wall_clock_ms();
     return true;
   }
@@ -51,7 +55,7 @@ bool ToioRobot::start_move(Cell target) {
                  calibration_.grid_width(), calibration_.grid_height(), calibration_.mat().name);
     return false;
   }
-  move_ = Move{target, next_control_id_++, Clock::now(), false};
+  move_ = Move{target, target_heading, next_control_id_++, Clock::now(), false};
   wake_requested_ = true;
   if (client_) client_->wake();
   return true;
@@ -74,6 +78,7 @@ BackendReport ToioRobot::poll() {
     // The cube's angle is clockwise from the mat's +x axis; report it relative to the grid's x axis.
     double heading = position_->angle - calibration_.grid_heading_deg();
     report.pose_theta = std::remainder(heading, 360.0) * std::numbers::pi / 180.0;
+    report.heading = calibration_.nearest_heading(position_->angle);
   }
   report.moving = move_.has_value();
   report.fault = !fault_.empty() || !have_cell_;
@@ -125,6 +130,12 @@ void ToioRobot::set_fault(const std::string& reason, bool sticky) {
   fault_ = reason;
 }
 
+bool ToioRobot::facing(int heading) const {
+  if (!position_) return false;
+  return std::abs(std::remainder(position_->angle - calibration_.heading_on_mat_deg(heading), 360.0)) <=
+         kFacingToleranceDeg;
+}
+
 void ToioRobot::stand_on(Cell cell) {
   if (!have_cell_ || cell_ != cell) arrived_ms_ = wall_clock_ms();  // found (or put) there now
   cell_ = cell;
@@ -145,7 +156,7 @@ void ToioRobot::start_recovery_if_needed() {
   interrupted_.reset();
   spdlog::info("toio {}: stopped between {} and {}: driving onto {}", settings_.cube, cell_text(interrupted.from),
                cell_text(interrupted.to), cell_text(lookup_.cell));
-  move_ = Move{lookup_.cell, next_control_id_++, Clock::now(), false, true};
+  move_ = Move{lookup_.cell, -1, next_control_id_++, Clock::now(), false, true};
 }
 
 void ToioRobot::finish_move(Cell at) {
@@ -168,7 +179,8 @@ void ToioRobot::on_id(const toio::Bytes& bytes) {
     position_ = *p;
     lookup_ = calibration_.cell_at(Eigen::Vector2d(p->x, p->y));
     if (move_) {
-      if (lookup_.cell == move_->target && lookup_.distance <= std::min(calibration_.tolerance(), kReachedDistance)) {
+      if (lookup_.cell == move_->target && lookup_.distance <= std::min(calibration_.tolerance(), kReachedDistance) &&
+          (move_->heading < 0 || facing(move_->heading))) {
         finish_move(move_->target);
       }
       return;
@@ -294,8 +306,12 @@ void ToioRobot::write_move(BluezClient& client, const CubeLink& link, const Move
   settings.move_type = toio::MoveType::kRotateAfterMoving;
   settings.max_speed = settings_.max_speed;
   settings.speed_change = toio::SpeedChange::kConstant;
-  const toio::MatTarget target{static_cast<uint16_t>(std::lround(centre.x())),
-                               static_cast<uint16_t>(std::lround(centre.y())), 0, toio::RotationType::kNoRotation};
+  toio::MatTarget target{static_cast<uint16_t>(std::lround(centre.x())),
+                         static_cast<uint16_t>(std::lround(centre.y())), 0, toio::RotationType::kNoRotation};
+  if (move.heading >= 0) {
+    target.angle = static_cast<uint16_t>(std::lround(calibration_.heading_on_mat_deg(move.heading)) % 360);
+    target.rotation = toio::RotationType::kAbsoluteShortest;
+  }
   client.write(link.motor, toio::encode_move_to_target(settings, target), false);
 }
 

@@ -27,12 +27,13 @@ inline RobotState robot_state() {
   s.stamp_ms = 1796000000123;
   s.incarnation = 0x8000000000000001ULL;
   s.coordinator = 99;
+  s.heading = 3;
   return s;
 }
 
 inline StepCommand step_command() {
   return {"robot_12", 41, 18, 32, -2, 130.5, -7.25, 1796000000999, 0xabcdef, 1796000000500, 0x8000000000000001ULL,
-          true};
+          true, 2};
 }
 
 inline CoordinatorStatus coordinator_status() {

@@ -4,6 +4,7 @@
 
 #include <atomic>
 #include <mutex>
+#include <numbers>
 #include <thread>
 
 #include "fake_transport.hpp"
@@ -371,9 +372,92 @@ TEST(SimRobot, CarriedByHandAfterItsMoves) {
   sim.teleport_after_moves = 1;
   sim.teleport_to = {9, 9};
   SimRobot robot({0, 0}, sim);
-  ASSERT_TRUE(robot.start_move({1, 0}));
+  ASSERT_TRUE(robot.start_move({1, 0}, -1));
   std::this_thread::sleep_for(std::chrono::milliseconds(20));
   EXPECT_EQ(robot.poll().cell, (Cell{9, 9}));
+}
+
+// The planned duration of the step just started, in seconds (jitter 0: exact).
+double planned_s(const SimRobot& robot) {
+  return std::chrono::duration<double>(robot.time_to_arrival().value_or(std::chrono::steady_clock::duration::zero()))
+      .count();
+}
+
+TEST(SimRobot, TurnsInPlaceBeforeAMoveTheOtherWayAndEndsFacingTheWayItWent) {
+  SimSettings sim{0.4, 0.0};
+  sim.turn_s = 0.3;
+  sim.start_heading = 0;  // east
+  SimRobot robot({2, 2}, sim);
+  EXPECT_EQ(robot.poll().heading, 0);
+  ASSERT_TRUE(robot.start_move({3, 2}, -1));  // ahead: no turn
+  EXPECT_NEAR(planned_s(robot), 0.4, 0.02);
+  EXPECT_FALSE(robot.start_move({4, 2}, -1));  // busy
+  const auto arrive = [&robot] {
+    for (int i = 0; i < 2000 && robot.poll().moving; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    return robot.poll();
+  };
+  EXPECT_EQ(arrive().heading, 0);
+  ASSERT_TRUE(robot.start_move({2, 2}, -1));  // back west: half a turn first
+  EXPECT_NEAR(planned_s(robot), 2 * 0.3 + 0.4, 0.02);
+  const BackendReport back = arrive();
+  EXPECT_EQ(back.cell, (Cell{2, 2}));
+  EXPECT_EQ(back.heading, 2);
+  ASSERT_TRUE(robot.start_move({2, 2}, 3));  // a quarter turn in place, to face north
+  EXPECT_NEAR(planned_s(robot), 0.3, 0.02);
+  const BackendReport turned = arrive();
+  EXPECT_EQ(turned.cell, (Cell{2, 2}));
+  EXPECT_EQ(turned.heading, 3);
+  EXPECT_NEAR(turned.pose_theta, 3 * std::numbers::pi / 2, 1e-9);
+  ASSERT_TRUE(robot.start_move({2, 2}, -1));  // a wait keeps the heading and takes a step
+  EXPECT_NEAR(planned_s(robot), 0.4, 0.02);
+  EXPECT_EQ(arrive().heading, 3);
+}
+
+TEST(SimRobot, WithoutTurnTimeTurnsCostNothingButTheHeadingStillFollows) {
+  SimRobot robot({0, 0}, SimSettings{0.05, 0.0});
+  ASSERT_TRUE(robot.start_move({0, 1}, -1));
+  EXPECT_NEAR(planned_s(robot), 0.05, 0.02);
+  for (int i = 0; i < 2000 && robot.poll().moving; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  EXPECT_EQ(robot.poll().heading, 1);  // south
+  ASSERT_TRUE(robot.start_move({0, 1}, 0));
+  EXPECT_NEAR(planned_s(robot), 0.0, 0.02);
+}
+
+TEST_F(AgentFixture, AHeadingThatCannotBeIsRefusedAndAMoveOffItsHeadingIsCounted) {
+  agent.on_coordinator_status(status_of(kCoordinator, 1, 1));
+  fleet_transport::StepCommand bad = move(1, 0, 3, 2, in_5_s());
+  bad.target_heading = 7;  // no such heading
+  agent.on_command(bad);
+  settle();
+  EXPECT_EQ(robot.poll().cell, (Cell{2, 2}));
+  fleet_transport::StepCommand sideways = move(1, 1, 3, 2, in_5_s());
+  sideways.target_heading = 1;  // a move east cannot end facing south
+  agent.on_command(sideways);
+  settle();
+  EXPECT_EQ(robot.poll().cell, (Cell{2, 2}));
+  EXPECT_EQ(agent.moves_started_off_heading(), 0);
+
+  // The robot faces east; a plan with turns that has it go south without turning first is wrong
+  // about its heading: the robot turns first, and the agent counts it.
+  fleet_transport::StepCommand south = move(1, 2, 2, 3, in_5_s());
+  south.target_heading = 1;
+  agent.on_command(south);
+  settle();
+  EXPECT_EQ(robot.poll().cell, (Cell{2, 3}));
+  EXPECT_EQ(transport.last_state.heading, 1);
+  EXPECT_EQ(agent.moves_started_off_heading(), 1);
+  // A turn in place, then a move the way it faces: nothing counted.
+  fleet_transport::StepCommand turn = move(1, 3, 2, 3, in_5_s());
+  turn.target_heading = 0;
+  agent.on_command(turn);
+  settle();
+  EXPECT_EQ(transport.last_state.heading, 0);
+  fleet_transport::StepCommand east = move(1, 4, 3, 3, in_5_s());
+  east.target_heading = 0;
+  agent.on_command(east);
+  settle();
+  EXPECT_EQ(robot.poll().cell, (Cell{3, 3}));
+  EXPECT_EQ(agent.moves_started_off_heading(), 1);
 }
 
 }  // namespace

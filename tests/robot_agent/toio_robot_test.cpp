@@ -26,7 +26,7 @@ ToioSettings settings_for(const std::string& cube) {
 bool ready(ToioRobot& robot) { return !robot.poll().fault; }
 
 void move_and_arrive(ToioRobot& robot, EmulatedBluez& bluez, const std::string& cube, Cell target) {
-  ASSERT_TRUE(robot.start_move(target));
+  ASSERT_TRUE(robot.start_move(target, -1));
   EXPECT_TRUE(robot.poll().moving);
   ASSERT_TRUE(eventually([&] { return !robot.poll().moving; })) << "no arrival at " << target.x << "," << target.y;
   const BackendReport report = robot.poll();
@@ -59,9 +59,9 @@ TEST(ToioRobot, ConnectsThenMovesACubeThreeCells) {
     const BackendReport report = robot.poll();
     return std::abs(report.pose_x - 1) < 0.05 && std::abs(report.pose_y - 2) < 0.05;
   }));
-  EXPECT_TRUE(robot.start_move({1, 2}));  // a wait: nothing to drive
+  EXPECT_TRUE(robot.start_move({1, 2}, -1));  // a wait: nothing to drive
   EXPECT_FALSE(robot.poll().moving);
-  EXPECT_FALSE(robot.start_move({-1, 2}));  // off the grid
+  EXPECT_FALSE(robot.start_move({-1, 2}, -1));  // off the grid
 }
 
 TEST(ToioRobot, FindsACubeByAddress) {
@@ -78,7 +78,7 @@ TEST(ToioRobot, LiftedCubeIsAFaultUntilPutBackOnACell) {
   bluez.lift("toio-a");
   ASSERT_TRUE(eventually([&] { return robot.poll().fault; }));
   EXPECT_NE(robot.fault_reason().find("ID missed"), std::string::npos) << robot.fault_reason();
-  EXPECT_FALSE(robot.start_move({2, 1}));
+  EXPECT_FALSE(robot.start_move({2, 1}, -1));
   const Eigen::Vector2d cell = robot.calibration().cell_centre({4, 3});
   bluez.place("toio-a", cell.x(), cell.y());
   ASSERT_TRUE(eventually([&] { return ready(robot); })) << robot.fault_reason();
@@ -89,7 +89,7 @@ TEST(ToioRobot, CubeLiftedMidMoveFailsTheMoveAndIsHeldAsAFault) {
   EmulatedBluez bluez({"toio-a@cell:1,1"}, {"--speed-per-unit", "0.25"});  // slow: lifted surely mid-move
   ToioRobot robot(settings_for("toio-a"), MatCalibration::load(kRing));
   ASSERT_TRUE(eventually([&] { return ready(robot); })) << robot.fault_reason();
-  ASSERT_TRUE(robot.start_move({2, 1}));
+  ASSERT_TRUE(robot.start_move({2, 1}, -1));
   bluez.lift("toio-a");
   ASSERT_TRUE(eventually([&] { return robot.poll().fault && !robot.poll().moving; }));
   EXPECT_NE(robot.fault_reason().find("ID missed"), std::string::npos) << robot.fault_reason();
@@ -108,7 +108,7 @@ TEST(ToioRobot, BlockedCubeTimesOutAsAFaultThenRejoinsFromWhereItStands) {
   ToioRobot robot(settings, MatCalibration::load(kRing));
   ASSERT_TRUE(eventually([&] { return ready(robot); })) << robot.fault_reason();
   bluez.block("toio-a", true);
-  ASSERT_TRUE(robot.start_move({2, 1}));
+  ASSERT_TRUE(robot.start_move({2, 1}, -1));
   ASSERT_TRUE(eventually([&] { return robot.poll().fault; }));
   EXPECT_NE(robot.fault_reason().find("move to (2,1) failed: timeout"), std::string::npos) << robot.fault_reason();
   EXPECT_FALSE(robot.poll().moving);
@@ -121,7 +121,7 @@ TEST(ToioRobot, MovePreemptedByAnotherProgramIsAFault) {
   EmulatedBluez bluez({"toio-a@cell:1,1"}, {"--speed-per-unit", "0.25"});  // slow: preempted surely mid-move
   ToioRobot robot(settings_for("toio-a"), MatCalibration::load(kRing));
   ASSERT_TRUE(eventually([&] { return ready(robot); })) << robot.fault_reason();
-  ASSERT_TRUE(robot.start_move({1, 2}));
+  ASSERT_TRUE(robot.start_move({1, 2}, -1));
   ASSERT_TRUE(eventually([&] { return bluez.pose("toio-a").y > 130; }));
   bluez.write_motor_of_first_cube({0x01, 0x01, 0x01, 0x00, 0x02, 0x01, 0x00});  // stop, from elsewhere
   ASSERT_TRUE(eventually([&] { return robot.poll().fault; }));
@@ -135,7 +135,7 @@ TEST(ToioRobot, CubeBetweenCellsIsAFaultNotRoundedToACell) {
   bluez.place("toio-a", 150, 125);  // halfway between cells (1,1) and (2,1)
   ASSERT_TRUE(eventually([&] { return robot.poll().fault; }));
   EXPECT_NE(robot.fault_reason().find("between cells"), std::string::npos) << robot.fault_reason();
-  EXPECT_FALSE(robot.start_move({2, 1}));
+  EXPECT_FALSE(robot.start_move({2, 1}, -1));
 }
 
 TEST(ToioRobot, LostLinkIsAFaultThenTheRobotReconnects) {
@@ -155,7 +155,7 @@ TEST(ToioRobot, LinkLostMidMoveThenTheCubeIsDrivenOntoTheNearerOfItsTwoCells) {
   EmulatedBluez bluez({"toio-a@cell:1,1"}, {"--speed-per-unit", "0.25"});
   ToioRobot robot(settings_for("toio-a"), MatCalibration::load(kRing));
   ASSERT_TRUE(eventually([&] { return ready(robot); })) << robot.fault_reason();
-  ASSERT_TRUE(robot.start_move({2, 1}));
+  ASSERT_TRUE(robot.start_move({2, 1}, -1));
   // Cut the link once the cube is between cells (more than the tolerance, 18, from both centres
   // at x 125 and 175); it stops there, as a real cube stops its motors when the link drops.
   ASSERT_TRUE(eventually([&] { return bluez.pose("toio-a").x > 145; }));
@@ -180,7 +180,7 @@ TEST(ToioRobot, AbsentCubeIsAFaultAndTheBackendStillStopsPromptly) {
   ASSERT_TRUE(eventually([&] { return robot->fault_reason().find("not found") != std::string::npos; }))
       << robot->fault_reason();
   EXPECT_TRUE(robot->poll().fault);
-  EXPECT_FALSE(robot->start_move({1, 2}));
+  EXPECT_FALSE(robot->start_move({1, 2}, -1));
   const auto stopping = std::chrono::steady_clock::now();
   robot.reset();
   EXPECT_LT(std::chrono::steady_clock::now() - stopping, std::chrono::seconds(5));

@@ -9,6 +9,10 @@
 // configuration. Moves already there keep their dependencies, since a later move never holds an
 // earlier one back. A move its robot has finished is never asked about again, so forget_before()
 // frees it (a lifelong plan grows without end); move indices stay as they were.
+//
+// Plans with turns (the rotation model) give each robot's heading at every step: a turn in place
+// is a move of its own (from and to the same cell, a new heading) that waits only for the robot's
+// own previous moves, since it neither enters nor leaves a cell.
 #pragma once
 
 #include <deque>
@@ -24,18 +28,21 @@ struct Move {
   planner_core::Vertex from;
   planner_core::Vertex to;
   int plan_time;  // the timestep at which the plan has the robot arrive at `to`
+  int heading = -1;  // plans with turns: the heading the robot ends the move facing; -1 otherwise
   // (robot, move index) pairs that must be finished before this move may start.
   std::vector<std::pair<int, int>> after;
 };
 
 class ActionDependencyGraph {
  public:
-  // Robot r's moves come from column r of `plan` (waits dropped).
-  explicit ActionDependencyGraph(const planner_core::Solution& plan);
+  // Robot r's moves come from column r of `plan` (waits dropped); `headings`, when given (plans
+  // with turns), holds every robot's heading at every step of `plan`.
+  explicit ActionDependencyGraph(const planner_core::Solution& plan, const planner_core::HeadingPlan& headings = {});
 
-  // The plan goes on with `more`, whose first configuration must be the plan's last (else
-  // std::invalid_argument); its moves become each robot's next moves.
-  void extend(const planner_core::Solution& more);
+  // The plan goes on with `more` (and its headings, for plans with turns), whose first
+  // configuration must be the plan's last (else std::invalid_argument); its moves become each
+  // robot's next moves.
+  void extend(const planner_core::Solution& more, const planner_core::HeadingPlan& headings = {});
 
   int robot_count() const { return static_cast<int>(moves_.size()); }
   // Robot r's moves so far, forgotten ones included.

@@ -33,6 +33,9 @@ struct FleetConfig {
   int64_t seed = 0;
   int64_t iterations = 0;
   bool pibt_swap = true;         // Extended-PIBT's swap operation (helps in one-cell aisles)
+  // rotate: plans with turns (the robots turn in place before they move; each turn a step of the
+  // plan and a command of its own); move4: plans in which robots move any way (turns left to them).
+  planner_core::ActionModel actions = planner_core::ActionModel::kMove4;
   std::string dds_vendor = "cyclone";
   int domain_id = 0;
   double lease_s = 1.0;

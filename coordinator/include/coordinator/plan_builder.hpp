@@ -17,6 +17,7 @@ struct PlanMember {
   std::string robot_id;
   planner_core::Cell cell;
   int role = -1;
+  int heading = -1;  // the way it faces (0 east ... 3 north), -1 unknown: matters in plans with turns
   bool operator==(const PlanMember&) const = default;
 };
 
@@ -29,7 +30,8 @@ struct PlanInstance {
 // Each member becomes a plan agent from its cell: to its role's goal through the role's task
 // visits not yet done; an extra robot (or one whose goal is walled off) goes to the nearest free
 // cell no other agent needs. Members off the map, on a blocked cell or sharing a cell with another
-// member are left out, and their cells walled, so the instance is always well-formed.
+// member are left out, and their cells walled, so the instance is always well-formed. In the
+// rotation model (mission.actions) agents start facing their members' headings (east if unknown).
 PlanInstance build_plan_instance(const planner_core::Instance& mission, const MissionProgress& progress,
                                  const std::vector<PlanMember>& members, std::set<planner_core::Vertex> blocked);
 

@@ -33,8 +33,11 @@ class PlanExecution {
 
   // `robots[a]` carries plan agent a of `plan` (on `graph`, the plan's own map). Commands carry
   // `coordinator` (the sender's incarnation); only states naming it acknowledge or confirm moves.
+  // `headings` (plans with turns): every agent's heading at every step; commands then carry the
+  // heading to end each step facing, turns in place included, and a move is done only when the
+  // robot reports that heading.
   PlanExecution(int epoch, std::shared_ptr<const planner_core::Graph> graph, const planner_core::Solution& plan,
-                std::vector<std::string> robots, uint64_t coordinator);
+                std::vector<std::string> robots, uint64_t coordinator, const planner_core::HeadingPlan& headings = {});
 
   int epoch() const { return epoch_; }
   int agent_count() const { return static_cast<int>(agents_.size()); }
@@ -76,7 +79,7 @@ class PlanExecution {
   // move in flight in this epoch; nothing otherwise.
   std::optional<double> acknowledge(int a, const fleet_transport::RobotState& state, Clock::time_point received);
   // Confirms the move in flight when `state` says the robot ended it, standing still on its target
-  // in this epoch; returns that target (a cell the robot reached under the plan), or nothing.
+  // (facing its heading, if it has one) in this epoch; returns that target (a cell the robot reached under the plan), or nothing.
   std::optional<planner_core::Cell> confirm(int a, const fleet_transport::RobotState& state);
 
   // The command due for agent a at `now` (its next move once the ADG allows it, or the move in

@@ -22,10 +22,13 @@ NLOHMANN_JSON_SERIALIZE_ENUM(TaskAction, {{TaskAction::kAdd, "add"},
                                           {TaskAction::kList, "list"}})
 
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(Announcement, robot_id, backend, capabilities, version, leaving, incarnation)
-NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(RobotState, robot_id, cell_x, cell_y, pose_x, pose_y, pose_theta, plan_epoch,
-                                   action_index, status, battery_percent, seq_number, stamp_ms, incarnation, coordinator)
-NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(StepCommand, robot_id, plan_epoch, action_index, target_x, target_y, target_pose_x,
-                                   target_pose_y, deadline_ms, coordinator, sent_ms)
+// RobotState and StepCommand: a field missing from a recording keeps its default (recordings made
+// before `heading` and `target_heading` existed still load).
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(RobotState, robot_id, cell_x, cell_y, pose_x, pose_y, pose_theta, plan_epoch,
+                                   action_index, status, battery_percent, seq_number, stamp_ms, incarnation, coordinator,
+                                   heading)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(StepCommand, robot_id, plan_epoch, action_index, target_x, target_y, target_pose_x,
+                                   target_pose_y, deadline_ms, coordinator, sent_ms, target_heading)
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(Assignment, robot_id, role, tasks_done, tasks_total)
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(TaskVisit, task, role)
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(CoordinatorStatus, coordinator, term, claimed_ms, role, mission_id, plan_epoch)

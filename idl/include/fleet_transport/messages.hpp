@@ -36,6 +36,7 @@ struct RobotState {
   int64_t stamp_ms = 0;  // wall clock of the arrival at (cell_x, cell_y)
   uint64_t incarnation = 0;  // of the publishing process; seq_number counts within one incarnation
   uint64_t coordinator = 0;  // whose command it executes or executed last; 0 before any
+  int heading = -1;          // 0 east, 1 south, 2 west, 3 north (the nearest quarter turn); -1 unknown
   bool operator==(const RobotState&) const = default;
 };
 
@@ -52,6 +53,7 @@ struct StepCommand {
   int64_t sent_ms = 0;       // the sender's wall clock when sent (0: unknown)
   uint64_t robot_incarnation = 0;  // the robot process it is meant for; others with the same id ignore it
   bool refused = false;            // that process is refused: it stands still and obeys nothing (see fleet.idl)
+  int target_heading = -1;         // the heading to end the step facing (plans with turns); -1 any
   bool operator==(const StepCommand&) const = default;
 };
 

@@ -59,6 +59,11 @@ class MatCalibration {
   CellLookup cell_at(const Eigen::Vector2d& mat_pose) const;
   // Heading on the mat (degrees, clockwise from +x) that points along the grid's +x axis.
   double grid_heading_deg() const;
+  // Heading on the mat (degrees 0-360, clockwise from +x) of a grid heading (0 east ... 3 north,
+  // planner_core/compass.hpp): the way a step along it goes on the mat.
+  double heading_on_mat_deg(int heading) const;
+  // The grid heading whose direction on the mat is nearest to `mat_angle_deg`.
+  int nearest_heading(double mat_angle_deg) const;
 
   // Problems that make the calibration unusable (empty when fine).
   std::vector<std::string> problems() const;

@@ -54,6 +54,9 @@ class RobotAgent {
   void wait_for_command(std::chrono::steady_clock::duration timeout);
   // How long the agent may sleep before step() has something to do (next state or arrival).
   std::chrono::steady_clock::duration idle_time() const;
+  // Moves of a plan with turns that the robot started not facing their way (it turned first, so
+  // the plan's timing and the robot's disagree): 0 when the coordinator's headings are right.
+  int moves_started_off_heading() const;
 
  private:
   struct KnownCoordinator {
@@ -104,6 +107,7 @@ class RobotAgent {
   bool has_stood_on_a_cell_ = false;  // until then the robot has no cell to report
   int fault_epoch_ = -1;  // commands of this epoch or older were issued before a fault
   Cell moving_to_{};
+  int moves_started_off_heading_ = 0;  // under step_mutex_
   uint64_t seq_ = 0;
   uint64_t incarnation_ = 0;
   std::chrono::steady_clock::time_point next_publish_{};

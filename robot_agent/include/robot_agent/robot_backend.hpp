@@ -22,7 +22,8 @@ struct BackendReport {
   Cell cell;          // the last cell the robot arrived at
   double pose_x = 0;      // continuous position in cell units
   double pose_y = 0;
-  double pose_theta = 0;
+  double pose_theta = 0;  // radians, clockwise from the grid's +x axis
+  int heading = -1;       // pose_theta to the nearest quarter turn (planner_core/compass.hpp); -1 unknown
   bool moving = false;
   bool fault = false;
   int battery_percent = -1;
@@ -33,8 +34,10 @@ class RobotBackend {
  public:
   virtual ~RobotBackend() = default;
   virtual std::string kind() const = 0;
-  // Starts a move to a neighbouring cell (or a wait on the current one); false if busy.
-  virtual bool start_move(Cell target) = 0;
+  // Starts a move to a neighbouring cell (or a wait on the current one) that ends facing
+  // `target_heading` (0-3, planner_core/compass.hpp; -1: any). A step to a neighbour ends facing
+  // the way it went; on the robot's own cell with a new heading it is a turn in place. False if busy.
+  virtual bool start_move(Cell target, int target_heading) = 0;
   // Advances the backend to the present and reports.
   virtual BackendReport poll() = 0;
   // While moving: the expected time until arrival (so the agent knows when to look again).

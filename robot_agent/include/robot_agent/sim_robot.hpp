@@ -1,5 +1,6 @@
 // SimRobot: a simulated robot that moves cell to cell at a configured speed with random jitter,
-// plus fault injection (stall for a while, stop reporting, crash, be carried to another cell).
+// turning in place first when it does not face the way it goes (turn_s per quarter turn; 0, the
+// default, turns in no time, a robot that moves any way as fast), plus fault injection (stall for a while, stop reporting, crash, be carried to another cell).
 #pragma once
 
 #include <chrono>
@@ -13,6 +14,8 @@ namespace robot_agent {
 struct SimSettings {
   double step_s = 0.2;          // nominal time of one move
   double jitter = 0.2;          // each move takes step_s * (1 + U[0, jitter])
+  double turn_s = 0;            // time of a quarter turn in place (jittered the same way); 0: turns are free
+  int start_heading = 0;        // 0 east, 1 south, 2 west, 3 north
   double delay_probability = 0;  // chance that a move is delayed by delay_s more
   double delay_s = 0;
   uint32_t seed = 0;
@@ -29,7 +32,7 @@ class SimRobot : public RobotBackend {
  public:
   SimRobot(Cell start, const SimSettings& settings);
   std::string kind() const override { return "sim"; }
-  bool start_move(Cell target) override;
+  bool start_move(Cell target, int target_heading) override;
   BackendReport poll() override;
   std::optional<std::chrono::steady_clock::duration> time_to_arrival() const override;
   bool starts_moves_at_once() const override { return true; }
@@ -44,9 +47,13 @@ class SimRobot : public RobotBackend {
   std::mt19937 rng_;
   Clock::time_point started_;
   Cell cell_;
+  int heading_;
   int64_t arrived_ms_;
   std::optional<Cell> target_;
-  Clock::time_point move_started_, move_ends_;
+  int target_heading_ = 0;
+  Clock::time_point move_started_;
+  Clock::time_point turn_ends_;  // the turn in place before the move (or the whole step, for a turn)
+  Clock::time_point move_ends_;
   bool teleported_ = false;
   int moves_done_ = 0;
 };

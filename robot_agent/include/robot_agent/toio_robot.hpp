@@ -4,8 +4,9 @@
 // under a mutex, so BLE never blocks DDS.
 //
 // One grid move = one move-to-target write (03) to the centre of the target cell, rotate after
-// moving, a fresh control id. Arrival = the 83 response says success, or a Position ID within the
-// mat's tolerance of the target's centre. Everything that goes wrong is a fault the coordinator sees
+// moving, a fresh control id; with a target heading (plans with turns) the cube ends facing it, and
+// a turn in place is the same write to its own cell. Arrival = the 83 response says success, or a
+// Position ID within the mat's tolerance of the target's centre (and of its heading, if any). Everything that goes wrong is a fault the coordinator sees
 // in the robot's state, never a hang: not connected yet, link lost, cube lifted (ID missed), on a
 // card instead of the mat, between cells, a move refused, timed out or preempted.
 #pragma once
@@ -49,7 +50,7 @@ class ToioRobot : public RobotBackend {
   ToioRobot& operator=(const ToioRobot&) = delete;
 
   std::string kind() const override { return "toio"; }
-  bool start_move(Cell target) override;
+  bool start_move(Cell target, int target_heading) override;
   BackendReport poll() override;
   std::optional<std::chrono::steady_clock::duration> time_to_arrival() const override;
 
@@ -66,6 +67,7 @@ class ToioRobot : public RobotBackend {
   using Clock = std::chrono::steady_clock;
   struct Move {
     Cell target;
+    int heading = -1;  // the grid heading to end facing; -1 any
     uint8_t control_id = 0;
     Clock::time_point started;
     bool written = false;
@@ -94,7 +96,9 @@ class ToioRobot : public RobotBackend {
   // coordinator keeps clear for it; drive it onto the nearer one (once) so it can rejoin.
   void start_recovery_if_needed();
   void stand_on(Cell cell);
-  bool link_open() const { return client_ != nullptr; }  // seen standing on a cell while not moving
+  bool link_open() const { return client_ != nullptr; }
+  // The cube faces grid heading `heading`, within kFacingToleranceDeg (false while its angle is unknown).
+  bool facing(int heading) const;  // seen standing on a cell while not moving
 
   const ToioSettings settings_;
   const MatCalibration calibration_;
