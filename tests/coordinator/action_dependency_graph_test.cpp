@@ -7,6 +7,7 @@
 
 #include "coordinator/action_dependency_graph.hpp"
 #include "coordinator/window_planner.hpp"
+#include "planner_core/action_model.hpp"
 #include "planner_core/solver.hpp"
 #include "planner_core/validator.hpp"
 
@@ -18,8 +19,9 @@ using planner_core::Vertex;
 // Executes the ADG with random delays: at each event a random ready move starts and moves take
 // random durations. Checks that no two robots ever hold one cell, that nothing deadlocks, and that
 // every robot ends where its plan ends.
-void execute_with_random_delays(const planner_core::Solution& plan, uint32_t seed) {
-  const ActionDependencyGraph adg(plan);
+void execute_with_random_delays(const planner_core::Solution& plan, uint32_t seed,
+                                const planner_core::HeadingPlan& headings = {}) {
+  const ActionDependencyGraph adg(plan, headings);
   const int robots = adg.robot_count();
   std::mt19937 rng(seed);
   std::vector<int> finished(robots, 0);
@@ -182,6 +184,38 @@ TEST(ActionDependencyGraph, LifelongWindowsRunUnderDelaysWithoutCollisionOrDeadl
   }
   EXPECT_GT(reached, given / 2);
   for (uint32_t seed = 0; seed < 3; ++seed) execute_with_random_delays(plan, seed);
+}
+
+TEST(ActionDependencyGraph, APlanWithTurnsHasTurnsAsMovesOfTheirOwnAndRunsUnderDelays) {
+  planner_core::Instance instance =
+      planner_core::load_instance(std::string(CTSFLEET_TEST_DATA) + "/instances/random-32-32-20-N10-M30-00.yaml");
+  instance.actions = planner_core::ActionModel::kRotate;
+  planner_core::SolverConfig config;
+  config.solver = "cts-pll-v2";
+  config.forbid_rotations = true;
+  const planner_core::SolveResult result =
+      planner_core::make_solver(config)->solve(instance, {planner_core::Deadline::in_seconds(10), {}});
+  ASSERT_TRUE(result.solved);
+  ASSERT_TRUE(planner_core::validate(instance, result.solution, {true}, result.headings).ok());
+  const ActionDependencyGraph adg(result.solution, result.headings);
+  int turns = 0;
+  for (int r = 0; r < adg.robot_count(); ++r) {
+    int heading = instance.start_heading(r);
+    for (const Move& move : adg.moves(r)) {
+      if (move.from == move.to) {  // a turn: a quarter, waiting for nobody
+        EXPECT_EQ(planner_core::turns_between(heading, move.heading), 1) << "robot " << r << " at t " << move.plan_time;
+        EXPECT_TRUE(move.after.empty());
+        ++turns;
+      } else {  // forward, the way it faces
+        EXPECT_EQ(move.heading, heading) << "robot " << r << " at t " << move.plan_time;
+        EXPECT_EQ(planner_core::ahead(*instance.graph, move.from, heading), move.to);
+      }
+      heading = move.heading;
+    }
+  }
+  EXPECT_GT(turns, 10);
+  for (uint32_t seed = 0; seed < 10; ++seed) execute_with_random_delays(result.solution, seed, result.headings);
+  EXPECT_THROW(ActionDependencyGraph(result.solution, {result.headings.front()}), std::invalid_argument);
 }
 
 TEST(ActionDependencyGraph, FollowerWaitsForTheLeader) {

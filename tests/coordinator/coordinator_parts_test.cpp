@@ -275,6 +275,57 @@ TEST(PlanExecution, SendsWhenReadyResendsWhenSilentAndConfirmsOnTheTarget) {
   EXPECT_TRUE(execution.due_command(1, t0, 1.0, 0).has_value());  // now back may move
 }
 
+TEST(PlanExecution, WithTurnsATurnIsACommandOnTheRobotsCellDoneOnlyWhenTheRobotFacesItsHeading) {
+  const auto graph = std::make_shared<const planner_core::Graph>(3, 2, std::vector<std::string>{"...", "..."});
+  const Vertex v0 = graph->vertex_at({0, 0}), v1 = graph->vertex_at({1, 0});
+  // Facing north at (0,0): turn clockwise (east), wait, move east.
+  const planner_core::Solution plan = {{v0}, {v0}, {v0}, {v1}};
+  const planner_core::HeadingPlan headings = {{3}, {0}, {0}, {0}};
+  PlanExecution execution(1, graph, plan, {"r"}, 5, headings);
+  ASSERT_EQ(execution.move_count(0), 2);  // the turn and the move; the wait is no command
+  const auto t0 = PlanExecution::Clock::now();
+  const auto turn = execution.due_command(0, t0, 1.0, 0);
+  ASSERT_TRUE(turn.has_value());
+  EXPECT_EQ(turn->target_x, 0);
+  EXPECT_EQ(turn->target_y, 0);
+  EXPECT_EQ(turn->target_heading, 0);
+  fleet_transport::RobotState state;
+  state.robot_id = "r";
+  state.coordinator = 5;
+  state.plan_epoch = 1;
+  state.action_index = 0;
+  state.status = fleet_transport::RobotStatus::kArrived;
+  state.heading = 3;  // still facing north
+  EXPECT_FALSE(execution.confirm(0, state).has_value());
+  state.heading = -1;  // a robot that cannot tell
+  EXPECT_FALSE(execution.confirm(0, state).has_value());
+  state.heading = 0;
+  EXPECT_TRUE(execution.confirm(0, state).has_value());
+  const auto forward = execution.due_command(0, t0, 1.0, 0);
+  ASSERT_TRUE(forward.has_value());
+  EXPECT_EQ(forward->target_x, 1);
+  EXPECT_EQ(forward->target_heading, 0);
+  // Without headings the same plan's commands say "any heading".
+  PlanExecution plain(1, graph, {{v0}, {v1}}, {"r"}, 5);
+  EXPECT_EQ(plain.due_command(0, t0, 1.0, 0)->target_heading, -1);
+}
+
+TEST(PlanBuilder, WithTurnsAgentsStartFacingTheirRobotsHeadingsOrEastWhenUnknown) {
+  planner_core::Instance mission = small_mission();
+  mission.actions = planner_core::ActionModel::kRotate;
+  MissionProgress progress(mission);
+  const std::vector<PlanMember> members = {{"a", {1, 0}, 0, 2}, {"b", {1, 2}, 1, -1}};
+  const PlanInstance built = build_plan_instance(mission, progress, members, {});
+  EXPECT_EQ(built.instance.actions, planner_core::ActionModel::kRotate);
+  EXPECT_EQ(built.instance.start_headings, (planner_core::Headings{2, 0}));
+  ASSERT_EQ(built.notes.size(), 1u);
+  EXPECT_NE(built.notes[0].find("robot b reports no heading"), std::string::npos) << built.notes[0];
+  // The four-move model has no headings at all.
+  const PlanInstance plain = build_plan_instance(small_mission(), progress, members, {});
+  EXPECT_TRUE(plain.instance.start_headings.empty());
+  EXPECT_TRUE(plain.notes.empty());
+}
+
 TEST(ActiveCoordinatorWatch, TwoActiveLongerThanTheGraceIsOneAlarm) {
   using std::chrono::milliseconds;
   ActiveCoordinatorWatch watch(std::chrono::seconds(5));

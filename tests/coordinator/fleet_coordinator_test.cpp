@@ -22,6 +22,8 @@
 #include "coordinator/fleet_coordinator.hpp"
 #include "coordinator/mission_journal.hpp"
 #include "coordinator/plan_execution.hpp"
+#include "planner_core/action_model.hpp"
+#include "planner_core/compass.hpp"
 #include "fake_transport.hpp"
 
 namespace coordinator {
@@ -42,6 +44,10 @@ struct FakeRobot {
   planner_core::Cell teleport_to{};
   uint64_t incarnation = 0;      // its process's; it obeys only commands meant for it (0: any, as before)
   bool refused = false;          // it was told it is refused (and obeys nothing more)
+  int heading = 0;               // east; a move ends facing the way it went, a turn as commanded
+  int turns = 0;                 // quarter turns in place it was commanded
+  int moves_off_heading = 0;     // commanded moves with a heading that it did not face when they came
+  int bad_turns = 0;             // commanded turns in place of other than a quarter turn
 
   fleet_transport::RobotState state(int epoch, int action, fleet_transport::RobotStatus status) {
     fleet_transport::RobotState s;
@@ -53,6 +59,7 @@ struct FakeRobot {
     s.status = status;
     s.seq_number = ++seq;
     s.coordinator = coordinator;
+    s.heading = heading;
     s.incarnation = incarnation;
     return s;
   }
@@ -110,6 +117,15 @@ std::map<std::string, std::vector<planner_core::Cell>> run(
           continue;
         }
         if (robot.refused) continue;
+        const planner_core::Cell target{command.target_x, command.target_y};
+        if (const int travel = planner_core::heading_between(robot.cell, target); travel >= 0) {
+          if (command.target_heading >= 0 && robot.heading != travel) ++robot.moves_off_heading;
+          robot.heading = travel;
+        } else if (command.target_heading >= 0 && command.target_heading != robot.heading) {
+          if (planner_core::turns_between(robot.heading, command.target_heading) != 1) ++robot.bad_turns;
+          ++robot.turns;
+          robot.heading = command.target_heading;
+        }
         robot.cell = {command.target_x, command.target_y};
         robot.epoch = command.plan_epoch;
         robot.action = command.action_index;
@@ -1201,6 +1217,41 @@ TEST(FleetCoordinator, WhatTheTransportRefusedIsAnEventForOperators) {
   EXPECT_EQ(wire.last_mission.mission_id, coordinator.mission_id());  // the mission is out from the first step
   EXPECT_EQ(wire.last_mission.tasks.size(), 16u);
   EXPECT_EQ(wire.last_mission.width, 32);
+}
+
+// The default mission with plans with turns: every robot's move goes the way it faces (the
+// coordinator turned it first, as a command of its own), every turn is a quarter turn, and a
+// robot lost part way is planned around from the headings the others report.
+TEST(FleetCoordinator, PlansWithTurnsTurnEveryRobotBeforeItMovesAlsoAfterAReplan) {
+  for (const bool lose_one : {false, true}) {
+    SCOPED_TRACE(lose_one ? "robot3 lost after its fourth move" : "no robot lost");
+    planner_core::Instance mission = planner_core::load_instance(CTSFLEET_CONFIG_DIR "/default/mission-8.yaml");
+    std::vector<FakeRobot> robots;
+    for (int r = 0; r < mission.agent_count(); ++r) {
+      robots.push_back({"robot" + std::to_string(r), mission.graph->cell_of(mission.starts[r])});
+      robots.back().heading = r % 4;  // facing every way at the start
+    }
+    FleetConfig config = config_for(mission.agent_count());
+    config.actions = planner_core::ActionModel::kRotate;
+    FleetCoordinator coordinator(config, std::move(mission));
+    const auto lose = [&](FleetCoordinator&, FakeTransport&, int) {
+      if (lose_one && robots[3].moves >= 4) robots[3].silent = true;
+      return true;
+    };
+    run(coordinator, robots, {}, lose);
+    const MissionSummary& summary = coordinator.summary();
+    EXPECT_EQ(summary.robots_lost, lose_one ? 1 : 0);
+    if (!lose_one) {
+      EXPECT_TRUE(summary.completed);
+    }
+    int turns = 0;
+    for (const FakeRobot& robot : robots) {
+      EXPECT_EQ(robot.moves_off_heading, 0) << robot.id;
+      EXPECT_EQ(robot.bad_turns, 0) << robot.id;
+      turns += robot.turns;
+    }
+    EXPECT_GT(turns, 8);  // they did turn: every robot but those facing their first way must
+  }
 }
 
 }  // namespace

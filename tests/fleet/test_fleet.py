@@ -40,6 +40,7 @@ TESTS = [
     "test_robot_moved_by_hand_is_taken_out_and_planned_around",
     "test_robot_deaf_to_commands_is_taken_out_and_rejoins",
     "test_fastdds_robot_deaf_to_commands_is_taken_out_and_rejoins",
+    "test_mission_with_turns_completes_safely",
 ]
 
 
@@ -231,6 +232,26 @@ class FleetTest(unittest.TestCase):
         self.assertEqual(code, 0, text[-3000:])
         self.assertIn("mission completed: tasks 16/16", text)
         self.assert_safe()
+
+    def test_mission_with_turns_completes_safely(self):
+        """Plans with turns (--actions rotate) on robots that take time to turn: every move starts
+        facing its way (no agent had to turn on its own), every robot ends the mission, nobody collides."""
+        self.fleet.monitor()
+        agents_dir = os.path.join(self.fleet.dir, "agents")
+        self.fleet.start("sim", [f"{BIN}/ctsfleet-sim", "--robots", "8", "--config", CONFIG,
+                                 "--domain", str(self.fleet.domain), "--step", STEP, "--turn", STEP,
+                                 "--actions", "rotate", "--log-dir", agents_dir])
+        code = self.fleet.wait_exit("sim", 240)
+        text = read(self.fleet.log("sim"))
+        self.assertEqual(code, 0, text[-3000:])
+        self.assertRegex(text, r"plan epoch 1: 8 robots, \d+ task visits, flowtime \d+, makespan \d+ with turns")
+        self.assertIn("mission completed: tasks 16/16", text)
+        self.assert_safe()
+        logs = [read(os.path.join(agents_dir, name)) for name in sorted(os.listdir(agents_dir)) if name.endswith(".log")]
+        self.assertEqual(len(logs), 8)
+        for log in logs:
+            self.assertNotIn("turned first", log)
+            self.assertNotIn("rejected command", log)
 
     def test_ctrl_c_stops_the_whole_fleet(self):
         launcher = self.fleet.start("sim", [f"{BIN}/ctsfleet-sim", "--robots", "8", "--config", CONFIG,
@@ -534,6 +555,9 @@ class FleetTest(unittest.TestCase):
             (f"mission: {mission}\nplanner:\n  solver: magic\n", "solver.yaml", "unknown solver 'magic'"),
             (f"mission: {mission}\nplanner:\n  pibt_swap: maybe\n", "swap.yaml", "planner.pibt_swap"),
             ("mission: nowhere.yaml\n", "missing-mission.yaml", "nowhere.yaml"),
+            (f"mission: {mission}\nplanner:\n  actions: fly\n", "actions.yaml", "planner.actions"),
+            (f"mission: {mission}\nlifelong: true\nplanner:\n  actions: rotate\n", "lifelong-rotate.yaml",
+             "rotate is not available with lifelong"),
         ]
         for text, name, expected in cases:
             result = coordinator_with(text, name)
@@ -545,6 +569,10 @@ class FleetTest(unittest.TestCase):
                                capture_output=True, text=True, timeout=60)
         self.assertEqual(agent.returncode, 2)
         self.assertIn("--start: must be x,y", agent.stdout + agent.stderr)
+        heading = subprocess.run([f"{BIN}/ctsfleet-agent", "--id", "x", "--start", "1,1", "--heading", "up"],
+                                 capture_output=True, text=True, timeout=60)
+        self.assertEqual(heading.returncode, 2)
+        self.assertIn("--heading", heading.stdout + heading.stderr)
         too_long = subprocess.run([f"{BIN}/ctsfleet-agent", "--id", "r" * 40], capture_output=True, text=True,
                                   timeout=60)
         self.assertEqual(too_long.returncode, 2)
