@@ -42,6 +42,38 @@ void move_and_arrive(ToioRobot& robot, EmulatedBluez& bluez, const std::string& 
   }));
 }
 
+// The cube's angle on the mat, as a grid heading's distance from `heading` in degrees.
+double degrees_off(ToioRobot& robot, EmulatedBluez& bluez, const std::string& cube, int heading) {
+  return std::abs(std::remainder(bluez.pose(cube).angle - robot.calibration().heading_on_mat_deg(heading), 360.0));
+}
+
+TEST(ToioRobot, TurnsInPlaceToAHeadingAndReportsTheHeadingItFaces) {
+  EmulatedBluez bluez({"toio-a@cell:2,2"});
+  ToioRobot robot(settings_for("toio-a"), MatCalibration::load(kRing));
+  ASSERT_TRUE(eventually([&] { return ready(robot); })) << robot.fault_reason() << "\n" << bluez.log();
+  const int start = robot.poll().heading;
+  ASSERT_GE(start, 0);
+  EXPECT_TRUE(robot.start_move({2, 2}, start));  // already facing it: a wait, nothing to drive
+  EXPECT_FALSE(robot.poll().moving);
+  for (const int heading : {(start + 1) % 4, (start + 3) % 4, (start + 2) % 4}) {
+    SCOPED_TRACE("turning to heading " + std::to_string(heading));
+    ASSERT_TRUE(robot.start_move({2, 2}, heading));
+    EXPECT_TRUE(robot.poll().moving);
+    ASSERT_TRUE(eventually([&] { return !robot.poll().moving; })) << bluez.log();
+    const BackendReport report = robot.poll();
+    EXPECT_FALSE(report.fault) << robot.fault_reason();
+    EXPECT_EQ(report.cell, (Cell{2, 2}));
+    EXPECT_LE(degrees_off(robot, bluez, "toio-a", heading), 4.5);
+    EXPECT_TRUE(eventually([&] { return robot.poll().heading == heading; }));
+  }
+  // A move with a heading ends facing it (the way it went).
+  const Cell ahead = robot.poll().heading == 0 ? Cell{3, 2} : robot.poll().heading == 1 ? Cell{2, 3}
+                     : robot.poll().heading == 2 ? Cell{1, 2} : Cell{2, 1};
+  const int facing = robot.poll().heading;
+  move_and_arrive(robot, bluez, "toio-a", ahead);
+  EXPECT_TRUE(eventually([&] { return robot.poll().heading == facing; }));
+}
+
 TEST(ToioRobot, ConnectsThenMovesACubeThreeCells) {
   EmulatedBluez bluez({"toio-a@cell:1,1", "toio-b@cell:5,5"});
   ToioRobot robot(settings_for("toio-a"), MatCalibration::load(kRing));
