@@ -25,7 +25,7 @@ planner_core::Cell PlanExecution::position(int a) const {
 }
 
 bool PlanExecution::allows(int a, planner_core::Cell cell) const {
-  return cell == position(a) || (in_flight(a) && cell == target(a, agents_[a].finished));
+  return cell == position(a) || (in_flight(a) && cell == target(a, agents_[a].sent));
 }
 
 std::optional<double> PlanExecution::acknowledge(int a, const fleet_transport::RobotState& state,
@@ -41,25 +41,38 @@ std::optional<double> PlanExecution::acknowledge(int a, const fleet_transport::R
 std::optional<planner_core::Cell> PlanExecution::confirm(int a, const fleet_transport::RobotState& state) {
   if (!in_flight(a)) return std::nullopt;
   Agent& agent = agents_[a];
-  const planner_core::Cell cell = target(a, agent.finished);
-  if (state.coordinator != coordinator_ || state.plan_epoch != epoch_ || state.action_index != agent.finished ||
+  const Move& sent = move(a, agent.sent);
+  const planner_core::Cell cell = graph_->cell_of(sent.to);
+  if (state.coordinator != coordinator_ || state.plan_epoch != epoch_ || state.action_index != agent.sent ||
       state.status == fleet_transport::RobotStatus::kMoving || state.cell_x != cell.x || state.cell_y != cell.y ||
-      (move(a, agent.finished).heading >= 0 && state.heading != move(a, agent.finished).heading)) {
+      (sent.heading >= 0 && state.heading != sent.heading)) {
     return std::nullopt;
   }
-  ++agent.finished;
+  agent.finished = agent.sent + 1;  // with the turns folded into it, if any
   adg_.forget_before(a, agent.finished - 1);  // the last one confirmed is where the agent stands
   return cell;
+}
+
+int PlanExecution::move_to_send(int a) const {
+  const int next = agents_[a].finished;
+  if (!adg_.ready(a, next, [this](int other) { return agents_[other].finished; })) return -1;
+  // Turns in place followed by a move forward that may start now: one command, the robot turns and
+  // goes. A move that must wait keeps its turns apart, so the robot turns while it waits.
+  int forward = next;
+  while (forward < move_count(a) && move(a, forward).from == move(a, forward).to) ++forward;
+  if (forward == next || forward == move_count(a)) return next;
+  const auto finished_of = [&](int other) { return other == a ? forward : agents_[other].finished; };
+  return adg_.ready(a, forward, finished_of) ? forward : next;
 }
 
 std::optional<fleet_transport::StepCommand> PlanExecution::due_command(int a, Clock::time_point now,
                                                                        double resend_after_s, int64_t deadline_ms) {
   if (done(a)) return std::nullopt;
   Agent& agent = agents_[a];
-  const int next = agent.finished;
   const bool resend = in_flight(a);
   if (resend && std::chrono::duration<double>(now - agent.sent_at).count() < resend_after_s) return std::nullopt;
-  if (!resend && !adg_.ready(a, next, [this](int other) { return agents_[other].finished; })) return std::nullopt;
+  const int next = resend ? agent.sent : move_to_send(a);
+  if (next < 0) return std::nullopt;
   const planner_core::Cell cell = target(a, next);
   fleet_transport::StepCommand command;
   command.robot_id = agent.robot_id;

@@ -275,7 +275,12 @@ void RobotAgent::step_locked(fleet_transport::Transport& transport, bool reporti
                              ") ends facing " + std::to_string(travel) + ", not " +
                              std::to_string(command->target_heading));
       } else if (backend_.start_move(target, command->target_heading)) {
-        if (travel >= 0 && command->target_heading >= 0 && report.heading >= 0 && report.heading != travel) {
+        // The next move straight after the last one (not one with turns folded in: its index skips
+        // theirs, and the robot is meant to turn first) must start facing its way.
+        const bool next_in_line = command->plan_epoch == executing_epoch_ ? command->action_index == executing_index_ + 1
+                                                                           : command->action_index == 0;
+        if (next_in_line && travel >= 0 && command->target_heading >= 0 && report.heading >= 0 &&
+            report.heading != travel) {
           ++moves_started_off_heading_;
           spdlog::warn("{}: the move to ({},{}) of epoch {} step {} goes facing {}, but the robot faced {}: it "
                        "turned first (the plan has it facing the wrong way)",

@@ -277,13 +277,16 @@ TEST(PlanExecution, SendsWhenReadyResendsWhenSilentAndConfirmsOnTheTarget) {
 
 TEST(PlanExecution, WithTurnsATurnIsACommandOnTheRobotsCellDoneOnlyWhenTheRobotFacesItsHeading) {
   const auto graph = std::make_shared<const planner_core::Graph>(3, 2, std::vector<std::string>{"...", "..."});
-  const Vertex v0 = graph->vertex_at({0, 0}), v1 = graph->vertex_at({1, 0});
-  // Facing north at (0,0): turn clockwise (east), wait, move east.
-  const planner_core::Solution plan = {{v0}, {v0}, {v0}, {v1}};
-  const planner_core::HeadingPlan headings = {{3}, {0}, {0}, {0}};
-  PlanExecution execution(1, graph, plan, {"r"}, 5, headings);
+  const Vertex v0 = graph->vertex_at({0, 0}), v1 = graph->vertex_at({1, 0}), v2 = graph->vertex_at({2, 0});
+  const Vertex u1 = graph->vertex_at({1, 1});
+  // "r" faces north at (0,0): turns clockwise (east), waits, moves east once "s" has left (1,0)
+  // southwards, which "s" does after a turn of its own.
+  const planner_core::Solution plan = {{v0, v1}, {v0, v1}, {v0, u1}, {v1, u1}};
+  const planner_core::HeadingPlan headings = {{3, 0}, {0, 1}, {0, 1}, {0, 1}};
+  PlanExecution execution(1, graph, plan, {"r", "s"}, 5, headings);
   ASSERT_EQ(execution.move_count(0), 2);  // the turn and the move; the wait is no command
   const auto t0 = PlanExecution::Clock::now();
+  // r's move must wait for s: its turn goes alone, so r turns while it waits.
   const auto turn = execution.due_command(0, t0, 1.0, 0);
   ASSERT_TRUE(turn.has_value());
   EXPECT_EQ(turn->target_x, 0);
@@ -301,10 +304,30 @@ TEST(PlanExecution, WithTurnsATurnIsACommandOnTheRobotsCellDoneOnlyWhenTheRobotF
   EXPECT_FALSE(execution.confirm(0, state).has_value());
   state.heading = 0;
   EXPECT_TRUE(execution.confirm(0, state).has_value());
+  EXPECT_FALSE(execution.due_command(0, t0, 1.0, 0).has_value());  // (1,0) is still s's
+  // s's turn and move south may go at once: one command, the move's, with the turn folded in.
+  const auto folded = execution.due_command(1, t0, 1.0, 0);
+  ASSERT_TRUE(folded.has_value());
+  EXPECT_EQ(folded->action_index, 1);
+  EXPECT_EQ(folded->target_x, 1);
+  EXPECT_EQ(folded->target_y, 1);
+  EXPECT_EQ(folded->target_heading, 1);
+  EXPECT_TRUE(execution.in_flight(1));
+  EXPECT_TRUE(execution.allows(1, {1, 1}));
+  EXPECT_TRUE(execution.due_command(1, t0 + std::chrono::seconds(2), 1.0, 0).has_value());  // resent as it was
+  fleet_transport::RobotState s_state = state;
+  s_state.robot_id = "s";
+  s_state.action_index = 1;
+  s_state.cell_x = 1;
+  s_state.cell_y = 1;
+  s_state.heading = 1;
+  EXPECT_TRUE(execution.confirm(1, s_state).has_value());
+  EXPECT_TRUE(execution.done(1));
   const auto forward = execution.due_command(0, t0, 1.0, 0);
   ASSERT_TRUE(forward.has_value());
   EXPECT_EQ(forward->target_x, 1);
   EXPECT_EQ(forward->target_heading, 0);
+  (void)v2;
   // Without headings the same plan's commands say "any heading".
   PlanExecution plain(1, graph, {{v0}, {v1}}, {"r"}, 5);
   EXPECT_EQ(plain.due_command(0, t0, 1.0, 0)->target_heading, -1);

@@ -47,7 +47,9 @@ struct FakeRobot {
   int heading = 0;               // east; a move ends facing the way it went, a turn as commanded
   int turns = 0;                 // quarter turns in place it was commanded
   int moves_off_heading = 0;     // commanded moves with a heading that it did not face when they came
-  int bad_turns = 0;             // commanded turns in place of other than a quarter turn
+  int bad_turns = 0;             // commanded turns in place of other than a quarter turn, or moves
+                                 // whose skipped indices are not the turns they need
+  int folded_moves = 0;          // moves with turns folded in (their index skips the turns')
 
   fleet_transport::RobotState state(int epoch, int action, fleet_transport::RobotStatus status) {
     fleet_transport::RobotState s;
@@ -119,7 +121,15 @@ std::map<std::string, std::vector<planner_core::Cell>> run(
         if (robot.refused) continue;
         const planner_core::Cell target{command.target_x, command.target_y};
         if (const int travel = planner_core::heading_between(robot.cell, target); travel >= 0) {
-          if (command.target_heading >= 0 && robot.heading != travel) ++robot.moves_off_heading;
+          const int skipped = command.plan_epoch == robot.epoch ? command.action_index - robot.action - 1
+                                                                : command.action_index;
+          if (command.target_heading >= 0 && skipped > 0) {  // turns folded into the move
+            ++robot.folded_moves;
+            robot.turns += skipped;
+            if (planner_core::turns_between(robot.heading, travel) != skipped) ++robot.bad_turns;
+          } else if (command.target_heading >= 0 && robot.heading != travel) {
+            ++robot.moves_off_heading;
+          }
           robot.heading = travel;
         } else if (command.target_heading >= 0 && command.target_heading != robot.heading) {
           if (planner_core::turns_between(robot.heading, command.target_heading) != 1) ++robot.bad_turns;
@@ -1244,13 +1254,15 @@ TEST(FleetCoordinator, PlansWithTurnsTurnEveryRobotBeforeItMovesAlsoAfterAReplan
     if (!lose_one) {
       EXPECT_TRUE(summary.completed);
     }
-    int turns = 0;
+    int turns = 0, folded = 0;
     for (const FakeRobot& robot : robots) {
       EXPECT_EQ(robot.moves_off_heading, 0) << robot.id;
       EXPECT_EQ(robot.bad_turns, 0) << robot.id;
       turns += robot.turns;
+      folded += robot.folded_moves;
     }
     EXPECT_GT(turns, 8);  // they did turn: every robot but those facing their first way must
+    EXPECT_GT(folded, 0);  // and turns went with the moves after them when those could start
   }
 }
 

@@ -437,9 +437,10 @@ TEST_F(AgentFixture, AHeadingThatCannotBeIsRefusedAndAMoveOffItsHeadingIsCounted
   EXPECT_EQ(robot.poll().cell, (Cell{2, 2}));
   EXPECT_EQ(agent.moves_started_off_heading(), 0);
 
-  // The robot faces east; a plan with turns that has it go south without turning first is wrong
-  // about its heading: the robot turns first, and the agent counts it.
-  fleet_transport::StepCommand south = move(1, 2, 2, 3, in_5_s());
+  // The robot faces east; a plan with turns that has it go south first thing without a turn is
+  // wrong about its heading: the robot turns first, and the agent counts it.
+  agent.on_coordinator_status(status_of(kCoordinator, 1, 2));
+  fleet_transport::StepCommand south = move(2, 0, 2, 3, in_5_s());
   south.target_heading = 1;
   agent.on_command(south);
   settle();
@@ -447,17 +448,31 @@ TEST_F(AgentFixture, AHeadingThatCannotBeIsRefusedAndAMoveOffItsHeadingIsCounted
   EXPECT_EQ(transport.last_state.heading, 1);
   EXPECT_EQ(agent.moves_started_off_heading(), 1);
   // A turn in place, then a move the way it faces: nothing counted.
-  fleet_transport::StepCommand turn = move(1, 3, 2, 3, in_5_s());
+  fleet_transport::StepCommand turn = move(2, 1, 2, 3, in_5_s());
   turn.target_heading = 0;
   agent.on_command(turn);
   settle();
   EXPECT_EQ(transport.last_state.heading, 0);
-  fleet_transport::StepCommand east = move(1, 4, 3, 3, in_5_s());
+  fleet_transport::StepCommand east = move(2, 2, 3, 3, in_5_s());
   east.target_heading = 0;
   agent.on_command(east);
   settle();
   EXPECT_EQ(robot.poll().cell, (Cell{3, 3}));
   EXPECT_EQ(agent.moves_started_off_heading(), 1);
+  // The next move in line facing the wrong way counts; one whose index skips a turn's (the turn
+  // folded into it) does not: the robot is meant to turn first.
+  fleet_transport::StepCommand north = move(2, 3, 3, 2, in_5_s());
+  north.target_heading = 3;
+  agent.on_command(north);
+  settle();
+  EXPECT_EQ(agent.moves_started_off_heading(), 2);
+  fleet_transport::StepCommand west_after_a_turn = move(2, 5, 2, 2, in_5_s());
+  west_after_a_turn.target_heading = 2;
+  agent.on_command(west_after_a_turn);
+  settle();
+  EXPECT_EQ(robot.poll().cell, (Cell{2, 2}));
+  EXPECT_EQ(transport.last_state.heading, 2);
+  EXPECT_EQ(agent.moves_started_off_heading(), 2);
 }
 
 }  // namespace

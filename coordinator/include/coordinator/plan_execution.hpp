@@ -52,7 +52,7 @@ class PlanExecution {
   // Every move of agent a confirmed.
   bool done(int a) const { return agents_[a].finished >= move_count(a); }
   // A move of agent a was sent and not yet confirmed.
-  bool in_flight(int a) const { return !done(a) && agents_[a].sent == agents_[a].finished; }
+  bool in_flight(int a) const { return !done(a) && agents_[a].sent >= agents_[a].finished; }
   // A move in flight that the robot has not reported yet (not even as started).
   bool unacknowledged(int a) const { return in_flight(a) && !agents_[a].acknowledged; }
   // Where the plan has agent a now: its start, or the end of its last confirmed move.
@@ -83,11 +83,17 @@ class PlanExecution {
   std::optional<planner_core::Cell> confirm(int a, const fleet_transport::RobotState& state);
 
   // The command due for agent a at `now` (its next move once the ADG allows it, or the move in
-  // flight again after `resend_after_s` without confirmation), and records it as sent.
+  // flight again after `resend_after_s` without confirmation), and records it as sent. In a plan
+  // with turns, turns in place followed by a move forward that may start now go as that one move
+  // (index skipping the turns' indices; the robot turns, then goes): turns apart cost a round trip
+  // each, and only a robot that must wait for its cell gains by turning meanwhile.
   std::optional<fleet_transport::StepCommand> due_command(int a, Clock::time_point now, double resend_after_s,
                                                           int64_t deadline_ms);
 
  private:
+  // The index of the move to send agent a next, or -1 while the ADG holds it back.
+  int move_to_send(int a) const;
+
   int epoch_;
   uint64_t coordinator_;
   std::shared_ptr<const planner_core::Graph> graph_;

@@ -55,7 +55,9 @@ class RobotAgent {
   // How long the agent may sleep before step() has something to do (next state or arrival).
   std::chrono::steady_clock::duration idle_time() const;
   // Moves of a plan with turns that the robot started not facing their way (it turned first, so
-  // the plan's timing and the robot's disagree): 0 when the coordinator's headings are right.
+  // the plan's timing and the robot's disagree): 0 when the coordinator's headings are right. A
+  // move whose index skips the previous one's (the coordinator folded turns into it) is meant to
+  // turn first and is not counted.
   int moves_started_off_heading() const;
 
  private:
