@@ -424,52 +424,38 @@ TEST(SimRobot, WithoutTurnTimeTurnsCostNothingButTheHeadingStillFollows) {
 }
 
 TEST_F(AgentFixture, AHeadingThatCannotBeIsRefusedAndAMoveOffItsHeadingIsCounted) {
+  // Sends command (epoch, index) to (x, y) ending facing `heading`, and lets the robot carry it out.
+  const auto command = [&](int epoch, int index, int x, int y, int heading) {
+    fleet_transport::StepCommand step = move(epoch, index, x, y, in_5_s());
+    step.target_heading = heading;
+    agent.on_command(step);
+    settle();
+  };
   agent.on_coordinator_status(status_of(kCoordinator, 1, 1));
-  fleet_transport::StepCommand bad = move(1, 0, 3, 2, in_5_s());
-  bad.target_heading = 7;  // no such heading
-  agent.on_command(bad);
-  settle();
+  command(1, 0, 3, 2, 7);  // no such heading
   EXPECT_EQ(robot.poll().cell, (Cell{2, 2}));
-  fleet_transport::StepCommand sideways = move(1, 1, 3, 2, in_5_s());
-  sideways.target_heading = 1;  // a move east cannot end facing south
-  agent.on_command(sideways);
-  settle();
+  command(1, 1, 3, 2, 1);  // a move east cannot end facing south
   EXPECT_EQ(robot.poll().cell, (Cell{2, 2}));
   EXPECT_EQ(agent.moves_started_off_heading(), 0);
 
   // The robot faces east; a plan with turns that has it go south first thing without a turn is
   // wrong about its heading: the robot turns first, and the agent counts it.
   agent.on_coordinator_status(status_of(kCoordinator, 1, 2));
-  fleet_transport::StepCommand south = move(2, 0, 2, 3, in_5_s());
-  south.target_heading = 1;
-  agent.on_command(south);
-  settle();
+  command(2, 0, 2, 3, 1);
   EXPECT_EQ(robot.poll().cell, (Cell{2, 3}));
   EXPECT_EQ(transport.last_state.heading, 1);
   EXPECT_EQ(agent.moves_started_off_heading(), 1);
   // A turn in place, then a move the way it faces: nothing counted.
-  fleet_transport::StepCommand turn = move(2, 1, 2, 3, in_5_s());
-  turn.target_heading = 0;
-  agent.on_command(turn);
-  settle();
+  command(2, 1, 2, 3, 0);
   EXPECT_EQ(transport.last_state.heading, 0);
-  fleet_transport::StepCommand east = move(2, 2, 3, 3, in_5_s());
-  east.target_heading = 0;
-  agent.on_command(east);
-  settle();
+  command(2, 2, 3, 3, 0);
   EXPECT_EQ(robot.poll().cell, (Cell{3, 3}));
   EXPECT_EQ(agent.moves_started_off_heading(), 1);
   // The next move in line facing the wrong way counts; one whose index skips a turn's (the turn
   // folded into it) does not: the robot is meant to turn first.
-  fleet_transport::StepCommand north = move(2, 3, 3, 2, in_5_s());
-  north.target_heading = 3;
-  agent.on_command(north);
-  settle();
+  command(2, 3, 3, 2, 3);
   EXPECT_EQ(agent.moves_started_off_heading(), 2);
-  fleet_transport::StepCommand west_after_a_turn = move(2, 5, 2, 2, in_5_s());
-  west_after_a_turn.target_heading = 2;
-  agent.on_command(west_after_a_turn);
-  settle();
+  command(2, 5, 2, 2, 2);
   EXPECT_EQ(robot.poll().cell, (Cell{2, 2}));
   EXPECT_EQ(transport.last_state.heading, 2);
   EXPECT_EQ(agent.moves_started_off_heading(), 2);
