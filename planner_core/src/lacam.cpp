@@ -403,10 +403,12 @@ class LacamSearch::State {
       if (occupied_next_[v] != kNobody) continue;
       const int occupant = occupied_now_[v];
       if (occupant != kNobody && occupant != agent && to[occupant] == here) continue;
+      if (config_.forbid_rotations && v != here && closes_rotation(agent, v)) continue;
       to[agent] = v;
       claim(v, agent);
       if (occupant != kNobody && occupant != agent && to[occupant] == kNoVertex && !plan_move(occupant)) continue;
-      if (k == 0 && partner != kNobody && v != here && to[partner] == kNoVertex && occupied_next_[here] == kNobody) {
+      if (k == 0 && partner != kNobody && v != here && to[partner] == kNoVertex && occupied_next_[here] == kNobody &&
+          !(config_.forbid_rotations && closes_rotation(partner, here))) {
         to[partner] = here;  // the partner follows into the cell we leave
         claim(here, partner);
       }
@@ -421,6 +423,23 @@ class LacamSearch::State {
     }
     to[agent] = here;
     claim(here, agent);
+    return false;
+  }
+
+  // Would `agent` moving into `v` close a cycle of agents each moving into the next one's cell? The
+  // chain from v: its occupant's move, that cell's occupant's move, ..., back to `agent`. Checked
+  // as each agent is planned, so the agent that would close a cycle (the last of it planned)
+  // takes another move instead of the whole configuration being thrown away.
+  bool closes_rotation(int agent, Vertex v) const {
+    const Config& to = *to_;
+    Vertex cell = v;
+    for (int hops = 0; hops <= n_; ++hops) {
+      const int occupant = occupied_now_[cell];
+      if (occupant == kNobody) return false;  // the chain ends at a free cell
+      if (occupant == agent) return true;
+      if (to[occupant] == kNoVertex || to[occupant] == cell) return false;  // not planned yet, or stays
+      cell = to[occupant];
+    }
     return false;
   }
 
