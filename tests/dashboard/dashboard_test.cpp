@@ -34,6 +34,7 @@ TEST(MessageJson, EveryMessageRoundTripsWithItsFieldNames) {
   state.status = RobotStatus::kMoving;
   state.seq_number = 18446744073709551615ull;  // uint64 survives
   state.stamp_ms = 1796196321817;
+  state.heading = 2;
   expect_round_trip(state);
   EXPECT_EQ(Json(state).at("status"), "moving");
   EXPECT_EQ(Json(state).at("robot_id"), "robot7");
@@ -53,6 +54,13 @@ TEST(MessageJson, EveryMessageRoundTripsWithItsFieldNames) {
   expect_round_trip(fleet_transport::TaskRequest{"id", fleet_transport::TaskAction::kCancel, 1, 2, "", 5});
   EXPECT_EQ(Json(fleet_transport::TaskRequest{}).at("action"), "add");
   expect_round_trip(fleet_transport::TaskReply{"id", 1, true, "ok", 3, "a", "task 0 ...\n"});
+  // A recording made before headings existed loads, heading unknown.
+  Json before_headings = state;
+  before_headings.erase("heading");
+  EXPECT_EQ(before_headings.get<fleet_transport::RobotState>().heading, -1);
+  Json command = fleet_transport::StepCommand{"r", 2, 3, 4, 5, 4.0, 5.0, 99, 7, 98};
+  command.erase("target_heading");
+  EXPECT_EQ(command.get<fleet_transport::StepCommand>().target_heading, -1);
   // A message missing a field is refused, naming it.
   Json broken = state;
   broken.erase("cell_y");
