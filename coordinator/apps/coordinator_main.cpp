@@ -48,10 +48,6 @@ struct Overrides {
     if (!identity.empty()) config.security_identity = identity;
     if (!actions.empty()) {
       config.actions = actions == "rotate" ? planner_core::ActionModel::kRotate : planner_core::ActionModel::kMove4;
-      if (config.lifelong && config.actions == planner_core::ActionModel::kRotate) {
-        throw planner_core::InputError("--actions rotate: not available with lifelong: true (" + config.source +
-                                       ") yet; the lifelong windows plan without turns");
-      }
     }
   }
 };

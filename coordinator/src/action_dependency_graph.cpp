@@ -22,6 +22,9 @@ void ActionDependencyGraph::extend(const planner_core::Solution& more, const pla
     throw std::invalid_argument("the plan has " + std::to_string(more.size()) + " steps but headings for " +
                                 std::to_string(headings.size()));
   }
+  if (!headings.empty() && !last_headings_.empty() && headings[0] != last_headings_) {
+    throw std::invalid_argument("the plan's extension does not start facing the way the plan ends");
+  }
   const int robots = robot_count();
   const auto heading = [&](size_t s, int r) { return headings.empty() ? -1 : headings[s][r]; };
   for (size_t s = 1; s < more.size(); ++s) {
@@ -50,6 +53,7 @@ void ActionDependencyGraph::extend(const planner_core::Solution& more, const pla
   }
   steps_ += static_cast<int>(more.size()) - 1;
   last_ = more.back();
+  if (!headings.empty()) last_headings_ = headings.back();
 }
 
 void ActionDependencyGraph::forget_before(int robot, int index) {

@@ -189,10 +189,6 @@ FleetConfig load_fleet_config(const std::string& path) {
   if (const YAML::Node dds = root["dds"]) read_dds(r, dds, config);
   if (const YAML::Node security = root["security"]) read_security(r, security, config);
   if (const YAML::Node timing = root["timing"]) read_timing(r, timing, config);
-  if (config.lifelong && config.actions == planner_core::ActionModel::kRotate) {
-    r.fail(root["planner"]["actions"], "planner.actions",
-           "rotate is not available with lifelong: true yet (the lifelong windows plan without turns); use move4");
-  }
   return config;
 }
 

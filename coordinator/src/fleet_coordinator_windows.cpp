@@ -70,7 +70,7 @@ void FleetCoordinator::extend_plan(fleet_transport::Transport& transport) {
   const Clock::time_point started = now;
   PlanWindow window;
   try {
-    window = windows_->plan(plan_->last_configuration(), agents, kWindowSteps,
+    window = windows_->plan({plan_->last_configuration(), plan_->last_headings()}, agents, kWindowSteps,
                             planner_core::Deadline::in_seconds(kWindowBudgetS));
   } catch (const std::logic_error& e) {
     spdlog::critical("{}; it is not sent", e.what());
@@ -90,9 +90,11 @@ void FleetCoordinator::extend_plan(fleet_transport::Transport& transport) {
   stretch.graph = plan_->graph();
   stretch.starts = window.steps.front();
   stretch.goals = window.steps.back();
+  stretch.actions = mission_.actions;
+  if (!window.headings.empty()) stretch.start_headings = window.headings.front();
   stretch.index_tasks();
-  const planner_core::ValidationReport report =
-      planner_core::validate(stretch, window.steps, {.forbid_rotations = true, .first_stretch = true});
+  const planner_core::ValidationReport report = planner_core::validate(
+      stretch, window.steps, {.forbid_rotations = true, .first_stretch = true}, window.headings);
   if (!report.ok()) {
     spdlog::critical("a lifelong window failed validation; it is not sent:\n{}", report.summary());
     request_replan("an invalid lifelong window");
@@ -100,7 +102,7 @@ void FleetCoordinator::extend_plan(fleet_transport::Transport& transport) {
   }
   int64_t moves_before = 0;
   for (int a = 0; a < plan_->agent_count(); ++a) moves_before += plan_->move_count(a);
-  plan_->extend(window.steps);
+  plan_->extend(window.steps, window.headings);
   mark_planned_visits(window.steps);
   int64_t moves_after = 0;
   for (int a = 0; a < plan_->agent_count(); ++a) moves_after += plan_->move_count(a);

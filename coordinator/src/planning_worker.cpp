@@ -53,9 +53,15 @@ planner_core::SolveResult PlanningWorker::first_window(const PlanningRequest& re
   for (const planner_core::Task& task : instance.tasks) {
     for (int a : task.agents) agents[a].errands.push_back(task.at);
   }
-  WindowPlanner windows(instance.graph, request.solver.seed);
+  WindowPlanner windows(instance.graph, request.solver.seed, instance.actions);
+  planner_core::Headings headings;
+  if (instance.actions == planner_core::ActionModel::kRotate) {
+    for (int a = 0; a < instance.agent_count(); ++a) headings.push_back(instance.start_heading(a));
+  }
+  PlanWindow window = windows.plan({instance.starts, headings}, agents, request.window_steps, deadline);
   planner_core::SolveResult result;
-  result.solution = windows.plan(instance.starts, agents, request.window_steps, deadline).steps;
+  result.solution = std::move(window.steps);
+  result.headings = std::move(window.headings);
   result.solved = true;
   return result;
 }

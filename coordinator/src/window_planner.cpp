@@ -9,19 +9,26 @@ using planner_core::Vertex;
 
 namespace {
 
-planner_core::PibtLifelongSettings window_settings() {
+planner_core::PibtLifelongSettings window_settings(planner_core::ActionModel actions) {
   planner_core::PibtLifelongSettings settings;
   settings.forbid_rotations = true;
+  settings.actions = actions;
   return settings;
 }
 
 }  // namespace
 
-WindowPlanner::WindowPlanner(std::shared_ptr<const planner_core::Graph> graph, uint32_t seed)
-    : graph_(std::move(graph)), pibt_(*graph_, seed, window_settings()), distances_(*graph_) {}
+WindowPlanner::WindowPlanner(std::shared_ptr<const planner_core::Graph> graph, uint32_t seed,
+                             planner_core::ActionModel actions)
+    : graph_(std::move(graph)), actions_(actions), pibt_(*graph_, seed, window_settings(actions)), distances_(*graph_) {}
 
-PlanWindow WindowPlanner::plan(const Config& from, const std::vector<WindowAgent>& agents, int steps,
+PlanWindow WindowPlanner::plan(const planner_core::Poses& start, const std::vector<WindowAgent>& agents, int steps,
                                const planner_core::Deadline& deadline) {
+  const Config& from = start.cells;
+  const bool turning = actions_ == planner_core::ActionModel::kRotate;
+  if (turning && start.headings.size() != from.size()) {
+    throw std::invalid_argument("a window of robots that turn needs every agent's heading");
+  }
   const int n = static_cast<int>(from.size());
   if (static_cast<int>(agents.size()) != n) throw std::invalid_argument("a window needs one WindowAgent per agent");
   if (static_cast<int>(heading_for_.size()) != n) {
@@ -31,6 +38,7 @@ PlanWindow WindowPlanner::plan(const Config& from, const std::vector<WindowAgent
   }
   PlanWindow window;
   window.steps.push_back(from);
+  if (turning) window.headings.push_back(start.headings);
   window.reached.resize(n);
   std::vector<std::vector<Vertex>> left(n);  // errands still to reach, reachable ones only
   Config park(n);
@@ -48,12 +56,12 @@ PlanWindow WindowPlanner::plan(const Config& from, const std::vector<WindowAgent
       park[a] = from[a];  // nowhere else to wait
     }
   }
-  Config at = from;
+  planner_core::Poses at{from, turning ? start.headings : planner_core::Headings{}};
   // Settles the errands an agent stands on; then aims it at the nearest one left, or its parking cell.
   const auto aim = [&](int a) {
     for (size_t k = 0; k < left[a].size();) {
-      if (left[a][k] == at[a]) {
-        window.reached[a].push_back(at[a]);
+      if (left[a][k] == at.cells[a]) {
+        window.reached[a].push_back(at.cells[a]);
         left[a].erase(left[a].begin() + static_cast<std::ptrdiff_t>(k));
       } else {
         ++k;
@@ -62,7 +70,7 @@ PlanWindow WindowPlanner::plan(const Config& from, const std::vector<WindowAgent
     Vertex goal = park[a];
     int nearest = planner_core::kUnreachable;
     for (Vertex errand : left[a]) {
-      const int d = distances_.get(errand, at[a]);
+      const int d = distances_.get(errand, at.cells[a]);
       if (d < nearest) {
         nearest = d;
         goal = errand;
@@ -75,16 +83,17 @@ PlanWindow WindowPlanner::plan(const Config& from, const std::vector<WindowAgent
     bool settled = true;
     for (int a = 0; a < n; ++a) {
       goals[a] = aim(a);
-      settled = settled && left[a].empty() && at[a] == park[a];
+      settled = settled && left[a].empty() && at.cells[a] == park[a];
     }
     if (settled) break;
-    Config next = pibt_.next_step({at, {}}, goals, deadline).cells;
-    planner_core::StepFault fault = planner_core::find_step_fault(*graph_, at, next);
-    if (fault.what.empty()) fault = planner_core::find_rotation(at, next);
+    planner_core::Poses next = pibt_.next_step(at, goals, deadline);
+    planner_core::StepFault fault = planner_core::find_pose_fault(*graph_, actions_, at, next);
+    if (fault.what.empty()) fault = planner_core::find_rotation(at.cells, next.cells);
     if (!fault.what.empty()) throw std::logic_error("the lifelong window's step " + std::to_string(step + 1) + " is invalid: " + fault.what);
     at = std::move(next);
-    window.steps.push_back(at);
-    note_gains(at, goals);
+    window.steps.push_back(at.cells);
+    if (turning) window.headings.push_back(at.headings);
+    note_gains(at.cells, goals);
   }
   for (int a = 0; a < n; ++a) {
     aim(a);  // errands reached on the last step

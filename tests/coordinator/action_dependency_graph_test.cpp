@@ -171,7 +171,7 @@ TEST(ActionDependencyGraph, LifelongWindowsRunUnderDelaysWithoutCollisionOrDeadl
         ++given;
       }
     }
-    const PlanWindow next = windows.plan(plan.back(), agents, 5, planner_core::Deadline::in_seconds(5));
+    const PlanWindow next = windows.plan({plan.back(), {}}, agents, 5, planner_core::Deadline::in_seconds(5));
     for (int a = 0; a < instance.agent_count(); ++a) {
       for (Vertex cell : next.reached[a]) {
         const auto at = std::find(agents[a].errands.begin(), agents[a].errands.end(), cell);

@@ -48,7 +48,7 @@ struct FakeRobot {
   int turns = 0;                 // quarter turns in place it was commanded
   int moves_off_heading = 0;     // commanded moves with a heading that it did not face when they came
   int bad_turns = 0;             // commanded turns in place of other than a quarter turn, or moves
-                                 // whose skipped indices are not the turns they need
+                                 // whose skipped indices cannot be the turns they need
   int folded_moves = 0;          // moves with turns folded in (their index skips the turns')
 
   fleet_transport::RobotState state(int epoch, int action, fleet_transport::RobotStatus status) {
@@ -126,7 +126,10 @@ std::map<std::string, std::vector<planner_core::Cell>> run(
           if (command.target_heading >= 0 && skipped > 0) {  // turns folded into the move
             ++robot.folded_moves;
             robot.turns += skipped;
-            if (planner_core::turns_between(robot.heading, travel) != skipped) ++robot.bad_turns;
+            // Quarter turns folded in end facing the move's way: as many as it needs, or more by
+            // pairs that undo each other (a turn and back, as PIBT plans now and then).
+            const int needed = planner_core::turns_between(robot.heading, travel);
+            if (needed > skipped || (skipped - needed) % 2 != 0) ++robot.bad_turns;
           } else if (command.target_heading >= 0 && robot.heading != travel) {
             ++robot.moves_off_heading;
           }
@@ -1264,6 +1267,38 @@ TEST(FleetCoordinator, PlansWithTurnsTurnEveryRobotBeforeItMovesAlsoAfterAReplan
     EXPECT_GT(turns, 8);  // they did turn: every robot but those facing their first way must
     EXPECT_GT(folded, 0);  // and turns went with the moves after them when those could start
   }
+}
+
+// Lifelong with turns: a stream of tasks taken up as the plan grows by windows planned with turns;
+// every robot faces its way before each move, every task is done, the fleet never stops to replan.
+TEST(FleetCoordinator, ALifelongFleetThatTurnsTakesUpAStreamOfTasksTurningBeforeEveryMove) {
+  planner_core::Instance mission = planner_core::load_instance(CTSFLEET_CONFIG_DIR "/default/mission-8.yaml");
+  std::vector<FakeRobot> robots = robots_on_their_starts(mission);
+  for (size_t r = 0; r < robots.size(); ++r) robots[r].heading = static_cast<int>(r % 4);
+  const int mission_tasks = mission.task_count();
+  FleetConfig config = config_for(mission.agent_count());
+  config.lifelong = true;
+  config.actions = planner_core::ActionModel::kRotate;
+  TaskStream stream(*mission.graph);
+  FleetCoordinator coordinator(config, std::move(mission));
+  int after_done = 0;
+  const auto visited = run(coordinator, robots, {}, [&](FleetCoordinator& c, FakeTransport& wire, int) {
+    return !stream.feed(c, wire) || ++after_done < 100;
+  });
+  EXPECT_TRUE(stream.refused.empty()) << stream.refused.front();
+  const MissionSummary& summary = coordinator.summary();
+  EXPECT_EQ(summary.tasks_total, mission_tasks + stream.total);
+  EXPECT_EQ(summary.tasks_done, summary.tasks_total);
+  EXPECT_EQ(summary.replans, 0);
+  EXPECT_GT(summary.windows, 10);
+  expect_only_steps(visited);
+  int turns = 0;
+  for (const FakeRobot& robot : robots) {
+    EXPECT_EQ(robot.moves_off_heading, 0) << robot.id;
+    EXPECT_EQ(robot.bad_turns, 0) << robot.id;
+    turns += robot.turns;
+  }
+  EXPECT_GT(turns, 8);
 }
 
 }  // namespace

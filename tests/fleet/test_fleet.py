@@ -556,8 +556,6 @@ class FleetTest(unittest.TestCase):
             (f"mission: {mission}\nplanner:\n  pibt_swap: maybe\n", "swap.yaml", "planner.pibt_swap"),
             ("mission: nowhere.yaml\n", "missing-mission.yaml", "nowhere.yaml"),
             (f"mission: {mission}\nplanner:\n  actions: fly\n", "actions.yaml", "planner.actions"),
-            (f"mission: {mission}\nlifelong: true\nplanner:\n  actions: rotate\n", "lifelong-rotate.yaml",
-             "rotate is not available with lifelong"),
         ]
         for text, name, expected in cases:
             result = coordinator_with(text, name)

@@ -56,6 +56,8 @@ class ActionDependencyGraph {
   // Timesteps in the plan so far, and its last configuration.
   int plan_steps() const { return steps_; }
   const planner_core::Config& last_configuration() const { return last_; }
+  // Plans with turns: the headings at the plan's last step (empty otherwise).
+  const planner_core::Headings& last_headings() const { return last_headings_; }
   // May robot r start move k, given how many moves each robot has finished?
   bool ready(int robot, int move, const std::vector<int>& finished) const {
     return ready(robot, move, [&finished](int other) { return finished[other]; });
@@ -76,6 +78,7 @@ class ActionDependencyGraph {
   // Per cell, each robot's latest departure from it so far (robot -> move index).
   std::unordered_map<planner_core::Vertex, std::map<int, int>> last_departures_;
   planner_core::Config last_;
+  planner_core::Headings last_headings_;
   int steps_ = 0;
 };
 

@@ -62,10 +62,14 @@ class PlanExecution {
   bool allows(int a, planner_core::Cell cell) const;
   // The plan goes on (lifelong mode): `more` starts with the configuration the plan ends on
   // (else std::invalid_argument); the robots' progress is kept.
-  void extend(const planner_core::Solution& more) { adg_.extend(more); }
+  void extend(const planner_core::Solution& more, const planner_core::HeadingPlan& headings = {}) {
+    adg_.extend(more, headings);
+  }
   int plan_steps() const { return adg_.plan_steps(); }
   // The plan's last configuration, in the vertices of its own map (graph()).
   const planner_core::Config& last_configuration() const { return adg_.last_configuration(); }
+  // Plans with turns: the headings the plan ends with (empty otherwise).
+  const planner_core::Headings& last_headings() const { return adg_.last_headings(); }
   const std::shared_ptr<const planner_core::Graph>& graph() const { return graph_; }
   // The plan's timestep up to which agent a has carried it out: the step before its next move,
   // or the plan's end when it has made every move.

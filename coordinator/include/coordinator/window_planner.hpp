@@ -4,7 +4,9 @@
 // time by PIBT (planner_core/lifelong.hpp) without rotations, so that the Action Dependency Graph
 // can carry them out. Each agent heads for the nearest of its errands, then the nearest of the
 // rest, then parks. Every step is checked (moves to neighbours only, no two agents on one cell, no
-// swap, no cycle) before the window is handed back. No DDS, no clock beyond the deadline.
+// swap, no cycle) before the window is handed back. No DDS, no clock beyond the deadline. In the
+// rotation model (robots that turn) each step is forward, a quarter turn or a wait, and the window
+// carries every agent's heading at every step.
 #pragma once
 
 #include <cstdint>
@@ -25,6 +27,7 @@ struct WindowAgent {
 
 struct PlanWindow {
   planner_core::Solution steps;  // steps[0] is the configuration it starts from; 1 row: nothing to do
+  planner_core::HeadingPlan headings;  // rotation model: each step's headings (steps' rows); empty otherwise
   // Per agent, the errands it reaches within the window, in order (one entry per errand of the
   // request it settles, so a repeated cell reached once settles each repeat in turn).
   std::vector<std::vector<planner_core::Vertex>> reached;
@@ -39,12 +42,13 @@ class WindowPlanner {
  public:
   static constexpr int kStalledSteps = 100;
 
-  WindowPlanner(std::shared_ptr<const planner_core::Graph> graph, uint32_t seed);
+  WindowPlanner(std::shared_ptr<const planner_core::Graph> graph, uint32_t seed,
+                planner_core::ActionModel actions = planner_core::ActionModel::kMove4);
 
   // Stops early once every agent is parked with no errand left. `from` is where the last window
-  // ended (the same agents, in the same order). Throws std::logic_error when a
-  // step fails its check (a bug: nothing of it may be sent).
-  PlanWindow plan(const planner_core::Config& from, const std::vector<WindowAgent>& agents, int steps,
+  // ended (the same agents, in the same order; in the rotation model with their headings). Throws
+  // std::logic_error when a step fails its check (a bug: nothing of it may be sent).
+  PlanWindow plan(const planner_core::Poses& from, const std::vector<WindowAgent>& agents, int steps,
                   const planner_core::Deadline& deadline);
 
  private:
@@ -52,6 +56,7 @@ class WindowPlanner {
   void note_gains(const planner_core::Config& at, const planner_core::Config& goals);
 
   std::shared_ptr<const planner_core::Graph> graph_;
+  planner_core::ActionModel actions_;
   planner_core::PibtLifelong pibt_;
   planner_core::DistTable distances_;  // to errands and parking cells
   // Per agent, across windows: the cell it heads for, the nearest it came, steps since it did.
