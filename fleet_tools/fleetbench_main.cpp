@@ -150,6 +150,14 @@ int main(int argc, char** argv) {
       ->check(ctsfleet::count_in(0, 232))
       ->capture_default_str();
   app.add_flag("--json", json, "print one JSON object per fleet size instead of the table");
+  std::string actions = "move4";
+  app.add_option("--actions", actions, "task-stream: plans without turns (move4) or with (rotate)")
+      ->check(CLI::IsMember({"move4", "rotate"}))
+      ->capture_default_str();
+  double turn_s = 0;
+  app.add_option("--turn", turn_s, "task-stream: seconds per quarter turn of the sim robots (0: free)")
+      ->check(ctsfleet::number_in(0, 60))
+      ->capture_default_str();
   coordinator::StreamTimeline timeline;
   app.add_option("--warmup", timeline.warmup_s, "task-stream: seconds from the first plan before tasks are counted")
       ->check(ctsfleet::number_in(0, 3600))
@@ -207,6 +215,8 @@ int main(int argc, char** argv) {
       settings.vendor = vendor;
       settings.dds_config_dir = dds_config_dir;
       settings.step_s = step;
+      settings.actions = actions;
+      settings.turn_s = turn_s;
       settings.timeline = timeline;
       settings.json = json;
       coordinator::print_task_stream_header(settings);

@@ -52,7 +52,7 @@ class InProcessTransport : public fleet_transport::Transport {
 }  // namespace
 
 StreamFigures run_in_process_fleet(const FleetConfig& config, const planner_core::Instance& mission, double step_s,
-                                   double jitter, TaskStream& stream, const StreamTimeline& timeline,
+                                   double jitter, double turn_s, TaskStream& stream, const StreamTimeline& timeline,
                                    const std::atomic<bool>& stop) {
   // Its log would drown the benchmark's table: warnings and errors only, as they matter.
   const spdlog::level::level_enum level = spdlog::get_level();
@@ -69,6 +69,7 @@ StreamFigures run_in_process_fleet(const FleetConfig& config, const planner_core
     robot_agent::SimSettings sim;
     sim.step_s = step_s;
     sim.jitter = jitter;
+    sim.turn_s = turn_s;
     sim.seed = static_cast<uint32_t>(r + 1);
     const planner_core::Cell start = mission.graph->cell_of(mission.starts[r]);
     robots.push_back(std::make_unique<robot_agent::SimRobot>(robot_agent::Cell{start.x, start.y}, sim));

@@ -29,9 +29,10 @@ struct StreamFigures {
   bool interrupted = false;
 };
 
-// Runs `mission` with `config` (lifelong) and robots whose moves take `step_s` * (1 + U[0, jitter]).
+// Runs `mission` with `config` (lifelong) and robots whose moves take `step_s` * (1 + U[0, jitter])
+// (and a quarter turn `turn_s` as much).
 StreamFigures run_in_process_fleet(const FleetConfig& config, const planner_core::Instance& mission, double step_s,
-                                   double jitter, TaskStream& stream, const StreamTimeline& timeline,
+                                   double jitter, double turn_s, TaskStream& stream, const StreamTimeline& timeline,
                                    const std::atomic<bool>& stop);
 
 }  // namespace coordinator

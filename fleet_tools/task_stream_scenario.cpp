@@ -64,7 +64,8 @@ StreamFigures run_fleet_of_processes(const TaskStreamSettings& settings, const p
     const planner_core::Cell start = mission.graph->cell_of(mission.starts[r]);
     std::vector<std::string> args{(settings.programs / "ctsfleet-agent").string(), "--id", "robot" + std::to_string(r),
                                   "--start", std::to_string(start.x) + "," + std::to_string(start.y), "--step",
-                                  std::to_string(settings.step_s), "--jitter", std::to_string(settings.jitter)};
+                                  std::to_string(settings.step_s), "--jitter", std::to_string(settings.jitter),
+                                  "--turn", std::to_string(settings.turn_s)};
     args.insert(args.end(), dds.begin(), dds.end());
     agents.push_back(start_child(with_extra(args), (settings.work / ("stream-robot" + std::to_string(r) + ".log")).string()));
   }
@@ -158,6 +159,7 @@ bool run_task_stream(const TaskStreamSettings& settings, int robots, int domain)
   const fs::path config_file = settings.work / ("stream-fleet-" + std::to_string(robots) + ".yaml");
   std::ofstream(config_file) << "mission: " << mission_file.string() << "\nlifelong: true\nrobots:\n  quorum: " << robots
                              << "\n  wait_timeout_s: 120\nplanner:\n  solver: cts-pll-v2\n  time_limit_s: 5\n"
+                             << "  actions: " << settings.actions << "\n"
                              << "  replan_solver: cts-pll-v2\n  replan_time_limit_s: 5\ndds:\n  vendor: " << settings.vendor
                              << "\n  domain_id: " << domain << "\n  config_dir: " << settings.dds_config_dir
                              << "\ntiming:\n  step_s: " << settings.step_s << "\n  silence_timeout_s: 3\n";
@@ -170,7 +172,7 @@ bool run_task_stream(const TaskStreamSettings& settings, int robots, int domain)
   if (processes.interrupted) return false;
   TaskStream in_process_stream(*graph, robots, mission.task_count(), seed, "stream");
   const StreamFigures in_process = run_in_process_fleet(load_fleet_config(config_file.string()), mission, settings.step_s,
-                                                        settings.jitter, in_process_stream, settings.timeline,
+                                                        settings.jitter, settings.turn_s, in_process_stream, settings.timeline,
                                                         ctsfleet::stop_requested());
   if (in_process.interrupted) return false;
   const double ratio = in_process.tasks_per_minute > 0 ? processes.tasks_per_minute / in_process.tasks_per_minute : 0;

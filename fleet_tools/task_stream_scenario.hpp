@@ -22,6 +22,8 @@ struct TaskStreamSettings {
   std::vector<std::string> extra_options;  // every process's (security, discovery)
   double step_s = 0.2;
   double jitter = 0.1;
+  std::string actions = "move4";  // planner.actions: rotate plans with turns
+  double turn_s = 0;              // the sim robots' quarter turn (0: free)
   StreamTimeline timeline;
   bool json = false;
 };
