@@ -47,7 +47,7 @@ struct Overrides {
     if (!security_dir.empty()) config.security_dir = security_dir;
     if (!identity.empty()) config.security_identity = identity;
     if (!actions.empty()) {
-      config.actions = actions == "rotate" ? planner_core::ActionModel::kRotate : planner_core::ActionModel::kMove4;
+      config.actions = planner_core::parse_action_model(actions, "--actions");
     }
   }
 };

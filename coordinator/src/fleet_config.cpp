@@ -77,7 +77,7 @@ void read_planner(const planner_core::YamlContext& r, const YAML::Node& planner,
     std::string text;
     r.read(planner, "actions", "planner", text);
     if (text != "move4" && text != "rotate") r.fail(actions, "planner.actions", "must be move4 or rotate, not '" + text + "'");
-    config.actions = text == "rotate" ? planner_core::ActionModel::kRotate : planner_core::ActionModel::kMove4;
+    config.actions = planner_core::parse_action_model(text, "planner.actions");
   }
   r.read(planner, "solver", "planner", config.solver);
   r.read(planner, "time_limit_s", "planner", config.plan_time_s);

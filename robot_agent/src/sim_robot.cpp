@@ -15,12 +15,6 @@ Clock::duration seconds(double s) {
   return std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(s));
 }
 
-// The quarter turns from one heading to another: 0, 1 or 2.
-int quarter_turns(int from, int to) {
-  const int difference = ((to - from) % 4 + 4) % 4;
-  return difference == 3 ? 1 : difference;
-}
-
 }  // namespace
 
 SimRobot::SimRobot(Cell start, const SimSettings& settings)
@@ -41,7 +35,7 @@ bool SimRobot::start_move(Cell target, int target_heading) {
   if (target_) return false;
   const int travel = planner_core::heading_between(cell_, target);
   const int end_heading = travel >= 0 ? travel : target_heading >= 0 ? target_heading % 4 : heading_;
-  const int turns = quarter_turns(heading_, end_heading);
+  const int turns = planner_core::quarter_turns(heading_, end_heading);
   const double stretch = 1.0 + std::uniform_real_distribution<double>(0.0, settings_.jitter)(rng_);
   // A turn in place is a step of its own (no move after it); a wait or a move takes step_s.
   const bool turn_only = travel < 0 && turns > 0;

@@ -26,6 +26,12 @@ inline int nearest_heading(double theta) {
   return static_cast<int>(((quarters % 4) + 4) % 4);
 }
 
+// The quarter turns from one heading to another: 0, 1 (either way) or 2.
+inline int quarter_turns(int from, int to) {
+  const int difference = ((to - from) % 4 + 4) % 4;
+  return difference == 3 ? 1 : difference;
+}
+
 // The angle of a heading, radians clockwise from the grid's +x axis.
 inline double heading_angle(int heading) { return heading * (std::numbers::pi / 2); }
 
