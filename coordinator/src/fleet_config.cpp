@@ -71,7 +71,7 @@ void read_robots(const planner_core::YamlContext& r, const YAML::Node& robots, F
 void read_planner(const planner_core::YamlContext& r, const YAML::Node& planner, FleetConfig& config) {
   r.only_keys(planner,
               {"solver", "time_limit_s", "replan_solver", "replan_time_limit_s", "pibt_swap", "seed", "iterations",
-               "actions"},
+               "actions", "lns_stall_iterations"},
               "planner");
   if (const YAML::Node actions = planner["actions"]) {
     std::string text;
@@ -86,6 +86,8 @@ void read_planner(const planner_core::YamlContext& r, const YAML::Node& planner,
   r.read(planner, "pibt_swap", "planner", config.pibt_swap);
   r.read(planner, "seed", "planner", config.seed);
   r.read(planner, "iterations", "planner", config.iterations);
+  r.read(planner, "lns_stall_iterations", "planner", config.lns_stall_iterations);
+  check_range(r, planner, "planner.lns_stall_iterations", config.lns_stall_iterations, 0, 100000000, false);
   check_range(r, planner, "planner.seed", static_cast<double>(config.seed), 0, 4294967295.0, false);
   check_range(r, planner, "planner.iterations", static_cast<double>(config.iterations), 0,
               static_cast<double>(planner_core::kMaxIterations), false);
@@ -197,6 +199,7 @@ planner_core::SolverConfig FleetConfig::solver_config(bool first_plan) const {
   config.solver = first_plan ? solver : replan_solver;
   config.forbid_rotations = true;
   config.pibt.swap = pibt_swap;
+  config.lns.stall_iterations = lns_stall_iterations;
   config.seed = static_cast<uint32_t>(seed);
   return config;
 }

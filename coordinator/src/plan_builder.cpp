@@ -77,7 +77,8 @@ PlanInstance build_plan_instance(const planner_core::Instance& mission, const Mi
     instance.goals.push_back(goal);
     if (instance.actions == planner_core::ActionModel::kRotate) {
       if (member->heading < 0 || member->heading > 3) {
-        out.notes.push_back("robot " + member->robot_id + " reports no heading; planned as facing east");
+        out.notes.push_back("robot " + member->robot_id +
+                            " reports no heading; planned as facing east, its moves confirmed by their cells");
       }
       instance.start_headings.push_back(member->heading >= 0 && member->heading <= 3 ? member->heading : 0);
     }

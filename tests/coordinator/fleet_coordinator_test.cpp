@@ -50,6 +50,8 @@ struct FakeRobot {
   int bad_turns = 0;             // commanded turns in place of other than a quarter turn, or moves
                                  // whose skipped indices cannot be the turns they need
   int folded_moves = 0;          // moves with turns folded in (their index skips the turns')
+  int hand_turn_after = -1;      // turned half round by hand after this many moves
+  bool knows_heading = true;     // false: reports heading -1 (a robot with no compass), turns as told
 
   fleet_transport::RobotState state(int epoch, int action, fleet_transport::RobotStatus status) {
     fleet_transport::RobotState s;
@@ -61,7 +63,7 @@ struct FakeRobot {
     s.status = status;
     s.seq_number = ++seq;
     s.coordinator = coordinator;
-    s.heading = heading;
+    s.heading = knows_heading ? heading : -1;
     s.incarnation = incarnation;
     return s;
   }
@@ -144,6 +146,7 @@ std::map<std::string, std::vector<planner_core::Cell>> run(
         robot.action = command.action_index;
         robot.coordinator = command.coordinator;
         if (++robot.moves == robot.teleport_after) robot.cell = robot.teleport_to;
+        if (robot.moves == robot.hand_turn_after) robot.heading = (robot.heading + 2) % 4;
         visited[robot.id].push_back(robot.cell);
         coordinator.on_state(robot.state(command.plan_epoch, command.action_index, fleet_transport::RobotStatus::kArrived));
       }
@@ -1299,6 +1302,80 @@ TEST(FleetCoordinator, ALifelongFleetThatTurnsTakesUpAStreamOfTasksTurningBefore
     turns += robot.turns;
   }
   EXPECT_GT(turns, 8);
+}
+
+// Plans with turns meet robots that do not face the way the plan has them: one turned half round
+// by hand between two commands, one whose body reports no heading at all (-1: it is confirmed by
+// its cell, as a robot in a four-way plan). Neither stops the mission: the turned robot's next
+// move ends facing its way, the mission completes without a replan, and the others keep to their
+// headings.
+TEST(FleetCoordinator, PlansWithTurnsGoOnWithARobotTurnedByHandAndOneThatKnowsNoHeading) {
+  planner_core::Instance mission = planner_core::load_instance(CTSFLEET_CONFIG_DIR "/default/mission-8.yaml");
+  std::vector<FakeRobot> robots = robots_on_their_starts(mission);
+  robots[2].hand_turn_after = 3;
+  robots[5].hand_turn_after = 1;
+  robots[6].knows_heading = false;
+  FleetConfig config = config_for(mission.agent_count());
+  config.actions = planner_core::ActionModel::kRotate;
+  FleetCoordinator coordinator(config, std::move(mission));
+  run(coordinator, robots);
+  const MissionSummary& summary = coordinator.summary();
+  EXPECT_TRUE(summary.completed);
+  EXPECT_EQ(summary.tasks_done, summary.tasks_total);
+  EXPECT_EQ(summary.replans, 0);
+  EXPECT_GE(robots[2].moves, 3);
+  EXPECT_GE(robots[5].moves, 1);
+  for (const FakeRobot& robot : robots) {
+    if (robot.id == "robot2" || robot.id == "robot5") continue;  // they turn where the plan did not expect
+    EXPECT_EQ(robot.moves_off_heading, 0) << robot.id;
+    EXPECT_EQ(robot.bad_turns, 0) << robot.id;
+  }
+}
+
+// A robot's process restarts part way, its body now facing the other way (carried, or the agent
+// started with another --heading): the restart takes it out, it rejoins, and the replan starts it
+// from the heading it reports, so every move it is sent goes the way it faces after the turns
+// planned for it.
+TEST(FleetCoordinator, ARobotRestartedFacingAnotherWayIsReplannedFromItsNewHeading) {
+  planner_core::Instance mission = planner_core::load_instance(CTSFLEET_CONFIG_DIR "/default/mission-8.yaml");
+  std::vector<FakeRobot> robots = robots_on_their_starts(mission);
+  for (size_t r = 0; r < robots.size(); ++r) robots[r].incarnation = 0x100 + r;
+  FleetConfig config = config_for(mission.agent_count());
+  config.actions = planner_core::ActionModel::kRotate;
+  config.replacement_timeout_s = 10;  // the others wait for it: its role's tasks are left
+  FleetCoordinator coordinator(config, std::move(mission));
+  enum class Phase { kRunning, kDown, kBack } phase = Phase::kRunning;
+  std::chrono::steady_clock::time_point went_down;
+  FakeRobot& restarting = robots[4];
+  int moves_before_restart = 0;
+  run(coordinator, robots, {}, [&](FleetCoordinator& c, FakeTransport&, int) {
+    if (phase == Phase::kRunning && restarting.moves >= 3) {
+      phase = Phase::kDown;
+      restarting.silent = true;
+      went_down = std::chrono::steady_clock::now();
+    } else if (phase == Phase::kDown && std::chrono::steady_clock::now() - went_down > std::chrono::milliseconds(1500)) {
+      phase = Phase::kBack;
+      restarting.silent = false;
+      restarting.incarnation = 0x999;
+      restarting.heading = (restarting.heading + 1) % 4;  // a quarter off: every first action tells
+      restarting.epoch = restarting.action = -1;
+      restarting.coordinator = 0;
+      restarting.moves_off_heading = restarting.bad_turns = 0;  // counted from the new plan on
+      moves_before_restart = restarting.moves;
+      c.on_state(restarting.state(-1, -1, fleet_transport::RobotStatus::kIdle));
+    }
+    return true;
+  });
+  ASSERT_EQ(phase, Phase::kBack);
+  const MissionSummary& summary = coordinator.summary();
+  EXPECT_TRUE(summary.completed);
+  EXPECT_EQ(summary.tasks_done, summary.tasks_total);
+  EXPECT_GE(summary.robots_joined, 1);
+  EXPECT_GT(restarting.moves, moves_before_restart);  // it went on, under the replan
+  for (const FakeRobot& robot : robots) {
+    EXPECT_EQ(robot.moves_off_heading, 0) << robot.id;
+    EXPECT_EQ(robot.bad_turns, 0) << robot.id;
+  }
 }
 
 }  // namespace

@@ -206,13 +206,14 @@ class FailoverTest(unittest.TestCase):
         self.assert_safe()
 
     def test_a_slow_replan_never_makes_the_standby_take_over(self):
-        # Both coordinators replan with the anytime solver for 6 s (it uses its whole limit); the
-        # active one plans beside its loop, so its heartbeat goes on and the standby stays a standby.
+        # Both coordinators replan with the anytime solver for 6 s (with no stall limit it uses its
+        # whole limit, however few tasks are left); the active one plans beside its loop, so its
+        # heartbeat goes on and the standby stays a standby.
         with open(CONFIG) as f:
             config = yaml.safe_load(f)
         config["mission"] = os.path.abspath(MISSION)
         config["dds"]["config_dir"] = os.path.abspath(DDS_DIR)
-        config["planner"].update({"replan_solver": "cts-pll-v3", "replan_time_limit_s": 6.0})
+        config["planner"].update({"replan_solver": "cts-pll-v3", "replan_time_limit_s": 6.0, "lns_stall_iterations": 0})
         config["timing"]["replacement_timeout_s"] = 5
         slow = os.path.join(self.fleet.dir, "slow-replan.yaml")
         with open(slow, "w") as f:

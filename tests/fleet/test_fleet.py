@@ -556,6 +556,8 @@ class FleetTest(unittest.TestCase):
             (f"mission: {mission}\nplanner:\n  pibt_swap: maybe\n", "swap.yaml", "planner.pibt_swap"),
             ("mission: nowhere.yaml\n", "missing-mission.yaml", "nowhere.yaml"),
             (f"mission: {mission}\nplanner:\n  actions: fly\n", "actions.yaml", "planner.actions"),
+            (f"mission: {mission}\nplanner:\n  lns_stall_iterations: -1\n", "stall.yaml",
+             "planner.lns_stall_iterations"),
         ]
         for text, name, expected in cases:
             result = coordinator_with(text, name)

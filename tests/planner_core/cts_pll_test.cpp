@@ -125,6 +125,20 @@ TEST(CtsPll, InterruptStopsTheAnytimeLoop) {
   EXPECT_LT(result.comp_time_ms, 60000);
 }
 
+TEST(CtsPll, WithoutAStallLimitV3RefinesUntilItsDeadline) {
+  // Ten agents: the LNS runs out of gains fast, and by default stops after 300 repairs without one.
+  // With no stall limit (the fleet's planner.lns_stall_iterations: 0) it uses the whole budget.
+  const Instance instance = load_instance(testing::data_path("instances/random-32-32-20-N10-M30-00.yaml"));
+  SolverConfig config;
+  config.solver = "cts-pll-v3";
+  config.lns.stall_iterations = 0;
+  const SolveResult result = make_solver(config)->solve(instance, {Deadline::in_seconds(1), {}});
+  ASSERT_TRUE(result.solved);
+  EXPECT_GE(result.comp_time_ms, 990);
+  EXPECT_GT(result.lns_iterations, 300);
+  EXPECT_TRUE(validate(instance, result.solution).ok());
+}
+
 TEST(CtsPll, ForbiddenRotationsNeverAppear) {
   for (const char* file : {"instances/random-32-32-20-N10-M30-00.yaml", "instances/maze-32-32-2-N50-M60-00.yaml",
                            "instances/empty-32-32-N05-M50-00.yaml"}) {

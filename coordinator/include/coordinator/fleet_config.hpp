@@ -33,6 +33,9 @@ struct FleetConfig {
   int64_t seed = 0;
   int64_t iterations = 0;
   bool pibt_swap = true;         // Extended-PIBT's swap operation (helps in one-cell aisles)
+  // The anytime solvers' LNS ends after this many repairs without a gain; 0: it refines until the
+  // time limit (or the work budget) ends it.
+  int lns_stall_iterations = planner_core::LnsConfig{}.stall_iterations;
   // rotate: plans with turns (the robots turn in place before they move; each turn a step of the
   // plan and a command of its own); move4: plans in which robots move any way (turns left to them).
   planner_core::ActionModel actions = planner_core::ActionModel::kMove4;

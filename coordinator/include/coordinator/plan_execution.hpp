@@ -83,7 +83,8 @@ class PlanExecution {
   // move in flight in this epoch; nothing otherwise.
   std::optional<double> acknowledge(int a, const fleet_transport::RobotState& state, Clock::time_point received);
   // Confirms the move in flight when `state` says the robot ended it, standing still on its target
-  // (facing its heading, if it has one) in this epoch; returns that target (a cell the robot reached under the plan), or nothing.
+  // (facing the move's heading, if the move has one and the robot reports one) in this epoch;
+  // returns that target (a cell the robot reached under the plan), or nothing.
   std::optional<planner_core::Cell> confirm(int a, const fleet_transport::RobotState& state);
 
   // The command due for agent a at `now` (its next move once the ADG allows it, or the move in
