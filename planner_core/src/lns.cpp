@@ -142,16 +142,21 @@ std::vector<int> LnsRefiner::pick_neighbourhood(DestroyOperator op) {
   return random_agents({});
 }
 
-void LnsRefiner::load(const Solution& plan, const std::vector<std::vector<int>>& orders) {
+void LnsRefiner::load(const Solution& plan, const HeadingPlan* headings,
+                      const std::vector<std::vector<int>>& orders) {
   const int n = instance_.agent_count();
   const std::vector<int> arrival = arrival_times(plan, instance_.goals);
   paths_.assign(n, {});
+  path_headings_.assign(headings ? n : 0, {});
   targets_.assign(n, {});
   tour_length_.assign(n, 0);
   table_ = PathTable(instance_.graph->vertex_count());
   max_tour_ = 0;
   for (int a = 0; a < n; ++a) {
-    for (int t = 0; t <= arrival[a]; ++t) paths_[a].push_back(plan[t][a]);
+    for (int t = 0; t <= arrival[a]; ++t) {
+      paths_[a].push_back(plan[t][a]);
+      if (headings) path_headings_[a].push_back((*headings)[t][a]);
+    }
     for (int task : orders[a]) targets_[a].push_back(instance_.tasks[task].at);
     targets_[a].push_back(instance_.goals[a]);
     Vertex at = instance_.starts[a];
@@ -163,18 +168,28 @@ void LnsRefiner::load(const Solution& plan, const std::vector<std::vector<int>>&
   }
   table_.add_all(paths_);
   loaded_plan_ = plan;
+  loaded_headings_ = headings ? *headings : HeadingPlan{};
   loaded_orders_ = orders;
 }
 
-LnsStats LnsRefiner::refine(Solution& plan, const std::vector<std::vector<int>>& orders, const Deadline& deadline,
-                            const std::function<void(int64_t)>& on_improvement) {
+Path LnsRefiner::repair(int a, const SpaceTimeLimits& limits, std::vector<int>& headings) {
+  if (path_headings_.empty()) return planner_.plan(dist_, table_, instance_.starts[a], targets_[a], limits);
+  return planner_.plan_with_turns(dist_, table_, instance_.starts[a], instance_.start_heading(a), targets_[a], limits,
+                                  headings);
+}
+
+LnsStats LnsRefiner::run(Solution& plan, HeadingPlan* headings, const std::vector<std::vector<int>>& orders,
+                         const Deadline& deadline, const std::function<void(int64_t)>& on_improvement) {
   const int n = instance_.agent_count();
   LnsStats stats;
   stats.weights = weights_;
   if (deadline.expired()) return stats;  // not even the (long) loading of a new plan
   // Going on from where the last call left this very plan keeps its paths and table (rebuilding
   // them costs O(agents x makespan), a good part of a short slice at 10,000 agents).
-  if (plan != loaded_plan_ || orders != loaded_orders_) load(plan, orders);
+  if (plan != loaded_plan_ || orders != loaded_orders_ || (headings ? *headings : HeadingPlan{}) != loaded_headings_ ||
+      (headings != nullptr) != !path_headings_.empty()) {
+    load(plan, headings, orders);
+  }
   const int max_tour = max_tour_;
   int64_t flow = 0;
   int makespan = 0;
@@ -184,6 +199,8 @@ LnsStats LnsRefiner::refine(Solution& plan, const std::vector<std::vector<int>>&
   }
 
   std::vector<Path> old_paths, new_paths;
+  std::vector<std::vector<int>> new_headings;
+  std::vector<int> repaired_headings;
   int last_improvement = 0;
   while (!deadline.expired()) {
     if (config_.stall_iterations > 0 && stats.iterations - last_improvement >= config_.stall_iterations) break;
@@ -208,15 +225,17 @@ LnsStats LnsRefiner::refine(Solution& plan, const std::vector<std::vector<int>>&
     int64_t others_shortest = 0;
     for (int a : group) others_shortest += tour_length_[a];
     new_paths.clear();
+    new_headings.clear();
     int64_t new_cost = 0;
     for (int a : group) {
       others_shortest -= tour_length_[a];
       limits.max_length = static_cast<int>(std::min<int64_t>(old_cost - new_cost - others_shortest, 1 << 29));
-      Path path = planner_.plan(dist_, table_, instance_.starts[a], targets_[a], limits);
+      Path path = repair(a, limits, repaired_headings);
       if (path.empty()) break;
       new_cost += static_cast<int64_t>(path.size()) - 1;
       table_.add(a, path);
       new_paths.push_back(std::move(path));
+      if (headings) new_headings.push_back(repaired_headings);
     }
     const bool repaired = new_paths.size() == group.size();
     if (!repaired) ++stats.repair_failures;
@@ -225,6 +244,9 @@ LnsStats LnsRefiner::refine(Solution& plan, const std::vector<std::vector<int>>&
       ++stats.accepted;
       delta = static_cast<double>(old_cost - new_cost);
       for (size_t k = 0; k < group.size(); ++k) paths_[group[k]] = std::move(new_paths[k]);
+      if (headings) {
+        for (size_t k = 0; k < group.size(); ++k) path_headings_[group[k]] = std::move(new_headings[k]);
+      }
       if (new_cost < old_cost) {
         last_improvement = stats.iterations;
         flow -= old_cost - new_cost;
@@ -245,6 +267,15 @@ LnsStats LnsRefiner::refine(Solution& plan, const std::vector<std::vector<int>>&
     for (int a = 0; a < n; ++a) plan[t][a] = paths_[a][std::min<size_t>(t, paths_[a].size() - 1)];
   }
   loaded_plan_ = plan;
+  if (headings) {
+    headings->assign(makespan + 1, Headings(n));
+    for (int t = 0; t <= makespan; ++t) {
+      for (int a = 0; a < n; ++a) {
+        (*headings)[t][a] = path_headings_[a][std::min<size_t>(t, path_headings_[a].size() - 1)];
+      }
+    }
+    loaded_headings_ = *headings;
+  }
   stats.weights = weights_;
   return stats;
 }

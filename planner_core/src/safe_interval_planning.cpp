@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cstdint>
 
+#include "planner_core/action_model.hpp"
+
 namespace planner_core {
 
 SafeIntervalPlanner::SafeIntervalPlanner(const Graph& graph)
@@ -40,9 +42,12 @@ bool closes_rotation(const Graph& graph, const PathTable& table, Vertex from, Ve
 
 }  // namespace
 
-Path SafeIntervalPlanner::plan(DistTable& dist, const PathTable& table, Vertex start, const std::vector<Vertex>& targets,
-                               const SpaceTimeLimits& limits, int start_time) {
+Path SafeIntervalPlanner::search(DistTable& dist, const PathTable& table, Vertex start, int start_heading,
+                                 const std::vector<Vertex>& targets, const SpaceTimeLimits& limits, int start_time,
+                                 std::vector<int>* headings) {
   const Graph& graph = graph_;
+  const bool turning = start_heading >= 0;
+  const int heading_slots = turning ? kHeadings : 1;
   const int target_count = static_cast<int>(targets.size());
   const Vertex goal = targets.back();
   std::vector<int> suffix(target_count, 0);  // suffix[k]: from targets[k] through the rest to the goal
@@ -92,17 +97,17 @@ Path SafeIntervalPlanner::plan(DistTable& dist, const PathTable& table, Vertex s
     open.push_back({pushed.f, pushed.h, pushed.t, index});
     std::push_heap(open.begin(), open.end(), worse);
   };
-  // The earliest arrival expanded per (vertex, interval, targets done): per vertex an array over
-  // its intervals and the targets, made stale at once by the call's stamp (crowded cells have
-  // dozens of intervals; a list searched at each look-up cost LNS a tenth of its iterations on a
-  // dense maze).
-  const auto best_arrival = [&](Vertex v, int interval, int done) -> int& {
+  // The earliest arrival expanded per (vertex, interval, targets done, heading): per vertex an
+  // array over its intervals, the targets and the headings, made stale at once by the call's stamp
+  // (crowded cells have dozens of intervals; a list searched at each look-up cost LNS a tenth of
+  // its iterations on a dense maze).
+  const auto best_arrival = [&](Vertex v, int interval, int done, int heading) -> int& {
     std::vector<int>& at = best_arrival_[v];
     if (best_stamp_[v] != stamp_) {
       best_stamp_[v] = stamp_;
-      at.assign(intervals(v).size() * static_cast<size_t>(target_count), PathTable::kForever);
+      at.assign(intervals(v).size() * static_cast<size_t>(target_count) * heading_slots, PathTable::kForever);
     }
-    return at[static_cast<size_t>(interval) * target_count + done];
+    return at[(static_cast<size_t>(interval) * target_count + done) * heading_slots + heading];
   };
 
   const auto& start_intervals = intervals(start);
@@ -113,7 +118,7 @@ Path SafeIntervalPlanner::plan(DistTable& dist, const PathTable& table, Vertex s
   if (start_interval < 0) return {};
   const int start_done = advance(start, 0);
   store.push_back({start, start_interval, start_done, start_time, estimate(start, start_time, start_done),
-                   remaining(start, start_done), -1});
+                   remaining(start, start_done), -1, turning ? start_heading : 0});
   push(0);
   int expansions = 0;
   while (!open.empty()) {
@@ -121,7 +126,7 @@ Path SafeIntervalPlanner::plan(DistTable& dist, const PathTable& table, Vertex s
     const int index = open.back().index;
     open.pop_back();
     const State state = store[index];
-    int& best = best_arrival(state.v, state.interval, state.done);
+    int& best = best_arrival(state.v, state.interval, state.done, state.heading);
     if (best <= state.t) continue;
     best = state.t;
     const PathTable::Interval here = intervals(state.v)[state.interval];
@@ -131,12 +136,17 @@ Path SafeIntervalPlanner::plan(DistTable& dist, const PathTable& table, Vertex s
       for (int i = index; i >= 0; i = store[i].parent) chain.push_back(i);
       std::reverse(chain.begin(), chain.end());
       Path path;
+      if (headings) headings->clear();
       for (size_t k = 0; k < chain.size(); ++k) {
         const State& s = store[chain[k]];
         if (k > 0) {
-          while (static_cast<int>(path.size()) < s.t - start_time) path.push_back(path.back());
+          while (static_cast<int>(path.size()) < s.t - start_time) {
+            path.push_back(path.back());
+            if (headings) headings->push_back(headings->back());
+          }
         }
         path.push_back(s.v);
+        if (headings) headings->push_back(s.heading);
       }
       return path;
     }
@@ -145,7 +155,20 @@ Path SafeIntervalPlanner::plan(DistTable& dist, const PathTable& table, Vertex s
     if ((expansions & 1023) == 0 && limits.deadline.expired()) break;
     // The last moment we can leave this cell: the step after our interval closes.
     const int leave_by = here.last == PathTable::kForever ? PathTable::kForever : here.last + 1;
+    if (turning && state.t + 1 <= here.last && state.t + 1 <= limits.horizon) {
+      // A quarter turn either way, in place: the next step in the same safe interval.
+      const int t = state.t + 1;
+      const int f = std::max(t + state.h, earliest_rest);
+      if (f <= latest_arrival) {
+        for (const int heading : {turned_clockwise(state.heading), turned_counter_clockwise(state.heading)}) {
+          if (best_arrival(state.v, state.interval, state.done, heading) <= t) continue;
+          store.push_back({state.v, state.interval, state.done, t, f, state.h, index, heading});
+          push(static_cast<int>(store.size()) - 1);
+        }
+      }
+    }
     for (Vertex u : graph.neighbours(state.v)) {
+      if (turning && u != ahead(graph, state.v, state.heading)) continue;  // forward only
       const auto& slots = intervals(u);
       const int done = advance(u, state.done);
       const int to_go = remaining(u, done);
@@ -174,8 +197,8 @@ Path SafeIntervalPlanner::plan(DistTable& dist, const PathTable& table, Vertex s
         if (t > limits.horizon) break;
         const int f = std::max(t + to_go, earliest_rest);
         if (f > latest_arrival) break;
-        if (best_arrival(u, k, done) <= t) continue;
-        store.push_back({u, k, done, t, f, to_go, index});
+        if (best_arrival(u, k, done, state.heading) <= t) continue;
+        store.push_back({u, k, done, t, f, to_go, index, state.heading});
         push(static_cast<int>(store.size()) - 1);
       }
     }

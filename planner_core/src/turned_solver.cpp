@@ -3,6 +3,7 @@
 #include <set>
 
 #include "planner_core/guided_distances.hpp"
+#include "planner_core/lns.hpp"
 #include "planner_core/turning_execution.hpp"
 
 namespace planner_core {
@@ -30,6 +31,21 @@ int64_t turning_lower_bound(const Instance& instance, GuidedDistances& turning, 
     if (!turning.held(target)) return four_way_bound;
   }
   return tour_lower_bound(instance, turning, config);
+}
+
+int TurnedSolver::refine_with_turns(const Instance& instance, SolveResult& result, const SolveOptions& options) const {
+  DistTable dist(*instance.graph);
+  std::mt19937 rng(config_.seed);
+  LnsConfig lns_config = config_.lns;
+  lns_config.search.forbid_rotations = lns_config.search.forbid_rotations || config_.forbid_rotations;
+  LnsRefiner lns(instance, dist, lns_config, rng);
+  Solution plan = result.solution;
+  HeadingPlan headings = result.headings;
+  const std::vector<std::vector<int>> orders = result.orders;
+  const LnsStats stats = lns.refine_with_turns(plan, headings, orders, options.deadline);
+  keep_if_better(result, instance, plan, orders, 0, options.started, options, config_.solver + " (refined with turns)",
+                 headings);
+  return stats.iterations;
 }
 
 SolveResult TurnedSolver::solve(const Instance& instance, const SolveOptions& options) {
@@ -63,7 +79,11 @@ SolveResult TurnedSolver::solve(const Instance& instance, const SolveOptions& op
   const double budget_s = options.deadline.budget_left_s();
   const double turning_s = std::min(0.5 * budget_s, 50e-9 * instance.agent_count() *
                                                         (instance.graph->width() + instance.graph->height()) * 2);
-  four_way_options.deadline = options.deadline.slice(budget_s - turning_s);
+  // An anytime solver then refines the turned plan by LNS over cell and heading: the four-way
+  // search gets a share of what is left, the refinement with turns the rest.
+  const bool refines_with_turns = config_.solver == "cts-pll-v3";
+  four_way_options.deadline =
+      options.deadline.slice((budget_s - turning_s) * (refines_with_turns ? kFourWayShare : 1.0));
   // The first plan is turned as soon as it is found (the time to a first plan is the turned one's);
   // later ones only at the end, the final plan being the cheapest four-way plan.
   four_way_options.on_solution = [&](const SolveResult& planned) {
@@ -72,6 +92,10 @@ SolveResult TurnedSolver::solve(const Instance& instance, const SolveOptions& op
   const SolveResult planned = four_way_->solve(four_way, four_way_options);
   // The final plan, unless it is the one turned already (a solver with one plan, or no better one).
   if (planned.solved && planned.flowtime != turned_four_way_flowtime) keep_turned(planned);
+  int lns_iterations = 0;
+  if (refines_with_turns && result.solved && !options.deadline.expired()) {
+    lns_iterations = refine_with_turns(instance, result, options);
+  }
 
   const SolveResult turned = result;
   result = planned;  // the search's figures (sequences, releases, iterations, ...)
@@ -84,6 +108,7 @@ SolveResult TurnedSolver::solve(const Instance& instance, const SolveOptions& op
   result.first_solution_ms = turned.first_solution_ms;
   result.improvements = turned.improvements;
   result.orders = turned.orders;
+  result.lns_iterations += lns_iterations;
   result.lower_bound = lower_bound > 0 ? lower_bound : planned.lower_bound;
   if (planned.solved && !turned.solved && cycles) {
     result.failure_reason = "the four-way plan has agents moving in a cycle, which robots that turn cannot follow";

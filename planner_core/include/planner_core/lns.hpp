@@ -46,11 +46,25 @@ class LnsRefiner {
   // gets the new flowtime whenever it drops. Called again with the plan it returned, it goes on
   // where it stopped.
   LnsStats refine(Solution& plan, const std::vector<std::vector<int>>& orders, const Deadline& deadline,
-                  const std::function<void(int64_t flowtime)>& on_improvement = {});
+                  const std::function<void(int64_t flowtime)>& on_improvement = {}) {
+    return run(plan, nullptr, orders, deadline, on_improvement);
+  }
+  // The same in the rotation model (the instance's actions): `headings` are the plan's, and each
+  // repair is planned over cell and heading (SafeIntervalPlanner::plan_with_turns), from the
+  // instance's start headings.
+  LnsStats refine_with_turns(Solution& plan, HeadingPlan& headings, const std::vector<std::vector<int>>& orders,
+                             const Deadline& deadline, const std::function<void(int64_t flowtime)>& on_improvement = {}) {
+    return run(plan, &headings, orders, deadline, on_improvement);
+  }
 
  private:
-  // Sets up paths, targets and the path table for `plan`.
-  void load(const Solution& plan, const std::vector<std::vector<int>>& orders);
+  LnsStats run(Solution& plan, HeadingPlan* headings, const std::vector<std::vector<int>>& orders,
+               const Deadline& deadline, const std::function<void(int64_t flowtime)>& on_improvement);
+  // Sets up paths (and their headings, when given), targets and the path table for `plan`.
+  void load(const Solution& plan, const HeadingPlan* headings, const std::vector<std::vector<int>>& orders);
+  // Agent a's path from its start through its targets, avoiding the table: in the rotation model
+  // with its headings in `headings`. Empty when none is found within `limits`.
+  Path repair(int a, const SpaceTimeLimits& limits, std::vector<int>& headings);
   std::vector<int> pick_neighbourhood(DestroyOperator op);
   std::vector<int> random_agents(std::vector<int> chosen);
   std::vector<int> intersection_agents();
@@ -67,12 +81,14 @@ class LnsRefiner {
   std::array<double, kDestroyOperatorCount> weights_;
   // State of the current refine() call.
   std::vector<Path> paths_;
+  std::vector<std::vector<int>> path_headings_;  // per agent, its heading at each step (rotation model)
   std::vector<std::vector<Vertex>> targets_;  // per agent: task cells in order, then the goal
   std::vector<int> tour_length_;              // per agent: its order's length, a bound on its arrival
   int max_tour_ = 0;
   PathTable table_;
   // The plan and orders the state above describes (what the last refine() call returned).
   Solution loaded_plan_;
+  HeadingPlan loaded_headings_;
   std::vector<std::vector<int>> loaded_orders_;
   SafeIntervalPlanner planner_;
 };

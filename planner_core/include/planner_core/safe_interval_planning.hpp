@@ -1,7 +1,8 @@
 // Safe-interval path planning (SIPP; Phillips and Likhachev, ICRA 2011) for one agent through an
 // ordered list of targets (its tasks, then its goal), avoiding the paths in a PathTable: no vertex
 // or swap conflicts, never on a cell where another agent rests, and arriving at the goal only in
-// its last safe interval, so it can rest there for good.
+// its last safe interval, so it can rest there for good. In the rotation model too: then a state
+// is also a heading, and a step is forward, a quarter turn or a wait.
 #pragma once
 
 #include <cstdint>
@@ -33,9 +34,23 @@ class SafeIntervalPlanner {
   explicit SafeIntervalPlanner(const Graph& graph);
   // As plan_through_targets below.
   Path plan(DistTable& dist, const PathTable& table, Vertex start, const std::vector<Vertex>& targets,
-            const SpaceTimeLimits& limits, int start_time = 0);
+            const SpaceTimeLimits& limits, int start_time = 0) {
+    return search(dist, table, start, -1, targets, limits, start_time, nullptr);
+  }
+  // The same in the rotation model (action_model.hpp): the agent starts facing `start_heading`, and
+  // each step it moves to the cell ahead, turns a quarter or waits; `headings` gets its heading at
+  // each step of the path returned. States are (cell, heading, safe interval, targets done).
+  Path plan_with_turns(DistTable& dist, const PathTable& table, Vertex start, int start_heading,
+                       const std::vector<Vertex>& targets, const SpaceTimeLimits& limits, std::vector<int>& headings,
+                       int start_time = 0) {
+    return search(dist, table, start, start_heading, targets, limits, start_time, &headings);
+  }
 
  private:
+  // start_heading -1: the four-move model (headings is not written).
+  Path search(DistTable& dist, const PathTable& table, Vertex start, int start_heading,
+              const std::vector<Vertex>& targets, const SpaceTimeLimits& limits, int start_time,
+              std::vector<int>* headings);
   struct State {
     Vertex v;
     int interval;  // index into the safe intervals of v
@@ -44,6 +59,7 @@ class SafeIntervalPlanner {
     int f;
     int h;         // remaining distance through the targets, for tie-breaking towards the goal
     int parent;    // index in store_, -1 for the start
+    int heading;   // the way it faces (rotation model); 0 in the four-move model
   };
   const Graph& graph_;
   uint32_t stamp_ = 0;
@@ -56,7 +72,7 @@ class SafeIntervalPlanner {
   };
   std::vector<OpenEntry> open_;
   std::vector<uint32_t> best_stamp_;  // per vertex: the call whose entries are in best_arrival_
-  std::vector<std::vector<int>> best_arrival_;  // per vertex: [interval * targets + done]
+  std::vector<std::vector<int>> best_arrival_;  // per vertex: [(interval * targets + done) * headings + heading]
 };
 
 // The earliest-arrival such path, or an empty path when there is none within the limits.

@@ -1,7 +1,8 @@
 // Any solver in the rotation model (action_model.hpp): the solver plans four-way moves, then each
 // agent carries its path out with turns (turning_execution.hpp). For the solvers that do not plan
 // with turns themselves (all but cts-pibt and cts-pibt-anytime); in the four-way model the
-// solver's own result, unchanged.
+// solver's own result, unchanged. The anytime cts-pll-v3 plans four-way for kFourWayShare of its
+// time; LNS over cell and heading refines the turned plan for the rest.
 #pragma once
 
 #include <memory>
@@ -17,7 +18,11 @@ class TurnedSolver : public Solver {
       : four_way_(std::move(four_way)), config_(config) {}
   SolveResult solve(const Instance& instance, const SolveOptions& options) override;
 
+  static constexpr double kFourWayShare = 0.5;
+
  private:
+  // Refines `result` (a turned plan) with turns until the deadline; the LNS iterations it made.
+  int refine_with_turns(const Instance& instance, SolveResult& result, const SolveOptions& options) const;
   std::unique_ptr<Solver> four_way_;
   SolverConfig config_;
 };
