@@ -174,8 +174,8 @@ void LnsRefiner::load(const Solution& plan, const HeadingPlan* headings,
 
 Path LnsRefiner::repair(int a, const SpaceTimeLimits& limits, std::vector<int>& headings) {
   if (path_headings_.empty()) return planner_.plan(dist_, table_, instance_.starts[a], targets_[a], limits);
-  return planner_.plan_with_turns(dist_, table_, instance_.starts[a], instance_.start_heading(a), targets_[a], limits,
-                                  headings);
+  return planner_.plan_with_turns(dist_, turning_, table_, instance_.starts[a], instance_.start_heading(a), targets_[a],
+                                  limits, headings);
 }
 
 LnsStats LnsRefiner::run(Solution& plan, HeadingPlan* headings, const std::vector<std::vector<int>>& orders,

@@ -42,12 +42,13 @@ bool closes_rotation(const Graph& graph, const PathTable& table, Vertex from, Ve
 
 }  // namespace
 
-Path SafeIntervalPlanner::search(DistTable& dist, const PathTable& table, Vertex start, int start_heading,
+Path SafeIntervalPlanner::search(DistTable& dist, GuidedDistances* turning, const PathTable& table, Vertex start,
+                                 int start_heading,
                                  const std::vector<Vertex>& targets, const SpaceTimeLimits& limits, int start_time,
                                  std::vector<int>* headings) {
   const Graph& graph = graph_;
-  const bool turning = start_heading >= 0;
-  const int heading_slots = turning ? kHeadings : 1;
+  const bool turning_model = start_heading >= 0;
+  const int heading_slots = turning_model ? kHeadings : 1;
   const int target_count = static_cast<int>(targets.size());
   const Vertex goal = targets.back();
   std::vector<int> suffix(target_count, 0);  // suffix[k]: from targets[k] through the rest to the goal
@@ -74,11 +75,19 @@ Path SafeIntervalPlanner::search(DistTable& dist, const PathTable& table, Vertex
   const auto& goal_intervals = intervals(goal);
   if (goal_intervals.empty() || goal_intervals.back().last != PathTable::kForever) return {};
   const int earliest_rest = goal_intervals.back().first;
-  // Admissible: no plan arrives before the goal's last safe interval opens.
-  const auto remaining = [&](Vertex v, int done) { return dist.get(targets[done], v) + suffix[done]; };
-  const auto estimate = [&](Vertex v, int t, int done) { return std::max(t + remaining(v, done), earliest_rest); };
+  // Admissible: no plan arrives before the goal's last safe interval opens. With turns, the way to
+  // the next target counts the turns too (the legs after it, whose headings are not known yet, do not).
+  const auto remaining = [&](Vertex v, int done, int heading) {
+    const int next = turning ? std::min(turning->get(targets[done], v, heading), kUnreachable)
+                             : dist.get(targets[done], v);
+    return next + suffix[done];
+  };
+  const auto estimate = [&](Vertex v, int t, int done, int heading) {
+    return std::max(t + remaining(v, done, heading), earliest_rest);
+  };
   const int latest_arrival = limits.max_length >= (1 << 30) - start_time ? (1 << 30) : start_time + limits.max_length;
-  if (estimate(start, start_time, advance(start, 0)) > latest_arrival) return {};
+  const int heading_at_start = turning_model ? start_heading : 0;
+  if (estimate(start, start_time, advance(start, 0), heading_at_start) > latest_arrival) return {};
 
   std::vector<State>& store = store_;
   store.clear();
@@ -117,8 +126,9 @@ Path SafeIntervalPlanner::search(DistTable& dist, const PathTable& table, Vertex
   }
   if (start_interval < 0) return {};
   const int start_done = advance(start, 0);
-  store.push_back({start, start_interval, start_done, start_time, estimate(start, start_time, start_done),
-                   remaining(start, start_done), -1, turning ? start_heading : 0});
+  store.push_back({start, start_interval, start_done, start_time,
+                   estimate(start, start_time, start_done, heading_at_start),
+                   remaining(start, start_done, heading_at_start), -1, heading_at_start});
   push(0);
   int expansions = 0;
   while (!open.empty()) {
@@ -155,23 +165,22 @@ Path SafeIntervalPlanner::search(DistTable& dist, const PathTable& table, Vertex
     if ((expansions & 1023) == 0 && limits.deadline.expired()) break;
     // The last moment we can leave this cell: the step after our interval closes.
     const int leave_by = here.last == PathTable::kForever ? PathTable::kForever : here.last + 1;
-    if (turning && state.t + 1 <= here.last && state.t + 1 <= limits.horizon) {
+    if (turning_model && state.t + 1 <= here.last && state.t + 1 <= limits.horizon) {
       // A quarter turn either way, in place: the next step in the same safe interval.
       const int t = state.t + 1;
-      const int f = std::max(t + state.h, earliest_rest);
-      if (f <= latest_arrival) {
-        for (const int heading : {turned_clockwise(state.heading), turned_counter_clockwise(state.heading)}) {
-          if (best_arrival(state.v, state.interval, state.done, heading) <= t) continue;
-          store.push_back({state.v, state.interval, state.done, t, f, state.h, index, heading});
-          push(static_cast<int>(store.size()) - 1);
-        }
+      for (const int heading : {turned_clockwise(state.heading), turned_counter_clockwise(state.heading)}) {
+        const int to_go = remaining(state.v, state.done, heading);
+        const int f = std::max(t + to_go, earliest_rest);
+        if (f > latest_arrival || best_arrival(state.v, state.interval, state.done, heading) <= t) continue;
+        store.push_back({state.v, state.interval, state.done, t, f, to_go, index, heading});
+        push(static_cast<int>(store.size()) - 1);
       }
     }
     for (Vertex u : graph.neighbours(state.v)) {
-      if (turning && u != ahead(graph, state.v, state.heading)) continue;  // forward only
+      if (turning_model && u != ahead(graph, state.v, state.heading)) continue;  // forward only
       const auto& slots = intervals(u);
       const int done = advance(u, state.done);
-      const int to_go = remaining(u, done);
+      const int to_go = remaining(u, done, state.heading);
       // Intervals that close before the earliest move (t + 1) can take no move: start past them.
       const auto first_open = std::partition_point(
           slots.begin(), slots.end(), [&](const PathTable::Interval& slot) { return slot.last < state.t + 1; });

@@ -33,7 +33,8 @@ int64_t turning_lower_bound(const Instance& instance, GuidedDistances& turning, 
   return tour_lower_bound(instance, turning, config);
 }
 
-int TurnedSolver::refine_with_turns(const Instance& instance, SolveResult& result, const SolveOptions& options) const {
+int TurnedSolver::refine_with_turns(const Instance& instance, GuidedDistances* turning, SolveResult& result,
+                                    const SolveOptions& options) const {
   DistTable dist(*instance.graph);
   std::mt19937 rng(config_.seed);
   LnsConfig lns_config = config_.lns;
@@ -42,7 +43,7 @@ int TurnedSolver::refine_with_turns(const Instance& instance, SolveResult& resul
   Solution plan = result.solution;
   HeadingPlan headings = result.headings;
   const std::vector<std::vector<int>> orders = result.orders;
-  const LnsStats stats = lns.refine_with_turns(plan, headings, orders, options.deadline);
+  const LnsStats stats = lns.refine_with_turns(plan, headings, orders, turning, options.deadline);
   keep_if_better(result, instance, plan, orders, 0, options.started, options, config_.solver + " (refined with turns)",
                  headings);
   return stats.iterations;
@@ -50,13 +51,11 @@ int TurnedSolver::refine_with_turns(const Instance& instance, SolveResult& resul
 
 SolveResult TurnedSolver::solve(const Instance& instance, const SolveOptions& options) {
   if (instance.actions != ActionModel::kRotate) return four_way_->solve(instance, options);
-  // The bound first, in a tenth of the time, while the tables are needed only for it.
-  int64_t lower_bound = 0;
-  {
-    GuidedDistances turning(*instance.graph, Guidance::kNone, ActionModel::kRotate);
-    lower_bound = turning_lower_bound(instance, turning, config_.task_order, 0,
-                                      options.deadline.slice(0.1 * options.deadline.budget_left_s()));
-  }
+  // The bound first, in a tenth of the time; its tables (distances with turns) guide the
+  // refinement with turns later.
+  GuidedDistances turning(*instance.graph, Guidance::kNone, ActionModel::kRotate);
+  const int64_t lower_bound = turning_lower_bound(instance, turning, config_.task_order, 0,
+                                                  options.deadline.slice(0.1 * options.deadline.budget_left_s()));
   SolveResult result;
   bool cycles = false;
   int64_t turned_four_way_flowtime = -1;  // the four-way flowtime of the plan turned last
@@ -94,7 +93,8 @@ SolveResult TurnedSolver::solve(const Instance& instance, const SolveOptions& op
   if (planned.solved && planned.flowtime != turned_four_way_flowtime) keep_turned(planned);
   int lns_iterations = 0;
   if (refines_with_turns && result.solved && !options.deadline.expired()) {
-    lns_iterations = refine_with_turns(instance, result, options);
+    lns_iterations = refine_with_turns(instance, turning_tables_fit(instance, turning) ? &turning : nullptr, result,
+                                       options);
   }
 
   const SolveResult turned = result;

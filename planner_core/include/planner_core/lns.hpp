@@ -51,9 +51,11 @@ class LnsRefiner {
   }
   // The same in the rotation model (the instance's actions): `headings` are the plan's, and each
   // repair is planned over cell and heading (SafeIntervalPlanner::plan_with_turns), from the
-  // instance's start headings.
+  // instance's start headings, guided by `turning` (distances with turns; null: by cells alone).
   LnsStats refine_with_turns(Solution& plan, HeadingPlan& headings, const std::vector<std::vector<int>>& orders,
-                             const Deadline& deadline, const std::function<void(int64_t flowtime)>& on_improvement = {}) {
+                             GuidedDistances* turning, const Deadline& deadline,
+                             const std::function<void(int64_t flowtime)>& on_improvement = {}) {
+    turning_ = turning;
     return run(plan, &headings, orders, deadline, on_improvement);
   }
 
@@ -82,6 +84,7 @@ class LnsRefiner {
   // State of the current refine() call.
   std::vector<Path> paths_;
   std::vector<std::vector<int>> path_headings_;  // per agent, its heading at each step (rotation model)
+  GuidedDistances* turning_ = nullptr;            // rotation model: distances with turns, if any
   std::vector<std::vector<Vertex>> targets_;  // per agent: task cells in order, then the goal
   std::vector<int> tour_length_;              // per agent: its order's length, a bound on its arrival
   int max_tour_ = 0;

@@ -10,6 +10,7 @@
 
 #include "planner_core/deadline.hpp"
 #include "planner_core/dist_table.hpp"
+#include "planner_core/guided_distances.hpp"
 #include "planner_core/path_table.hpp"
 
 namespace planner_core {
@@ -35,20 +36,22 @@ class SafeIntervalPlanner {
   // As plan_through_targets below.
   Path plan(DistTable& dist, const PathTable& table, Vertex start, const std::vector<Vertex>& targets,
             const SpaceTimeLimits& limits, int start_time = 0) {
-    return search(dist, table, start, -1, targets, limits, start_time, nullptr);
+    return search(dist, nullptr, table, start, -1, targets, limits, start_time, nullptr);
   }
   // The same in the rotation model (action_model.hpp): the agent starts facing `start_heading`, and
   // each step it moves to the cell ahead, turns a quarter or waits; `headings` gets its heading at
   // each step of the path returned. States are (cell, heading, safe interval, targets done).
-  Path plan_with_turns(DistTable& dist, const PathTable& table, Vertex start, int start_heading,
-                       const std::vector<Vertex>& targets, const SpaceTimeLimits& limits, std::vector<int>& headings,
-                       int start_time = 0) {
-    return search(dist, table, start, start_heading, targets, limits, start_time, &headings);
+  // `turning` (distances per cell and heading, ActionModel::kRotate), when given, estimates the way
+  // to the next target with its turns; else the cells' distances do (a weaker bound).
+  Path plan_with_turns(DistTable& dist, GuidedDistances* turning, const PathTable& table, Vertex start,
+                       int start_heading, const std::vector<Vertex>& targets, const SpaceTimeLimits& limits,
+                       std::vector<int>& headings, int start_time = 0) {
+    return search(dist, turning, table, start, start_heading, targets, limits, start_time, &headings);
   }
 
  private:
   // start_heading -1: the four-move model (headings is not written).
-  Path search(DistTable& dist, const PathTable& table, Vertex start, int start_heading,
+  Path search(DistTable& dist, GuidedDistances* turning, const PathTable& table, Vertex start, int start_heading,
               const std::vector<Vertex>& targets, const SpaceTimeLimits& limits, int start_time,
               std::vector<int>* headings);
   struct State {

@@ -21,8 +21,10 @@ class TurnedSolver : public Solver {
   static constexpr double kFourWayShare = 0.5;
 
  private:
-  // Refines `result` (a turned plan) with turns until the deadline; the LNS iterations it made.
-  int refine_with_turns(const Instance& instance, SolveResult& result, const SolveOptions& options) const;
+  // Refines `result` (a turned plan) with turns until the deadline, guided by `turning` if given;
+  // the LNS iterations it made.
+  int refine_with_turns(const Instance& instance, GuidedDistances* turning, SolveResult& result,
+                        const SolveOptions& options) const;
   std::unique_ptr<Solver> four_way_;
   SolverConfig config_;
 };
