@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include "planner_core/input_error.hpp"
+#include "planner_core/lns.hpp"
+#include "planner_core/safe_interval_planning.hpp"
 #include "planner_core/turned_solver.hpp"
 #include "planner_core/solver.hpp"
 #include "planner_core/task_order.hpp"
@@ -154,6 +156,72 @@ TEST_F(TurningValidatorTest, AFourWayPlanCarriedOutWithTurnsIsValid) {
   const ValidationReport report = validate(instance, turned->cells, {}, turned->headings);
   EXPECT_TRUE(report.ok()) << report.summary();
   EXPECT_EQ(report.flowtime, 7 + 3);  // as the hand-made plan above: two turns for each
+}
+
+// SIPP over cell and heading: agent 0 of the map above, facing east, around agent 1's reserved
+// path (two turns, then west). Its earliest arrival is the hand-made plan's: forward twice, a turn
+// south, forward onto the task, two turns north, forward. Guided by distances with turns or by
+// cells alone, the arrival is the same; the joint plan is valid with both agents' headings.
+TEST_F(TurningValidatorTest, SafeIntervalsWithTurnsFindTheEarliestArrival) {
+  PathTable table(instance.graph->vertex_count());
+  const Path other = {at(4, 0), at(4, 0), at(4, 0), at(3, 0)};
+  table.add(1, other);
+  DistTable dist(*instance.graph);
+  GuidedDistances turning(*instance.graph, Guidance::kNone, ActionModel::kRotate);
+  SafeIntervalPlanner planner(*instance.graph);
+  for (GuidedDistances* guide : {&turning, static_cast<GuidedDistances*>(nullptr)}) {
+    SCOPED_TRACE(guide ? "guided with turns" : "guided by cells");
+    std::vector<int> path_headings;
+    const Path path = planner.plan_with_turns(dist, guide, table, at(0, 0), kEast, {at(2, 1), at(2, 0)},
+                                              SpaceTimeLimits{}, path_headings);
+    ASSERT_EQ(path.size(), 8u);
+    ASSERT_EQ(path_headings.size(), path.size());
+    Solution cells;
+    HeadingPlan headings;
+    const std::vector<int> other_headings = {kEast, kSouth, kWest, kWest, kWest, kWest, kWest, kWest};
+    for (size_t t = 0; t < path.size(); ++t) {
+      cells.push_back({path[t], other[std::min(t, other.size() - 1)]});
+      headings.push_back({path_headings[t], other_headings[t]});
+    }
+    const ValidationReport report = validate(instance, cells, {}, headings);
+    EXPECT_TRUE(report.ok()) << report.summary();
+    EXPECT_EQ(report.flowtime, 7 + 3);
+  }
+  // Facing west at the start costs two more turns.
+  std::vector<int> path_headings;
+  const Path path = planner.plan_with_turns(dist, &turning, table, at(0, 0), kWest, {at(2, 1), at(2, 0)},
+                                            SpaceTimeLimits{}, path_headings);
+  EXPECT_EQ(path.size(), 10u);
+  EXPECT_EQ(path_headings.front(), kWest);
+}
+
+// LNS over cell and heading refines a four-way plan carried out with turns: its plan stays valid
+// with headings, from the instance's start headings, and costs less than the plan it started from.
+TEST(TurningLns, RefinesATurnedPlanBelowItsStart) {
+  Instance instance = load_instance(testing::data_path("instances/random-32-32-20-N10-M30-00.yaml"));
+  Instance four_way = instance;
+  instance.actions = ActionModel::kRotate;
+  instance.start_headings.assign(instance.agent_count(), kNorth);
+  SolverConfig config;
+  config.solver = "cts-pibt";
+  const SolveResult planned = make_solver(config)->solve(four_way, SolveOptions{Deadline::in_seconds(60)});
+  ASSERT_TRUE(planned.solved);
+  const std::optional<TurningPlan> turned = execute_with_turns(instance, planned.solution, false);
+  ASSERT_TRUE(turned);
+  const int64_t turned_flowtime = validate(instance, turned->cells, {}, turned->headings).flowtime;
+  Solution cells = turned->cells;
+  HeadingPlan headings = turned->headings;
+  DistTable dist(*instance.graph);
+  GuidedDistances turning(*instance.graph, Guidance::kNone, ActionModel::kRotate);
+  std::mt19937 rng(1);
+  LnsRefiner lns(instance, dist, LnsConfig{}, rng);
+  const LnsStats stats = lns.refine_with_turns(cells, headings, planned.orders, &turning,
+                                               Deadline::in_seconds(60).with_work_budget(Deadline::work_of(0.5)));
+  EXPECT_GT(stats.accepted, 0);
+  const ValidationReport report = validate(instance, cells, {}, headings);
+  ASSERT_TRUE(report.ok()) << report.summary();
+  EXPECT_LT(report.flowtime, turned_flowtime);
+  EXPECT_EQ(headings.front(), Headings(instance.agent_count(), kNorth));
 }
 
 TEST(TurningExecution, KeepsTheOrderOfPassageThroughACell) {
