@@ -34,6 +34,9 @@ SolveResult CtsPll::solve(const Instance& instance, const SolveOptions& options)
   const Deadline& deadline = options.deadline;
 
   const double total_s = deadline.budget_s;
+  // Refinement (LNS, and more sequences once a plan is in hand) ends here; a first plan may take
+  // until `deadline`.
+  const Deadline refining = options.refine_share < 1.0 ? deadline.slice(total_s * options.refine_share) : deadline;
   // v3's LNS: by default each feasible sequence gets up to a quarter of the limit (less when its
   // LNS stalls), and after the first two the better refined plan gets the rest (docs/results/HISTORY.md
   // section 7: half each did worse on dense mazes, the whole limit on the first sequence worse on
@@ -64,17 +67,19 @@ SolveResult CtsPll::solve(const Instance& instance, const SolveOptions& options)
   CompleteSearch complete(instance, dist, config_, rng, variant_ == Variant::kV3);
   std::unique_ptr<Scatter> scatter;  // guides `pibt` through the current sequence (PibtConfig::scatter)
   bool no_plan_exists = false;
-  while (!deadline.expired()) {
+  while (!deadline.expired() && !(result.solved && refining.expired())) {
     if (config_.max_sequences > 0 && result.sequences_tried >= config_.max_sequences) break;
     const std::optional<JointSequence> sequence = sequencer.next();
     if (!sequence) break;
     ++result.sequences_tried;
+    // Once a plan is in hand, another sequence is refinement: it ends with `refining`.
+    const Deadline& until = result.solved ? refining : deadline;
     // Work, not time: what this sequence has taken so far decides the complete search's share
     // (the same share on every run).
-    const int64_t work_before_sequence = deadline.work_done();
+    const int64_t work_before_sequence = until.work_done();
     const auto work_share = [&] {
-      return deadline.within_work(
-          std::max(Deadline::work_of(kMinCompleteSliceS), deadline.work_done() - work_before_sequence));
+      return until.within_work(
+          std::max(Deadline::work_of(kMinCompleteSliceS), until.work_done() - work_before_sequence));
     };
     // The complete search from a lock (CTS-LaCAM over every agent), for as much as this sequence
     // has taken so far.
@@ -87,13 +92,13 @@ SolveResult CtsPll::solve(const Instance& instance, const SolveOptions& options)
     if (config_.pibt.scatter) {
       scatter = std::make_unique<Scatter>(*instance.graph, dist, instance.starts, instance.goals, kScatterMargin,
                                           config_.seed + sequence->index, waypoints_of(instance, *sequence));
-      scatter->build(deadline.within_work(Deadline::work_of(total_s * kScatterTimeShare)));
+      scatter->build(until.within_work(Deadline::work_of(total_s * kScatterTimeShare)));
     }
     pibt.set_guide(scatter.get());
     bool feasible = false;
     std::optional<Solution> completed_plan;
-    for (int releases = 0; !deadline.expired() && releases < config_.lock_release.max_releases;) {
-      const ExtendedPibt::Outcome outcome = pibt.run(deadline);
+    for (int releases = 0; !until.expired() && releases < config_.lock_release.max_releases;) {
+      const ExtendedPibt::Outcome outcome = pibt.run(until);
       if (outcome == ExtendedPibt::Outcome::kSolved) {
         feasible = true;
         break;
@@ -104,7 +109,7 @@ SolveResult CtsPll::solve(const Instance& instance, const SolveOptions& options)
       LockSet lock = detect_lock(pibt, dist);
       std::optional<Solution> prefix;
       size_t tried_size = 0;
-      for (int escalation = 0; !prefix && escalation <= config_.lock_release.max_escalations && !deadline.expired();
+      for (int escalation = 0; !prefix && escalation <= config_.lock_release.max_escalations && !until.expired();
            ++escalation) {
         const LockSet attempt = escalation == 0 ? lock : widen_lock(pibt, lock, 1 << escalation);
         // A wider set is a superset: the same size is the same set, already tried. Once every
@@ -117,8 +122,8 @@ SolveResult CtsPll::solve(const Instance& instance, const SolveOptions& options)
         // Random-permutation targets first (the paper's choice); when a lock comes back after a
         // release, alternate with next-target goals, which resolve corridor swaps outright.
         const bool next_targets_first = releases % 2 == 1;
-        prefix = release_lock(pibt, attempt, lacam, config_.lock_release, next_targets_first, rng, deadline);
-        if (!prefix) prefix = release_lock(pibt, attempt, lacam, config_.lock_release, !next_targets_first, rng, deadline);
+        prefix = release_lock(pibt, attempt, lacam, config_.lock_release, next_targets_first, rng, until);
+        if (!prefix) prefix = release_lock(pibt, attempt, lacam, config_.lock_release, !next_targets_first, rng, until);
         if (!prefix && escalation == 0 && 2 * lock.agents.size() >= static_cast<size_t>(instance.agent_count()) &&
             config_.complete_fallback) {
           // A lock of half the fleet or more is no local matter (warehouse aisles): rather than
@@ -130,7 +135,7 @@ SolveResult CtsPll::solve(const Instance& instance, const SolveOptions& options)
       if (!completed_plan && (!prefix || releases + 1 >= config_.lock_release.completion_after_releases)) {
         // Releases failed or the lock keeps coming back: complete by prioritized planning.
         if (auto completed = complete_by_prioritized_planning(pibt, *sequence, lock, dist, rng, 8,
-                                                                 config_.forbid_rotations, deadline)) {
+                                                                 config_.forbid_rotations, until)) {
           ++result.prioritized_completions;
           completed_plan = std::move(completed);
           feasible = true;
@@ -152,7 +157,7 @@ SolveResult CtsPll::solve(const Instance& instance, const SolveOptions& options)
     if (feasible) {
       Solution plan = completed_plan ? std::move(*completed_plan) : pibt.plan();
       keep_if_better(result, instance, plan, sequence->orders, sequence->index, started, options, "CTS-PLL");
-      if (variant_ == Variant::kV3) refine_by_lns(plan, sequence->orders, sequence->index, deadline.slice(lns_per_sequence_s));
+      if (variant_ == Variant::kV3) refine_by_lns(plan, sequence->orders, sequence->index, refining.slice(lns_per_sequence_s));
     } else if (config_.complete_fallback && variant_ != Variant::kV1) {
       // This sequence defeated Extended-PIBT and the releases: the complete search gets as much
       // work as they took (it goes on where it stopped the next time).
@@ -163,7 +168,7 @@ SolveResult CtsPll::solve(const Instance& instance, const SolveOptions& options)
       }
       if (outcome == CompleteSearch::Outcome::kFound && variant_ == Variant::kV3) {
         refine_by_lns(result.solution, result.orders, result.improvements.back().sequence_index,
-                      deadline.slice(lns_per_sequence_s));
+                      refining.slice(lns_per_sequence_s));
       }
     }
     if (variant_ == Variant::kV1) break;
@@ -171,16 +176,20 @@ SolveResult CtsPll::solve(const Instance& instance, const SolveOptions& options)
     if (variant_ == Variant::kV3 && race_two_sequences && refined_sequences == 2 && result.solved) {
       // The better of the first two refined plans gets the rest of the time; when its LNS stalls
       // first (small instances), the next sequences go on as before.
-      refine_by_lns(result.solution, result.orders, result.improvements.back().sequence_index, deadline);
+      refine_by_lns(result.solution, result.orders, result.improvements.back().sequence_index, refining);
     }
   }
   // v3: when the sequences ran out before the race, the best plan gets the rest of the time.
-  if (variant_ == Variant::kV3 && race_two_sequences && refined_sequences < 2 && result.solved && !deadline.expired()) {
-    refine_by_lns(result.solution, result.orders, result.improvements.back().sequence_index, deadline);
+  if (variant_ == Variant::kV3 && race_two_sequences && refined_sequences < 2 && result.solved && !refining.expired()) {
+    refine_by_lns(result.solution, result.orders, result.improvements.back().sequence_index, refining);
   }
   // Never give up before the deadline: the complete search takes over (and v3 refines its plan).
   if (!result.solved && !no_plan_exists && config_.complete_fallback && !deadline.expired()) {
-    if (complete.search(deadline, options, result) == CompleteSearch::Outcome::kFound) complete.refine(options, result);
+    if (complete.search(deadline, options, result) == CompleteSearch::Outcome::kFound) {
+      SolveOptions refine_options = options;
+      refine_options.deadline = refining;
+      complete.refine(refine_options, result);
+    }
   }
   if (!result.solved && result.failure_reason.empty()) {
     result.failure_reason = deadline.expired() ? "deadline reached before a feasible plan was found"

@@ -79,10 +79,11 @@ SolveResult TurnedSolver::solve(const Instance& instance, const SolveOptions& op
   const double turning_s = std::min(0.5 * budget_s, 50e-9 * instance.agent_count() *
                                                         (instance.graph->width() + instance.graph->height()) * 2);
   // An anytime solver then refines the turned plan by LNS over cell and heading: the four-way
-  // search gets a share of what is left, the refinement with turns the rest.
+  // search refines for a share of the budget (its first plan may take longer), the refinement
+  // with turns gets the rest.
   const bool refines_with_turns = config_.solver == "cts-pll-v3";
-  four_way_options.deadline =
-      options.deadline.slice((budget_s - turning_s) * (refines_with_turns ? kFourWayShare : 1.0));
+  four_way_options.deadline = options.deadline.slice(budget_s - turning_s);
+  if (refines_with_turns) four_way_options.refine_share = kFourWayShare;
   // The first plan is turned as soon as it is found (the time to a first plan is the turned one's);
   // later ones only at the end, the final plan being the cheapest four-way plan.
   four_way_options.on_solution = [&](const SolveResult& planned) {

@@ -139,6 +139,27 @@ TEST(CtsPll, WithoutAStallLimitV3RefinesUntilItsDeadline) {
   EXPECT_TRUE(validate(instance, result.solution).ok());
 }
 
+// SolveOptions::refine_share: refinement ends at that share of the budget, the first plan does
+// not. With a share that ends before any plan can be found, v3 still finds its first plan, then
+// stops without refining it; with the whole budget it refines.
+TEST(CtsPll, RefineShareEndsTheRefinementButNotTheSearchForAFirstPlan) {
+  const Instance instance = load_instance(testing::data_path("instances/maze-32-32-2-N50-M60-00.yaml"));
+  SolverConfig config;
+  config.solver = "cts-pll-v3";
+  SolveOptions options{Deadline::in_seconds(60).with_work_budget(Deadline::work_of(1.0))};
+  options.refine_share = 1e-9;
+  const SolveResult cut = make_solver(config)->solve(instance, options);
+  ASSERT_TRUE(cut.solved) << cut.failure_reason;
+  EXPECT_EQ(cut.lns_iterations, 0);
+  EXPECT_EQ(cut.sequences_tried, 1);
+  EXPECT_TRUE(validate(instance, cut.solution).ok());
+  options.refine_share = 1.0;
+  const SolveResult whole = make_solver(config)->solve(instance, options);
+  ASSERT_TRUE(whole.solved);
+  EXPECT_GT(whole.lns_iterations, 0);
+  EXPECT_LT(whole.flowtime, cut.flowtime);
+}
+
 TEST(CtsPll, ForbiddenRotationsNeverAppear) {
   for (const char* file : {"instances/random-32-32-20-N10-M30-00.yaml", "instances/maze-32-32-2-N50-M60-00.yaml",
                            "instances/empty-32-32-N05-M50-00.yaml"}) {

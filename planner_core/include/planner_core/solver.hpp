@@ -81,6 +81,10 @@ struct SolveOptions {
   // When the solve began from the user's point of view (a program sets it before it reads the
   // instance); the times in SolveResult count from here.
   Clock::time_point started = Clock::now();
+  // Once it has a plan, an anytime solver refines it only until this share of the deadline's
+  // budget (counted from its start); the search for a first plan may still use the whole deadline.
+  // TurnedSolver keeps the rest for its refinement with turns.
+  double refine_share = 1.0;
 };
 
 class Solver {

@@ -1,8 +1,9 @@
 // Any solver in the rotation model (action_model.hpp): the solver plans four-way moves, then each
 // agent carries its path out with turns (turning_execution.hpp). For the solvers that do not plan
 // with turns themselves (all but cts-pibt and cts-pibt-anytime); in the four-way model the
-// solver's own result, unchanged. The anytime cts-pll-v3 plans four-way for kFourWayShare of its
-// time; LNS over cell and heading refines the turned plan for the rest.
+// solver's own result, unchanged. The anytime cts-pll-v3 refines its four-way plan until
+// kFourWayShare of its time (its first plan may take longer); LNS over cell and heading refines
+// the turned plan for the rest.
 #pragma once
 
 #include <memory>
