@@ -275,6 +275,40 @@ TEST(PlanExecution, SendsWhenReadyResendsWhenSilentAndConfirmsOnTheTarget) {
   EXPECT_TRUE(execution.due_command(1, t0, 1.0, 0).has_value());  // now back may move
 }
 
+// A robot that reports no heading (-1: a body with no compass) is confirmed by its cell alone, or
+// its first turn would never be confirmed and the mission would wait for it for ever. Its cell
+// still has to be the move's, and a robot that reports a heading still has to face the move's.
+TEST(PlanExecution, WithTurnsARobotThatReportsNoHeadingIsConfirmedByItsCell) {
+  const auto graph = std::make_shared<const planner_core::Graph>(3, 1, std::vector<std::string>{"..."});
+  const Vertex v0 = graph->vertex_at({0, 0}), v1 = graph->vertex_at({1, 0});
+  // Facing west at (0,0): two turns to face east, then a move east.
+  const planner_core::Solution plan = {{v0}, {v0}, {v0}, {v1}};
+  const planner_core::HeadingPlan headings = {{2}, {3}, {0}, {0}};
+  PlanExecution execution(1, graph, plan, {"r"}, 5, headings);
+  ASSERT_EQ(execution.move_count(0), 3);
+  const auto t0 = PlanExecution::Clock::now();
+  const auto move = execution.due_command(0, t0, 1.0, 0);  // the turns folded into the move
+  ASSERT_TRUE(move.has_value());
+  EXPECT_EQ(move->action_index, 2);
+  fleet_transport::RobotState state;
+  state.robot_id = "r";
+  state.coordinator = 5;
+  state.plan_epoch = 1;
+  state.action_index = 2;
+  state.status = fleet_transport::RobotStatus::kArrived;
+  state.heading = -1;
+  state.cell_x = 0;  // not there yet
+  EXPECT_FALSE(execution.confirm(0, state).has_value());
+  state.cell_x = 1;
+  state.heading = 2;  // there, but reporting the wrong way
+  EXPECT_FALSE(execution.confirm(0, state).has_value());
+  state.heading = -1;
+  const auto reached = execution.confirm(0, state);
+  ASSERT_TRUE(reached.has_value());
+  EXPECT_EQ(*reached, (Cell{1, 0}));
+  EXPECT_TRUE(execution.done(0));
+}
+
 TEST(PlanExecution, WithTurnsATurnIsACommandOnTheRobotsCellDoneOnlyWhenTheRobotFacesItsHeading) {
   const auto graph = std::make_shared<const planner_core::Graph>(3, 2, std::vector<std::string>{"...", "..."});
   const Vertex v0 = graph->vertex_at({0, 0}), v1 = graph->vertex_at({1, 0}), v2 = graph->vertex_at({2, 0});
@@ -299,8 +333,6 @@ TEST(PlanExecution, WithTurnsATurnIsACommandOnTheRobotsCellDoneOnlyWhenTheRobotF
   state.action_index = 0;
   state.status = fleet_transport::RobotStatus::kArrived;
   state.heading = 3;  // still facing north
-  EXPECT_FALSE(execution.confirm(0, state).has_value());
-  state.heading = -1;  // a robot that cannot tell
   EXPECT_FALSE(execution.confirm(0, state).has_value());
   state.heading = 0;
   EXPECT_TRUE(execution.confirm(0, state).has_value());
