@@ -41,6 +41,7 @@ TESTS = [
     "test_robot_deaf_to_commands_is_taken_out_and_rejoins",
     "test_fastdds_robot_deaf_to_commands_is_taken_out_and_rejoins",
     "test_mission_with_turns_completes_safely",
+    "test_robot_restarted_facing_another_way_in_a_fleet_that_turns",
 ]
 
 
@@ -252,6 +253,33 @@ class FleetTest(unittest.TestCase):
         for log in logs:
             self.assertNotIn("turned first", log)
             self.assertNotIn("rejected command", log)
+
+    def test_robot_restarted_facing_another_way_in_a_fleet_that_turns(self):
+        """Plans with turns, robots that take time to turn: robot3's process is killed mid-mission and
+        started again where it stands, facing north (carried and put down turned; no log tells which
+        way it faced before, so north may now and then be that way: the exact heading rule is unit
+        tested, FleetCoordinator.ARobotRestartedFacingAnotherWayIsReplannedFromItsNewHeading). It
+        rejoins, is replanned from the heading it reports, no move it is sent finds it facing the
+        wrong way, the mission completes, and nobody collides."""
+        self.fleet.monitor()
+        for index, cell in enumerate(role_starts()):
+            self.fleet.agent(f"robot{index}", cell, extra=["--turn", STEP])
+        self.fleet.coordinator(extra=["--actions", "rotate"])
+        log = self.fleet.log("coordinator")
+        wait_for(lambda: "plan epoch 1" in read(log), 120, "the first plan")
+        wait_for(lambda: any(int(done) >= 2 for done in re.findall(r"tasks (\d+)/16", read(log))), 120,
+                 "the mission under way (two tasks done)")
+        cell = self.fleet.kill_robot("robot3")
+        self.fleet.agent("robot3", cell, extra=["--turn", STEP, "--heading", "N"])
+        wait_for(lambda: "replanning: robot robot3 joined" in read(log), 60, "the restarted robot back in")
+        code = self.fleet.wait_exit("coordinator", 240)
+        text = read(log)
+        self.assertEqual(code, 0, text[-3000:])  # robot3 did its role's remaining tasks
+        self.assertRegex(text[text.index("replanning: robot robot3 joined"):], r"plan epoch \d+: .* with turns")
+        self.assert_safe()
+        restarted = read(self.fleet.log("robot3"))  # the new process's log only
+        self.assertNotIn("turned first", restarted)
+        self.assertNotIn("rejected command", restarted)
 
     def test_ctrl_c_stops_the_whole_fleet(self):
         launcher = self.fleet.start("sim", [f"{BIN}/ctsfleet-sim", "--robots", "8", "--config", CONFIG,
