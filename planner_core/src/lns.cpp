@@ -186,7 +186,8 @@ LnsStats LnsRefiner::run(Solution& plan, HeadingPlan* headings, const std::vecto
   if (deadline.expired()) return stats;  // not even the (long) loading of a new plan
   // Going on from where the last call left this very plan keeps its paths and table (rebuilding
   // them costs O(agents x makespan), a good part of a short slice at 10,000 agents).
-  if (plan != loaded_plan_ || orders != loaded_orders_ || (headings ? *headings : HeadingPlan{}) != loaded_headings_ ||
+  const bool same_headings = headings ? *headings == loaded_headings_ : loaded_headings_.empty();
+  if (plan != loaded_plan_ || orders != loaded_orders_ || !same_headings ||
       (headings != nullptr) != !path_headings_.empty()) {
     load(plan, headings, orders);
   }

@@ -275,6 +275,18 @@ TEST(PlanExecution, SendsWhenReadyResendsWhenSilentAndConfirmsOnTheTarget) {
   EXPECT_TRUE(execution.due_command(1, t0, 1.0, 0).has_value());  // now back may move
 }
 
+// A state of robot "r" standing still after the move `action` of coordinator 5's epoch 1.
+fleet_transport::RobotState arrived_state(int action, int heading) {
+  fleet_transport::RobotState state;
+  state.robot_id = "r";
+  state.coordinator = 5;
+  state.plan_epoch = 1;
+  state.action_index = action;
+  state.status = fleet_transport::RobotStatus::kArrived;
+  state.heading = heading;
+  return state;
+}
+
 // A robot that reports no heading (-1: a body with no compass) is confirmed by its cell alone, or
 // its first turn would never be confirmed and the mission would wait for it for ever. Its cell
 // still has to be the move's, and a robot that reports a heading still has to face the move's.
@@ -290,13 +302,7 @@ TEST(PlanExecution, WithTurnsARobotThatReportsNoHeadingIsConfirmedByItsCell) {
   const auto move = execution.due_command(0, t0, 1.0, 0);  // the turns folded into the move
   ASSERT_TRUE(move.has_value());
   EXPECT_EQ(move->action_index, 2);
-  fleet_transport::RobotState state;
-  state.robot_id = "r";
-  state.coordinator = 5;
-  state.plan_epoch = 1;
-  state.action_index = 2;
-  state.status = fleet_transport::RobotStatus::kArrived;
-  state.heading = -1;
+  fleet_transport::RobotState state = arrived_state(2, -1);
   state.cell_x = 0;  // not there yet
   EXPECT_FALSE(execution.confirm(0, state).has_value());
   state.cell_x = 1;
@@ -326,13 +332,7 @@ TEST(PlanExecution, WithTurnsATurnIsACommandOnTheRobotsCellDoneOnlyWhenTheRobotF
   EXPECT_EQ(turn->target_x, 0);
   EXPECT_EQ(turn->target_y, 0);
   EXPECT_EQ(turn->target_heading, 0);
-  fleet_transport::RobotState state;
-  state.robot_id = "r";
-  state.coordinator = 5;
-  state.plan_epoch = 1;
-  state.action_index = 0;
-  state.status = fleet_transport::RobotStatus::kArrived;
-  state.heading = 3;  // still facing north
+  fleet_transport::RobotState state = arrived_state(0, 3);  // still facing north
   EXPECT_FALSE(execution.confirm(0, state).has_value());
   state.heading = 0;
   EXPECT_TRUE(execution.confirm(0, state).has_value());
