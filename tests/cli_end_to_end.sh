@@ -93,8 +93,20 @@ map="$data/../../benchmarks/lorr-2023/random.domain/maps/random-32-32-20.map"
 # The same in the league's rotation model: an independent replay of forward, turns and waits.
 "$bin/ctsfleet-bench" --experiment lifelong --problem "$lorr" --steps 120 --step-time 1 --league-output \
   --actions rotate --rollouts 1 --out-dir "$work/lifelong-rotate" > "$work/lifelong-rotate.out"
-grep -q "^random_50,50,120,1,pibt-rotate-lanes-r1," "$work/lifelong-rotate/lifelong.csv"
+grep -q "^random_50,50,120,1,pibt-rotate-lanes-r1-hold-half-keep," "$work/lifelong-rotate/lifelong.csv"
 "$python" "$(dirname "$0")/lorr_replay.py" "$work/lifelong-rotate/random_50.lorr.json" "$map"
+# Plans held until every agent stands on its cell, in every rollout: its steps replay as validly.
+"$bin/ctsfleet-bench" --experiment lifelong --problem "$lorr" --steps 120 --step-time 1 --league-output \
+  --actions rotate --rollouts 4 --hold-plans always --out-dir "$work/lifelong-hold" > "$work/lifelong-hold.out"
+grep -q "plans held always, targets kept" "$work/lifelong-hold.out"
+grep -q "^random_50,50,120,1,pibt-rotate-lanes-r4-hold-always-keep," "$work/lifelong-hold/lifelong.csv"
+"$python" "$(dirname "$0")/lorr_replay.py" "$work/lifelong-hold/random_50.lorr.json" "$map"
+set +e
+"$bin/ctsfleet-bench" --experiment lifelong --problem "$lorr" --actions rotate --hold-plans sometimes > /dev/null 2> "$work/err"
+code=$?
+set -e
+[ "$code" -eq 2 ] || { echo "--hold-plans sometimes: expected exit 2, got $code"; exit 1; }
+grep -q -- "--hold-plans" "$work/err"
 # And with window LNS: its steps replay as validly.
 "$bin/ctsfleet-bench" --experiment lifelong --problem "$lorr" --steps 60 --step-time 0.2 --league-output \
   --actions rotate --rollout-steps 8 --lns --out-dir "$work/lifelong-lns" > "$work/lifelong-lns.out"

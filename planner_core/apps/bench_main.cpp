@@ -110,6 +110,16 @@ int main(int argc, char** argv) {
   app.add_flag("--lns", lifelong.lns,
                "experiment lifelong: improve the best rollout's steps by Large Neighbourhood Search (space-time A* "
                "for 8 agents around a late one at a time) with half of the rollouts' time");
+  app.add_option("--hold-plans", lifelong.hold_plans,
+                 "experiment lifelong, rotation model: when the cells PIBT chose are carried out as a plan, turning "
+                 "and moving agents while the others wait, until every agent stands on its own: never, half (in "
+                 "every second rollout; the look-ahead picks) or always")
+      ->check(CLI::IsMember({"never", "half", "always"}))
+      ->capture_default_str();
+  app.add_flag("--keep-targets,!--no-keep-targets", lifelong.keep_targets,
+               "experiment lifelong, rotation model: an agent short of the cell PIBT chose for it (turned towards "
+               "it, or queued behind one that turned) decides first and tries that cell first")
+      ->capture_default_str();
   app.add_flag("--league-output", lifelong.league_output,
                "experiment lifelong: also write each run as the league's output file, <out-dir>/<problem>.lorr.json "
                "(for PlanViz; about 4 bytes per agent and step)");

@@ -56,10 +56,16 @@ int run_lifelong_experiment(const LifelongExperimentSettings& settings) {
            "step_ms_max,over_budget,invalid,peak_mb,preprocess_ms\n";
   per_step << "problem,step,errands\n";
   const planner_core::ActionModel actions = planner_core::parse_action_model(settings.actions, "--actions");
+  const planner_core::PlanHolding hold_plans = planner_core::parse_plan_holding(settings.hold_plans, "--hold-plans");
+  const std::string turning =
+      actions == planner_core::ActionModel::kRotate
+          ? ", plans held " + settings.hold_plans + (settings.keep_targets ? ", targets kept" : ", targets not kept")
+          : "";
   std::printf(
-      "lifelong: %d steps, %.3f s per step, actions %s, planner pibt, guidance %s, %d rollouts of %d steps (seed %u)\n",
-      settings.steps, settings.step_time_s, settings.actions.c_str(), settings.guidance.c_str(), settings.rollouts,
-      settings.rollout_steps, settings.seed);
+      "lifelong: %d steps, %.3f s per step, actions %s%s, planner pibt, guidance %s, %d rollouts of %d steps (seed "
+      "%u)\n",
+      settings.steps, settings.step_time_s, settings.actions.c_str(), turning.c_str(), settings.guidance.c_str(),
+      settings.rollouts, settings.rollout_steps, settings.seed);
   std::printf("%-28s %6s %9s %8s %9s %9s %9s %6s %7s %8s %9s\n", "problem", "agents", "errands", "per step",
               "p50 ms", "p99 ms", "max ms", "over", "invalid", "peak MB", "prep ms");
   for (const std::string& path : problems) {
@@ -70,6 +76,11 @@ int run_lifelong_experiment(const LifelongExperimentSettings& settings) {
     pibt.rollout_steps = settings.rollout_steps;
     pibt.lns = settings.lns;
     pibt.actions = actions;
+    pibt.hold_plans = hold_plans;
+    pibt.keep_targets = settings.keep_targets;
+    const std::string turning_name = actions == planner_core::ActionModel::kRotate
+                                         ? "-hold-" + settings.hold_plans + (settings.keep_targets ? "-keep" : "")
+                                         : "";
     planner_core::PibtLifelong planner(*problem.graph, settings.seed, pibt);
     planner_core::LifelongLog log;
     planner_core::LifelongSettings lifelong;
@@ -106,7 +117,7 @@ int run_lifelong_experiment(const LifelongExperimentSettings& settings) {
       planner_core::write_lorr_output(output.string(), problem, result, log);
       std::printf("  wrote %s\n", output.c_str());
     }
-    table << name << "," << problem.starts.size() << "," << settings.steps << "," << settings.step_time_s << ",pibt-" << (actions == planner_core::ActionModel::kRotate ? "rotate-" : "") << settings.guidance << "-r" << settings.rollouts << (settings.lns ? "-lns" : "") << ","
+    table << name << "," << problem.starts.size() << "," << settings.steps << "," << settings.step_time_s << ",pibt-" << (actions == planner_core::ActionModel::kRotate ? "rotate-" : "") << settings.guidance << "-r" << settings.rollouts << (settings.lns ? "-lns" : "") << turning_name << ","
           << result.errands_finished << "," << result.tasks_finished << "," << per << ","
           << quantile(result.step_ms, 0.5) << "," << quantile(result.step_ms, 0.99) << ","
           << quantile(result.step_ms, 1.0) << "," << result.steps_over_budget << "," << result.invalid_steps << ","

@@ -24,6 +24,8 @@ struct LifelongExperimentSettings {
   int rollouts = 128;                 // PibtLifelongSettings::rollouts
   int rollout_steps = 3;              // PibtLifelongSettings::rollout_steps
   bool lns = false;                   // PibtLifelongSettings::lns
+  std::string hold_plans = "half";    // PibtLifelongSettings::hold_plans (rotation model)
+  bool keep_targets = true;           // PibtLifelongSettings::keep_targets (rotation model)
   bool league_output = false;         // also write <out-dir>/<problem>.lorr.json (planner_core/lorr_output.hpp)
   const std::atomic<bool>* interrupt = nullptr;  // Ctrl-C: the run under way ends, nothing more runs
 };

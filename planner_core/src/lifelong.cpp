@@ -13,6 +13,25 @@
 
 namespace planner_core {
 
+PlanHolding parse_plan_holding(const std::string& text, const std::string& what) {
+  if (text == "never") return PlanHolding::kNever;
+  if (text == "half") return PlanHolding::kInHalfTheRollouts;
+  if (text == "always") return PlanHolding::kAlways;
+  throw InputError(what + ": \"" + text + "\" is no way of holding plans (never, half or always)");
+}
+
+std::string to_string(PlanHolding holding) {
+  switch (holding) {
+    case PlanHolding::kNever:
+      return "never";
+    case PlanHolding::kInHalfTheRollouts:
+      return "half";
+    case PlanHolding::kAlways:
+      return "always";
+  }
+  return "?";
+}
+
 PibtLifelong::PibtLifelong(const Graph& graph, uint32_t seed, PibtLifelongSettings settings)
     : graph_(graph),
       settings_(settings),
@@ -75,7 +94,10 @@ Poses PibtLifelong::next_step(const Poses& now, const Config& goals, const Deadl
     still_.assign(positions.size(), 0);
     boost_.assign(positions.size(), 0);
   }
-  if (settings_.rollouts <= 1 && !settings_.lns) return one_step(now, goals, previous_goals);
+  if (settings_.rollouts <= 1 && !settings_.lns) {
+    holding_ = settings_.hold_plans == PlanHolding::kAlways;
+    return one_step(now, goals, previous_goals);
+  }
   const auto started = std::chrono::steady_clock::now();
   const double budget_s = settings_.rollout_share * deadline.seconds_left();
   const double share_s = settings_.lns ? budget_s / 2 : budget_s;
@@ -89,6 +111,8 @@ Poses PibtLifelong::next_step(const Poses& now, const Config& goals, const Deadl
   for (int run = 0; run < settings_.rollouts; ++run) {
     restore(before);
     if (run > 0) rng_.seed(seeds + static_cast<uint32_t>(run));
+    holding_ = settings_.hold_plans == PlanHolding::kAlways ||
+               (settings_.hold_plans == PlanHolding::kInHalfTheRollouts && run % 2 == 1);
     Poses at = one_step(now, goals, previous_goals);
     const Poses first = at;
     std::vector<Poses> window{now, first};
@@ -127,10 +151,16 @@ Poses PibtLifelong::next_step(const Poses& now, const Config& goals, const Deadl
     lns_totals_.improvements += stats.improvements;
     lns_totals_.cost_before += stats.cost_before;
     lns_totals_.cost_after += stats.cost_after;
-    // The first step may have changed: agents that now stay count as standing still.
+    // The first step may have changed: agents that now stay count as standing still, and an
+    // agent sent elsewhere is no longer short of its target.
     for (int a = 0; a < n; ++a) {
       if (best_window[1].cells[a] != best_first.cells[a]) {
         still_[a] = best_window[1].cells[a] == positions[a] ? still_[a] + 1 : 0;
+      }
+      const bool turned_otherwise =
+          settings_.actions == ActionModel::kRotate && best_window[1].headings[a] != best_first.headings[a];
+      if (!targets_.empty() && (best_window[1].cells[a] != best_first.cells[a] || turned_otherwise)) {
+        targets_[a] = best_window[1].cells[a];
       }
     }
     return best_window[1];
@@ -142,11 +172,46 @@ void PibtLifelong::restore(const StepState& state) {
   rng_ = state.rng;
   still_ = state.still;
   boost_ = state.boost;
+  targets_ = state.targets;
+  held_steps_ = state.held_steps;
+}
+
+bool PibtLifelong::short_of_target(const Poses& now, int agent) const {
+  if (settings_.actions != ActionModel::kRotate || targets_.size() != now.cells.size()) return false;
+  const Vertex target = targets_[agent];
+  return target != now.cells[agent] && graph_.adjacent(now.cells[agent], target);
+}
+
+bool PibtLifelong::plan_unfinished(const Poses& now) const {
+  for (size_t a = 0; a < now.cells.size(); ++a) {
+    if (short_of_target(now, static_cast<int>(a))) return true;
+  }
+  return false;
+}
+
+Poses PibtLifelong::carry_out_targets(const Poses& now, const Config& goals) {
+  const int n = static_cast<int>(now.cells.size());
+  ++held_steps_;
+  next_.headings = now.headings;
+  next_.cells.assign(n, kNoVertex);
+  for (int a = 0; a < n; ++a) {
+    // A target is a neighbour or the agent's own cell, all distinct (PIBT chose them together).
+    next_.cells[a] = short_of_target(now, a) ? targets_[a] : now.cells[a];
+    entering_[next_.cells[a]] = a;
+  }
+  const Config planned = next_.cells;
+  take_rotation_actions(now, goals);
+  for (int a = 0; a < n; ++a) {
+    entering_[planned[a]] = -1;
+    still_[a] = next_.cells[a] == now.cells[a] ? still_[a] + 1 : 0;
+  }
+  return next_;
 }
 
 Poses PibtLifelong::one_step(const Poses& now, const Config& goals, const Config& previous_goals) {
   const Config& positions = now.cells;
   const int n = static_cast<int>(positions.size());
+  if (holding_ && held_steps_ < kMaxHeldSteps && plan_unfinished(now)) return carry_out_targets(now, goals);
   std::uniform_real_distribution<double> draw(0, 1);
   for (int a = 0; a < n; ++a) {
     if (goals[a] != previous_goals[a] || positions[a] == goals[a]) boost_[a] = 0;
@@ -164,6 +229,7 @@ Poses PibtLifelong::one_step(const Poses& now, const Config& goals, const Config
   std::vector<double> rank(n);
   for (int a = 0; a < n; ++a) {
     rank[a] = boost_[a] > 0 ? boost_[a] : fraction_[a] - distance(goals[a], now, a);
+    if (settings_.keep_targets && boost_[a] == 0 && short_of_target(now, a)) rank[a] += kTargetPriority;
   }
   std::vector<int> order(n);
   for (int a = 0; a < n; ++a) order[a] = a;
@@ -172,7 +238,11 @@ Poses PibtLifelong::one_step(const Poses& now, const Config& goals, const Config
     if (next_.cells[a] == kNoVertex) decide(a, -1, now, goals);
   }
   const Config planned = next_.cells;
-  if (settings_.actions == ActionModel::kRotate) take_rotation_actions(now, goals);
+  if (settings_.actions == ActionModel::kRotate) {
+    targets_ = planned;
+    held_steps_ = 1;
+    take_rotation_actions(now, goals);
+  }
   for (int a = 0; a < n; ++a) {
     standing_on_[positions[a]] = -1;
     entering_[planned[a]] = -1;
@@ -238,18 +308,24 @@ bool PibtLifelong::decide(int agent, int pushed_by, const Poses& now, const Conf
   // Each move ranked by its cost plus the cost from where it leads (staying costs 1), ties by
   // whether another agent stands there now.
   std::array<int64_t, 5> rank{};
+  // An agent pushed by a stuck one makes way as below rather than keep its target.
+  const bool pushed_by_stuck = pushed_by != -1 && boost_[pushed_by] > 0;
+  const bool keeps_target = settings_.keep_targets && short_of_target(now, agent) && !pushed_by_stuck;
   for (int k = 0; k < count; ++k) {
     const Vertex v = candidates[k];
     const bool taken = standing_on_[v] != -1 && standing_on_[v] != agent;
     rank[k] = 2 * step_cost(agent, now, goals[agent], v) + (taken ? 1 : 0);
   }
-  if (settings_.actions == ActionModel::kRotate && pushed_by != -1 && boost_[pushed_by] > 0) {
+  if (settings_.actions == ActionModel::kRotate && pushed_by_stuck) {
     // Pushed on along the way of an agent that was stuck, it would be pushed again and again down
     // a corridor: a cell to the side is dearer to reach (turns) but lets the pusher pass.
     const Vertex straight_on = ahead(graph_, here, heading_towards(graph_, positions[pushed_by], here));
     for (int k = 0; k < count; ++k) {
       if (candidates[k] == straight_on) rank[k] += 2 * settings_.straight_push_cost;
     }
+  }
+  for (int k = 0; k < count; ++k) {
+    if (keeps_target && candidates[k] == targets_[agent]) rank[k] = -1;  // before any other
   }
   for (int i = 1; i < count; ++i) {  // insertion sort, keeping the shuffled order of ties
     for (int j = i; j > 0 && rank[j] < rank[j - 1]; --j) {

@@ -147,7 +147,9 @@ TEST(RotationLifelong, WithRolloutsEveryStepIsValid) {
 
 // Two agents that meet head on in a corridor with one pocket, again and again (their tasks send
 // them to each other's end), and an agent let out of a dead end: whatever the seed, they keep
-// finishing errands.
+// finishing errands. With kept targets they pass more slowly in the corridor (8-14 errands in 200
+// steps over these seeds, against 16-18 without), which is why keep_targets is off by default;
+// a lock would leave them at 2 or fewer.
 TEST(RotationLifelong, AgentsThatMeetHeadOnGetPastEachOther) {
   TinyProblem corridor({".......", "@@@.@@@"}, {"2", "0", "6"}, {"4", "6", "0", "0", "6"});
   TinyProblem dead_end({".@...", "....."}, {"2", "0", "5"}, {"4", "9", "0", "3", "0"});
@@ -156,13 +158,106 @@ TEST(RotationLifelong, AgentsThatMeetHeadOnGetPastEachOther) {
     LifelongSettings settings{.steps = 200, .step_time_s = 1.0};
     settings.actions = ActionModel::kRotate;
     for (Guidance guidance : {Guidance::kNone, Guidance::kLanes}) {
-      for (uint32_t seed = 0; seed < 20; ++seed) {
-        PibtLifelong planner(*problem.graph, seed, {.guidance = guidance, .actions = ActionModel::kRotate});
-        const LifelongResult result = run_lifelong(problem, planner, settings);
-        EXPECT_EQ(result.invalid_steps, 0) << result.first_invalid;
-        EXPECT_GE(result.errands_finished, 10) << tiny->path() << ", seed " << seed << ", " << to_string(guidance);
+      for (PlanHolding holding : {PlanHolding::kNever, PlanHolding::kAlways}) {
+        for (bool keep_targets : {false, true}) {
+          for (uint32_t seed = 0; seed < 20; ++seed) {
+            PibtLifelong planner(*problem.graph, seed,
+                                 {.guidance = guidance,
+                                  .actions = ActionModel::kRotate,
+                                  .keep_targets = keep_targets,
+                                  .hold_plans = holding});
+            const LifelongResult result = run_lifelong(problem, planner, settings);
+            EXPECT_EQ(result.invalid_steps, 0) << result.first_invalid;
+            EXPECT_GE(result.errands_finished, keep_targets ? 6 : 10)
+                << tiny->path() << ", seed " << seed << ", " << to_string(guidance) << ", held "
+                << to_string(holding) << (keep_targets ? ", targets kept" : "");
+          }
+        }
       }
     }
+  }
+}
+
+TEST(RotationLifelong, HeldPlansAndKeptTargetsStepValidlyAndTheSameSeedRunsTheSame) {
+  for (const char* name : {"random_400.json", "random_800.json"}) {
+    const LorrProblem problem = load_lorr_problem(kRandom + name);
+    LifelongSettings settings{.steps = 80, .step_time_s = 5.0};
+    settings.actions = ActionModel::kRotate;
+    for (PlanHolding holding : {PlanHolding::kNever, PlanHolding::kInHalfTheRollouts, PlanHolding::kAlways}) {
+      for (bool keep_targets : {false, true}) {
+        const PibtLifelongSettings pibt{.guidance = Guidance::kLanes,
+                                        .actions = ActionModel::kRotate,
+                                        .rollouts = 4,
+                                        .keep_targets = keep_targets,
+                                        .hold_plans = holding};
+        PibtLifelong first(*problem.graph, 7, pibt), second(*problem.graph, 7, pibt);
+        const LifelongResult a = run_lifelong(problem, first, settings);
+        const LifelongResult b = run_lifelong(problem, second, settings);
+        const std::string what = std::string(name) + ", held " + to_string(holding) + (keep_targets ? ", kept" : "");
+        EXPECT_EQ(a.invalid_steps, 0) << what << ": " << a.first_invalid;
+        EXPECT_EQ(a.steps_over_budget, 0) << what;
+        EXPECT_GT(a.errands_finished, 0) << what;
+        EXPECT_EQ(a.errands_per_step, b.errands_per_step) << what;
+        EXPECT_EQ(a.moves, b.moves) << what;
+      }
+    }
+  }
+}
+
+// A moves east along the top row while B, below, turns north towards its goal. Holding PIBT's
+// cells as a plan, A (on its cell after one step) waits the step B takes to move; deciding afresh,
+// A goes on at once.
+TEST(RotationLifelong, AHeldPlanWaitsUntilEveryAgentStandsOnItsCell) {
+  const Graph graph(5, 3, {".....", ".....", "....."});
+  const auto at = [&](int x, int y) { return graph.vertex_at({x, y}); };
+  const Config goals{at(4, 0), at(0, 1)};
+  for (PlanHolding holding : {PlanHolding::kNever, PlanHolding::kAlways}) {
+    PibtLifelong planner(graph, 3, {.actions = ActionModel::kRotate, .hold_plans = holding});
+    const Poses first = planner.next_step({{at(0, 0), at(0, 2)}, {kEast, kEast}}, goals, Deadline::in_seconds(5));
+    ASSERT_EQ(first.cells, (Config{at(1, 0), at(0, 2)}));
+    ASSERT_EQ(first.headings, (std::vector<int>{kEast, kNorth}));
+    const Poses second = planner.next_step(first, goals, Deadline::in_seconds(5));
+    EXPECT_EQ(second.cells[1], at(0, 1)) << "B moves onto the cell it turned towards";
+    EXPECT_EQ(second.cells[0], holding == PlanHolding::kAlways ? at(1, 0) : at(2, 0)) << to_string(holding);
+    const Poses third = planner.next_step(second, goals, Deadline::in_seconds(5));
+    EXPECT_EQ(third.cells[0], holding == PlanHolding::kAlways ? at(2, 0) : at(3, 0)) << "the plan is done: A goes on";
+  }
+}
+
+// B turns north towards the cell on its way; then C, beside that cell, is given it as its goal and
+// is nearer its goal than B. With kept targets B, short of its cell, goes first and takes it;
+// without, C (first by distance) does and B stays.
+TEST(RotationLifelong, AnAgentShortOfItsTargetTakesItFirst) {
+  const Graph graph(3, 3, {"...", "...", "..."});
+  const auto at = [&](int x, int y) { return graph.vertex_at({x, y}); };
+  for (bool keep_targets : {false, true}) {
+    PibtLifelong planner(graph, 5,
+                         {.actions = ActionModel::kRotate, .keep_targets = keep_targets, .hold_plans = PlanHolding::kNever});
+    const Poses start{{at(1, 2), at(0, 1)}, {kEast, kEast}};
+    const Poses first = planner.next_step(start, {at(1, 0), at(0, 1)}, Deadline::in_seconds(5));
+    ASSERT_EQ(first.cells, start.cells);
+    ASSERT_EQ(first.headings, (std::vector<int>{kNorth, kEast})) << "B turns towards (1, 1)";
+    const Poses second = planner.next_step(first, {at(1, 0), at(1, 1)}, Deadline::in_seconds(5));
+    if (keep_targets) {
+      EXPECT_EQ(second.cells, (Config{at(1, 1), at(0, 1)}));
+    } else {
+      EXPECT_EQ(second.cells, (Config{at(1, 2), at(1, 1)}));
+    }
+  }
+}
+
+TEST(RotationLifelong, HoldingPlansIsNamedOnCommandLines) {
+  EXPECT_EQ(parse_plan_holding("never", "--hold-plans"), PlanHolding::kNever);
+  EXPECT_EQ(parse_plan_holding("half", "--hold-plans"), PlanHolding::kInHalfTheRollouts);
+  EXPECT_EQ(parse_plan_holding("always", "--hold-plans"), PlanHolding::kAlways);
+  for (PlanHolding holding : {PlanHolding::kNever, PlanHolding::kInHalfTheRollouts, PlanHolding::kAlways}) {
+    EXPECT_EQ(parse_plan_holding(to_string(holding), "x"), holding);
+  }
+  try {
+    parse_plan_holding("sometimes", "--hold-plans");
+    FAIL() << "accepted";
+  } catch (const InputError& error) {
+    EXPECT_NE(std::string(error.what()).find("--hold-plans: \"sometimes\""), std::string::npos) << error.what();
   }
 }
 

@@ -49,6 +49,18 @@ class LifelongPlanner {
 // stays and turns a quarter towards it. An agent that meant to move onto the cell of one that
 // stays (turning, or kept there) waits as well, and so on back along the chain.
 //
+// Such a step leaves agents short of the cells PIBT chose for them (their targets): turned towards
+// it, or queued behind one that turned. Decided afresh next step they may well choose another cell
+// and turn away again. Two remedies, both rotation model only (PibtLifelongSettings):
+// - keep_targets: an agent short of its target decides before those that are not (stuck ones
+//   aside) and tries its target first, unless a stuck agent pushes it.
+// - hold_plans: the step's targets are carried out as a plan, turning and moving agents while
+//   the others wait, until every agent stands on its target (at most kMaxHeldSteps: two quarter
+//   turns and a move), as the 2023 winner's executor does. The whole fleet waits on its slowest
+//   agent, which pays where a turning agent holds up a queue (crowded maps) and costs where it
+//   does not; with rollouts, half of them may hold and half decide afresh, and the look-ahead
+//   picks. Figures: docs/RESULTS.md, "Turning agents keep their targets".
+//
 // Plain PIBT can lock for ever off a biconnected map: an agent at the end of a dead end whose way
 // out is the cell of an agent that wants the dead end, the latter ahead in priority at every step
 // (with priorities by waiting time both grow alike; by distance the order is as fixed). So an agent that has stood still for kStuckSteps steps while it
@@ -57,6 +69,17 @@ class LifelongPlanner {
 // the one in the dead end, once drawn first, pushes the other aside and keeps going (a place it
 // lost at its first move would send it straight back in).
 //
+// Rotation model (above): when PIBT's cells are held as a plan until every agent stands on its own.
+enum class PlanHolding {
+  kNever,               // PIBT decides every step afresh
+  kInHalfTheRollouts,   // every second rollout holds; with one rollout (plain PIBT), none does
+  kAlways,
+};
+
+// "never", "half" or "always"; throws InputError naming `what` and the choices.
+PlanHolding parse_plan_holding(const std::string& text, const std::string& what);
+std::string to_string(PlanHolding holding);
+
 // Distances to each goal are searched on every core when the goal is first seen (preprocessing
 // covers the first goals), and a goal's table is freed once nobody heads there and more than
 // `distance_bytes` (PibtLifelongSettings) of tables are held: 10,000 agents on a 54,000-cell map touch 32,000 goals in
@@ -83,6 +106,11 @@ struct PibtLifelongSettings {
   // Window LNS (window_lns.hpp): the best rollout's rollout_steps steps are improved by Large
   // Neighbourhood Search; rollouts then take half of rollout_share, LNS the rest.
   bool lns = false;
+  // Rotation model: an agent short of the cell PIBT chose for it goes first and tries it first.
+  // Off by default: it slows two agents meeting head on in a corridor (tested).
+  bool keep_targets = false;
+  // Rotation model: when the step's targets are carried out as a plan until all are reached.
+  PlanHolding hold_plans = PlanHolding::kInHalfTheRollouts;
 };
 
 class PibtLifelong : public LifelongPlanner {
@@ -101,6 +129,8 @@ class PibtLifelong : public LifelongPlanner {
     std::mt19937 rng;
     std::vector<int> still;
     std::vector<double> boost;
+    Config targets;
+    int held_steps;
   };
   // One PIBT step from `now` (goals were `previous_goals` the step before).
   Poses one_step(const Poses& now, const Config& goals, const Config& previous_goals);
@@ -108,10 +138,15 @@ class PibtLifelong : public LifelongPlanner {
   // The cost to the goal of a step to `cell` (a neighbour or the agent's own); in the rotation
   // model with the turns to face it.
   int64_t step_cost(int agent, const Poses& now, Vertex goal, Vertex cell);
-  // Rotation model: turns PIBT's cells into actions (rotation model, above).
+  // Rotation model: turns the cells in next_ (entering_ holds who enters each) into actions.
   void take_rotation_actions(const Poses& now, const Config& goals);
+  // Rotation model: whether an agent stands short of its target, and the step that carries out
+  // the targets as a plan (hold_plans, above).
+  bool short_of_target(const Poses& now, int agent) const;
+  bool plan_unfinished(const Poses& now) const;
+  Poses carry_out_targets(const Poses& now, const Config& goals);
   int distance(Vertex goal, const Poses& poses, int agent);
-  StepState state() const { return {rng_, still_, boost_}; }
+  StepState state() const { return {rng_, still_, boost_, targets_, held_steps_}; }
   void restore(const StepState& state);
   // Searches the distances to goals not seen before, and frees tables of goals nobody needs.
   void follow_goals(const Config& goals, const Deadline& deadline);
@@ -127,6 +162,7 @@ class PibtLifelong : public LifelongPlanner {
   std::mt19937 rng_;
   Config last_goals_;
   static constexpr int kStuckSteps = 8;
+  static constexpr double kTargetPriority = 1e6;  // ahead of any distance, behind a stuck agent's boost
   std::vector<double> fraction_;   // per agent, a fixed fraction that breaks ties in priority
   std::vector<int> still_;         // steps the agent stood still (since it last moved, or was drawn)
   std::vector<double> boost_;      // a stuck agent's place ahead of the others (0: none)
@@ -134,6 +170,10 @@ class PibtLifelong : public LifelongPlanner {
   std::vector<int> entering_;      // vertex -> agent there next, or -1
   std::vector<char> planning_;     // per agent: deciding now, waiting for an agent it pushed
   Poses next_;
+  static constexpr int kMaxHeldSteps = 3;
+  Config targets_;        // per agent, the cell PIBT last chose for it (rotation model)
+  int held_steps_ = 0;    // steps the current targets have been carried out for
+  bool holding_ = false;  // this run (rollout) holds plans
   WindowLns lns_;
   WindowLnsStats lns_totals_;
 };
