@@ -183,10 +183,17 @@ bool PibtLifelong::short_of_target(const Poses& now, int agent) const {
 }
 
 bool PibtLifelong::plan_unfinished(const Poses& now) const {
+  bool unfinished = false;
+  Config planned = now.cells;
   for (size_t a = 0; a < now.cells.size(); ++a) {
-    if (short_of_target(now, static_cast<int>(a))) return true;
+    if (short_of_target(now, static_cast<int>(a))) {
+      unfinished = true;
+      planned[a] = targets_[a];
+    }
   }
-  return false;
+  // Targets come from one PIBT step, so they hold together; but window LNS may since have sent
+  // some agents elsewhere, onto a cell another still heads for. Such a plan is not held.
+  return unfinished && find_step_fault(graph_, now.cells, planned).what.empty();
 }
 
 Poses PibtLifelong::carry_out_targets(const Poses& now, const Config& goals) {

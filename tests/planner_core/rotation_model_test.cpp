@@ -204,6 +204,29 @@ TEST(RotationLifelong, HeldPlansAndKeptTargetsStepValidlyAndTheSameSeedRunsTheSa
   }
 }
 
+// Window LNS rewrites the chosen rollout's steps, so a held plan may meet agents LNS sent onto a
+// cell another still heads for: no step may be invalid for it (the first version had 319 of 500).
+TEST(RotationLifelong, HeldPlansWithWindowLnsStepValidly) {
+  for (const char* name : {"random_400.json", "random_800.json"}) {
+    const LorrProblem problem = load_lorr_problem(kRandom + name);
+    LifelongSettings settings{.steps = 40, .step_time_s = 0.2};
+    settings.actions = ActionModel::kRotate;
+    for (PlanHolding holding : {PlanHolding::kInHalfTheRollouts, PlanHolding::kAlways}) {
+      PibtLifelong planner(*problem.graph, 2,
+                           {.guidance = Guidance::kLanes,
+                            .actions = ActionModel::kRotate,
+                            .rollouts = 16,
+                            .rollout_steps = 8,
+                            .lns = true,
+                            .keep_targets = true,
+                            .hold_plans = holding});
+      const LifelongResult result = run_lifelong(problem, planner, settings);
+      EXPECT_EQ(result.invalid_steps, 0) << name << ", held " << to_string(holding) << ": " << result.first_invalid;
+      EXPECT_GT(result.errands_finished, 0) << name;
+    }
+  }
+}
+
 // A moves east along the top row while B, below, turns north towards its goal. Holding PIBT's
 // cells as a plan, A (on its cell after one step) waits the step B takes to move; deciding afresh,
 // A goes on at once.

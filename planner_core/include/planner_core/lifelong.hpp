@@ -140,8 +140,8 @@ class PibtLifelong : public LifelongPlanner {
   int64_t step_cost(int agent, const Poses& now, Vertex goal, Vertex cell);
   // Rotation model: turns the cells in next_ (entering_ holds who enters each) into actions.
   void take_rotation_actions(const Poses& now, const Config& goals);
-  // Rotation model: whether an agent stands short of its target, and the step that carries out
-  // the targets as a plan (hold_plans, above).
+  // Rotation model: whether an agent stands short of its target; whether some agent does and
+  // the targets still make a valid step; and the step that carries them out (hold_plans, above).
   bool short_of_target(const Poses& now, int agent) const;
   bool plan_unfinished(const Poses& now) const;
   Poses carry_out_targets(const Poses& now, const Config& goals);
