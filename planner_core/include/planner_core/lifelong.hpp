@@ -53,7 +53,7 @@ class LifelongPlanner {
 // it, or queued behind one that turned. Decided afresh next step they may well choose another cell
 // and turn away again. Two remedies, both rotation model only (PibtLifelongSettings):
 // - keep_targets: an agent short of its target decides before those that are not (stuck ones
-//   aside) and tries its target first, unless a stuck agent pushes it.
+//   aside) and tries its target first.
 // - hold_plans: the step's targets are carried out as a plan, turning and moving agents while
 //   the others wait, until every agent stands on its target (at most kMaxHeldSteps: two quarter
 //   turns and a move), as the 2023 winner's executor does. The whole fleet waits on its slowest
