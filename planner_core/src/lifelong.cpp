@@ -202,7 +202,7 @@ Poses PibtLifelong::carry_out_targets(const Poses& now, const Config& goals) {
   next_.headings = now.headings;
   next_.cells.assign(n, kNoVertex);
   for (int a = 0; a < n; ++a) {
-    // A target is a neighbour or the agent's own cell, all distinct (PIBT chose them together).
+    // A target is a neighbour or the agent's own cell; plan_unfinished checked they make a valid step.
     next_.cells[a] = short_of_target(now, a) ? targets_[a] : now.cells[a];
     entering_[next_.cells[a]] = a;
   }
@@ -316,7 +316,7 @@ bool PibtLifelong::decide(int agent, int pushed_by, const Poses& now, const Conf
   // whether another agent stands there now.
   std::array<int64_t, 5> rank{};
   const bool pushed_by_stuck = pushed_by != -1 && boost_[pushed_by] > 0;
-  // Measured: keeping it even when a stuck agent pushes gives 16% more errands (random_400).
+  // A target is kept even when a stuck agent pushes: 16% more errands on random_400 than not.
   const bool keeps_target = settings_.keep_targets && short_of_target(now, agent);
   for (int k = 0; k < count; ++k) {
     const Vertex v = candidates[k];
