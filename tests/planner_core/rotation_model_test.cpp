@@ -204,6 +204,21 @@ TEST(RotationLifelong, HeldPlansAndKeptTargetsStepValidlyAndTheSameSeedRunsTheSa
   }
 }
 
+// Kept targets and held plans are rotation-model remedies: in four moves they change nothing.
+TEST(RotationLifelong, KeptTargetsAndHeldPlansLeaveFourMovesAlone) {
+  const LorrProblem problem = load_lorr_problem(kRandom + "random_400.json");
+  const LifelongSettings settings{.steps = 100, .step_time_s = 5.0};
+  PibtLifelong plain(*problem.graph, 4,
+                     {.guidance = Guidance::kLanes, .rollouts = 4, .keep_targets = false, .hold_plans = PlanHolding::kNever});
+  PibtLifelong both(*problem.graph, 4,
+                    {.guidance = Guidance::kLanes, .rollouts = 4, .keep_targets = true, .hold_plans = PlanHolding::kAlways});
+  const LifelongResult a = run_lifelong(problem, plain, settings);
+  const LifelongResult b = run_lifelong(problem, both, settings);
+  EXPECT_GT(a.errands_finished, 0);
+  EXPECT_EQ(a.errands_per_step, b.errands_per_step);
+  EXPECT_EQ(a.moves, b.moves);
+}
+
 // Window LNS rewrites the chosen rollout's steps, so a held plan may meet agents LNS sent onto a
 // cell another still heads for: no step may be invalid for it (the first version had 319 of 500).
 TEST(RotationLifelong, HeldPlansWithWindowLnsStepValidly) {
