@@ -208,10 +208,7 @@ Poses PibtLifelong::carry_out_targets(const Poses& now, const Config& goals) {
   }
   const Config planned = next_.cells;
   take_rotation_actions(now, goals);
-  for (int a = 0; a < n; ++a) {
-    entering_[planned[a]] = -1;
-    still_[a] = next_.cells[a] == now.cells[a] ? still_[a] + 1 : 0;
-  }
+  end_step(now, planned);
   return next_;
 }
 
@@ -250,12 +247,16 @@ Poses PibtLifelong::one_step(const Poses& now, const Config& goals, const Config
     held_steps_ = 1;
     take_rotation_actions(now, goals);
   }
-  for (int a = 0; a < n; ++a) {
-    standing_on_[positions[a]] = -1;
-    entering_[planned[a]] = -1;
-    still_[a] = next_.cells[a] == positions[a] ? still_[a] + 1 : 0;
-  }
+  end_step(now, planned);
   return next_;
+}
+
+void PibtLifelong::end_step(const Poses& now, const Config& planned) {
+  for (size_t a = 0; a < now.cells.size(); ++a) {
+    standing_on_[now.cells[a]] = -1;
+    entering_[planned[a]] = -1;
+    still_[a] = next_.cells[a] == now.cells[a] ? still_[a] + 1 : 0;
+  }
 }
 
 int64_t PibtLifelong::step_cost(int agent, const Poses& now, Vertex goal, Vertex cell) {

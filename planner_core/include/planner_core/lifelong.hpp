@@ -145,6 +145,9 @@ class PibtLifelong : public LifelongPlanner {
   bool short_of_target(const Poses& now, int agent) const;
   bool plan_unfinished(const Poses& now) const;
   Poses carry_out_targets(const Poses& now, const Config& goals);
+  // Clears the step's scratch maps (who stands on, who enters each cell: `planned`) and counts
+  // the steps each agent has stood still.
+  void end_step(const Poses& now, const Config& planned);
   int distance(Vertex goal, const Poses& poses, int agent);
   StepState state() const { return {rng_, still_, boost_, targets_, held_steps_}; }
   void restore(const StepState& state);
