@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The rotation model from the command line: ctsfleet-solve --actions rotate plans for agents with
 # start headings from the instance; the independent checker (turning_plan_check.py, with ctsval.py
-# for the cells) accepts the plans of CTS-PIBT (which plans with turns) and CTS-PLL (turns added)
+# for the cells) accepts the plans of CTS-PIBT and LaCAM* (which plan with turns) and CTS-PLL (turns added)
 # and rejects a wrong start heading and a plan without headings; a bad heading is refused by name.
 # Usage: turning_plans_cli.sh BIN_DIR DATA_DIR PYTHON
 set -euo pipefail
@@ -47,6 +47,14 @@ fi
 "$bin/ctsfleet-solve" -i "$work/turning.yaml" --solver cts-pll-v3 --actions rotate -t 2 -o "$work/pll.txt" > "$work/summary"
 grep -q "solved=1" "$work/summary"
 "$python" "$check" "$ctsval" "$work/turning.yaml" "$work/pll.txt"
+# LaCAM* over cell and heading (plain MAPF), its own plan alone: accepted by the checker too.
+sed -e "s|^map: ../maps/|map: $data/maps/|" "$data/../../benchmarks/mapf/maze-32-32-2-N50-0.yaml" > "$work/plain.yaml"
+"$bin/ctsfleet-solve" -i "$work/plain.yaml" --solver lacam-star --actions rotate --turns planned -t 2 \
+  -o "$work/lacam.txt" > "$work/summary"
+grep -q "solved=1" "$work/summary"
+"$python" "$check" "$ctsval" "$work/plain.yaml" "$work/lacam.txt" > "$work/checked"
+flowtime="$(grep '^flowtime=' "$work/lacam.txt" | cut -d= -f2)"
+grep -q "flowtime=$flowtime " "$work/checked"
 sed -e 's/heading: W/heading: west/' "$work/turning.yaml" > "$work/bad-heading.yaml"
 set +e
 "$bin/ctsfleet-solve" -i "$work/bad-heading.yaml" --actions rotate -o "$work/never.txt" 2> "$work/err"

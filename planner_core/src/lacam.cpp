@@ -10,11 +10,14 @@
 #include <numeric>
 #include <memory>
 #include <queue>
+#include <stdexcept>
+#include <string>
 #include <tuple>
 #include <unordered_set>
 #include <utility>
 
 #include "planner_core/corridor_swap.hpp"
+#include "planner_core/guided_distances.hpp"
 #include "planner_core/scatter.hpp"
 
 namespace planner_core {
@@ -34,14 +37,21 @@ struct ConfigHash {
   }
 };
 
-// A low-level node: the first `who.size()` agents of the high-level order are fixed to `where`.
+// A low-level node: the first `who.size()` agents of the high-level order are fixed to `where`:
+// a cell, or in the rotation model a pose (pose_code: the cell and the heading after the action).
 struct Constraint {
   std::vector<int> who;
   std::vector<Vertex> where;
 };
 
+// A cell and a heading in one number (the rotation model's constraints and candidate actions).
+Vertex pose_code(Vertex cell, int heading) { return cell * kHeadings + heading; }
+Vertex cell_of_pose(Vertex pose) { return pose / kHeadings; }
+int heading_of_pose(Vertex pose) { return pose % kHeadings; }
+
 struct HighLevelNode {
-  Config config;  // the agents' vertices; with waypoints followed by the agents' progress
+  Config config;  // the agents' vertices; in the rotation model then their headings; with waypoints
+                  // then their progress
   HighLevelNode* parent = nullptr;
   int64_t g = 0;  // sum of loss from the start
   int64_t h = -1;  // sum of distances to the goals (through the waypoints still to visit); -1 until asked
@@ -72,19 +82,37 @@ struct SameConfig {
 class LacamSearch::State {
  public:
   State(const Graph& graph, DistTable& dist, const LacamConfig& config, std::mt19937& rng, const Config& starts,
-        const Config& goals, const std::vector<char>& blocked, const Waypoints& waypoints)
+        const Config& goals, const std::vector<char>& blocked, const Waypoints& waypoints,
+        const Headings& start_headings)
       : graph_(graph),
         config_(config),
         rng_(rng),
         goals_(goals),
         blocked_(blocked),
         n_(static_cast<int>(starts.size())),
+        turning_(config.turning),
         occupied_now_(graph.vertex_count(), kNobody),
         occupied_next_(graph.vertex_count(), kNobody),
         constrained_(starts.size(), 0),
         swap_(graph, occupied_now_, [this](int agent, Vertex v) { return distance_to_target(agent, current(*from_, agent), v); },
               [this](int agent) { return targets_[slot(agent, current(*from_, agent))]; }) {
     for (const std::vector<Vertex>& row : waypoints) augmented_ = augmented_ || !row.empty();
+    if (turning_) {
+      if (!blocked.empty()) throw std::invalid_argument("LaCAM in the rotation model takes no blocked cells");
+      if (start_headings.size() != starts.size()) {
+        throw std::invalid_argument("LaCAM in the rotation model needs one start heading per agent");
+      }
+      for (int heading : start_headings) {
+        if (heading < 0 || heading >= kHeadings) {
+          throw std::invalid_argument("LaCAM in the rotation model: start heading " + std::to_string(heading) +
+                                      " is not 0..3");
+        }
+      }
+      config_.swap = false;  // CorridorSwap's moves are four-way
+      config_.guide = nullptr;
+    }
+    progress_at_ = turning_ ? 2 * n_ : n_;
+    config_size_ = progress_at_ + (augmented_ ? n_ : 0);
     // Every agent's targets in a row: its waypoints, then its goal; slot(agent, k) indexes them.
     for (int i = 0; i < n_; ++i) {
       first_target_.push_back(static_cast<int>(targets_.size()));
@@ -112,9 +140,10 @@ class LacamSearch::State {
       }
     }
     Config start = starts;
+    start.resize(config_size_, 0);
+    if (turning_) std::copy(start_headings.begin(), start_headings.end(), start.begin() + n_);
     if (augmented_) {
-      start.resize(2 * n_, 0);
-      for (int i = 0; i < n_; ++i) start[n_ + i] = advance(i, 0, starts[i]);
+      for (int i = 0; i < n_; ++i) start[progress_at_ + i] = advance(i, 0, starts[i]);
     }
     open_.push_back(make_node(start, nullptr));
   }
@@ -123,7 +152,7 @@ class LacamSearch::State {
   // solution cheaper than the one it last returned; a later call goes on from there.
   LacamResult run(const Deadline& deadline) {
     LacamResult result;
-    Config next(augmented_ ? 2 * n_ : n_);
+    Config next(config_size_);
     // With many agents an iteration is long enough to look at the clock every time.
     const int64_t clock_mask = n_ >= 256 ? 0 : 63;
     while (!open_.empty()) {
@@ -150,7 +179,7 @@ class LacamSearch::State {
       grow_constraints(*node, constraint);
       if (!generate(*node, constraint, next)) continue;
       if (augmented_) {
-        for (int i = 0; i < n_; ++i) next[n_ + i] = advance(i, current(node->config, i), next[i]);
+        for (int i = 0; i < n_; ++i) next[progress_at_ + i] = advance(i, current(node->config, i), next[i]);
       }
       const auto found = explored_.find(next);
       if (found != explored_.end()) {
@@ -178,8 +207,10 @@ class LacamSearch::State {
       reported_cost_ = goal_node_->g;
       for (HighLevelNode* h = goal_node_; h; h = h->parent) {
         result.solution.emplace_back(h->config.begin(), h->config.begin() + n_);
+        if (turning_) result.headings.emplace_back(h->config.begin() + n_, h->config.begin() + 2 * n_);
       }
       std::reverse(result.solution.begin(), result.solution.end());
+      std::reverse(result.headings.begin(), result.headings.end());
     }
     return result;
   }
@@ -205,7 +236,8 @@ class LacamSearch::State {
   // Where agent's k-th target (0 for plain MAPF) is kept in targets_ and the tables beside it.
   int slot(int agent, int k) const { return augmented_ ? first_target_[agent] + k : agent; }
   // How many of its waypoints the agent has visited in `config` (always 0 for plain MAPF).
-  int current(const Config& config, int agent) const { return augmented_ ? config[n_ + agent] : 0; }
+  int current(const Config& config, int agent) const { return augmented_ ? config[progress_at_ + agent] : 0; }
+  int heading(const Config& config, int agent) const { return config[n_ + agent]; }
   // The progress after standing on v, having visited k waypoints before.
   int advance(int agent, int k, Vertex v) const {
     while (k < last_[agent] && v == targets_[slot(agent, k)]) ++k;
@@ -229,6 +261,18 @@ class LacamSearch::State {
   int distance_to_goal(int agent, int k, Vertex v) {
     return std::min(kUnreachable, distance_to_target(agent, k, v) + remaining_[slot(agent, k)]);
   }
+  // The same from a pose in the rotation model: the next target's distance with turns (any heading
+  // there), the rest of the tour without (still a lower bound, and LaCAM*'s pruning needs no more).
+  int distance_to_goal(int agent, int k, Vertex v, int facing) {
+    const int to_target = std::min(kUnreachable, turning_->get(targets_[slot(agent, k)], v, facing));
+    return std::min(kUnreachable, to_target + remaining_[slot(agent, k)]);
+  }
+  // Agent's distance to its goal in `config`, in either model.
+  int distance_from(const Config& config, int agent) {
+    const int k = current(config, agent);
+    return turning_ ? distance_to_goal(agent, k, config[agent], heading(config, agent))
+                    : distance_to_goal(agent, k, config[agent]);
+  }
 
   int64_t transition_cost(const Config& from, const Config& to) const {
     int64_t cost = 0;
@@ -241,7 +285,7 @@ class LacamSearch::State {
   int64_t heuristic(HighLevelNode& node) {
     if (node.h < 0) {
       node.h = 0;
-      for (int i = 0; i < n_; ++i) node.h += distance_to_goal(i, current(node.config, i), node.config[i]);
+      for (int i = 0; i < n_; ++i) node.h += distance_from(node.config, i);
     }
     return node.h;
   }
@@ -256,7 +300,7 @@ class LacamSearch::State {
     for (int i = 0; i < n_; ++i) {
       const int k = current(config, i);
       if (!parent) {
-        node->priority[i] = static_cast<float>(distance_to_goal(i, k, config[i])) / static_cast<float>(n_ * 4 + 1);
+        node->priority[i] = static_cast<float>(distance_from(config, i)) / static_cast<float>(n_ * 4 + 1);
       } else if (!home(config, i) && k == current(parent->config, i)) {
         // dynamic priorities: grow until the next waypoint or the goal is reached
         node->priority[i] = parent->priority[i] + 1;
@@ -318,12 +362,16 @@ class LacamSearch::State {
     if (depth >= n_) return;
     const int agent = node.order[depth];
     const Vertex here = node.config[agent];
-    std::array<Vertex, kMaxDegree + 1> moves;
+    Moves moves;
     int count = 0;
-    for (Vertex u : graph_.neighbours(here)) {
-      if (!is_blocked(u)) moves[count++] = u;
+    if (turning_) {
+      count = turning_actions(node.config, agent, moves);
+    } else {
+      for (Vertex u : graph_.neighbours(here)) {
+        if (!is_blocked(u)) moves[count++] = u;
+      }
+      moves[count++] = here;
     }
-    moves[count++] = here;
     std::shuffle(moves.begin(), moves.begin() + count, rng_);
     for (int k = 0; k < count; ++k) {
       Constraint child = constraint;
@@ -342,13 +390,14 @@ class LacamSearch::State {
     bool valid = true;
     for (size_t k = 0; k < constraint.who.size() && valid; ++k) {
       const int i = constraint.who[k];
-      const Vertex v = constraint.where[k];
+      const Vertex v = turning_ ? cell_of_pose(constraint.where[k]) : constraint.where[k];
       const int occupant = occupied_now_[v];
       if (occupied_next_[v] != kNobody || (occupant != kNobody && next[occupant] == node.config[i])) {
         valid = false;
         break;
       }
       next[i] = v;
+      if (turning_) next[n_ + i] = heading_of_pose(constraint.where[k]);
       claim(v, i);
       constrained_[i] = 1;
     }
@@ -356,6 +405,7 @@ class LacamSearch::State {
       const int i = node.order[k];
       if (next[i] == kNoVertex && !plan_move(i)) valid = false;
     }
+    if (valid && turning_) valid = take_rotation_actions(node.config, next);
     if (valid && config_.forbid_rotations && has_rotation(node.config, next)) valid = false;
     for (int i = 0; i < n_; ++i) occupied_now_[node.config[i]] = kNobody;
     for (Vertex v : claimed_) occupied_next_[v] = kNobody;
@@ -385,8 +435,12 @@ class LacamSearch::State {
     for (int k = 0; k < count; ++k) {
       const Vertex v = candidates[k];
       const bool pushes_someone = config_.prefer_free_cells && occupied_now_[v] != kNobody && v != here;
-      const int distance = on_target ? remaining_[target_slot] + (v == here ? 0 : 1)
-                                     : distance_to_goal(agent, progress, v);
+      int distance = 0;
+      if (turning_) {
+        distance = std::min(turning_cost(agent, progress, here, heading(from, agent), v), kUnreachable);
+      } else {
+        distance = on_target ? remaining_[target_slot] + (v == here ? 0 : 1) : distance_to_goal(agent, progress, v);
+      }
       to_goal[k] = 2 * distance + (pushes_someone ? 1 : 0);
     }
     sort_by_key(candidates, to_goal, count);
@@ -424,6 +478,72 @@ class LacamSearch::State {
     to[agent] = here;
     claim(here, agent);
     return false;
+  }
+
+  // The rotation model: agent's actions in `config` as the poses they lead to (pose_code): forward
+  // when there is a cell ahead, a quarter turn either way, a wait. Returns how many.
+  int turning_actions(const Config& config, int agent, Moves& poses) const {
+    const Vertex here = config[agent];
+    const int facing = heading(config, agent);
+    int count = 0;
+    const Vertex forward = ahead(graph_, here, facing);
+    if (forward != kNoVertex) poses[count++] = pose_code(forward, facing);
+    poses[count++] = pose_code(here, turned_clockwise(facing));
+    poses[count++] = pose_code(here, turned_counter_clockwise(facing));
+    poses[count++] = pose_code(here, facing);
+    return count;
+  }
+
+  // The rotation model: PIBT picks cells (plan_move), each neighbour costed with the turns needed to
+  // face it and a wait costed as a step, as Extended-PIBT does with turns.
+  int turning_cost(int agent, int progress, Vertex here, int facing, Vertex v) {
+    if (v == here) return 1 + distance_to_goal(agent, progress, here, facing);
+    const int towards = heading_towards(graph_, here, v);
+    return turns_between(facing, towards) + 1 + distance_to_goal(agent, progress, v, towards);
+  }
+
+  // The rotation model: the cells PIBT picked (in `to`) become actions. The cell ahead is a forward
+  // move; any other neighbour means staying and turning a quarter towards it (of a half round, the
+  // quarter nearer the target). Whoever meant to enter the cell of an agent that stays waits too,
+  // back along the chain; PIBT gave every cell one taker, so the step left is free of conflicts.
+  // Constrained agents keep their actions; false when one of them would have to wait.
+  bool take_rotation_actions(const Config& from, Config& to) {
+    staying_.clear();
+    for (int a = 0; a < n_; ++a) {
+      const Vertex here = from[a];
+      const int facing = heading(from, a);
+      if (constrained_[a]) {
+        if (to[a] == here) staying_.push_back(a);
+        continue;
+      }
+      to[n_ + a] = facing;
+      if (to[a] == here) {
+        staying_.push_back(a);
+        continue;
+      }
+      if (to[a] == ahead(graph_, here, facing)) continue;
+      int turned = heading_towards(graph_, here, to[a]);
+      if (turns_between(facing, turned) == 2) {
+        const int progress = current(from, a);
+        const int clockwise = turned_clockwise(facing);
+        const int counter = turned_counter_clockwise(facing);
+        turned = distance_to_goal(a, progress, here, counter) < distance_to_goal(a, progress, here, clockwise)
+                     ? counter
+                     : clockwise;
+      }
+      to[n_ + a] = turned;
+      to[a] = here;
+      staying_.push_back(a);
+    }
+    for (size_t k = 0; k < staying_.size(); ++k) {
+      const int taker = occupied_next_[from[staying_[k]]];
+      if (taker == kNobody || taker == staying_[k] || to[taker] == from[taker]) continue;
+      if (constrained_[taker]) return false;
+      to[taker] = from[taker];
+      to[n_ + taker] = heading(from, taker);
+      staying_.push_back(taker);
+    }
+    return true;
   }
 
   // Would `agent` moving into `v` close a cycle of agents each moving into the next one's cell? The
@@ -512,6 +632,9 @@ class LacamSearch::State {
   const Config goals_;
   const std::vector<char> blocked_;
   const int n_;
+  GuidedDistances* const turning_;  // the rotation model's distances; null in the four-move model
+  int progress_at_ = 0;             // where the agents' progress starts in a configuration
+  int config_size_ = 0;
   HighLevelNode* goal_node_ = nullptr;
   int64_t reported_cost_ = INT64_MAX;  // of the solution run() last returned
   int64_t iterations_ = 0;
@@ -531,6 +654,7 @@ class LacamSearch::State {
   std::vector<char> constrained_;  // agents fixed by the current constraint
   std::vector<char> grew_;  // make_node's: agents whose priority grew by one from the parent's
   std::vector<int> grown_, kept_, reset_, merged_;  // order_by_priority's scratch
+  std::vector<int> staying_;                         // take_rotation_actions' scratch
   const Config* from_ = nullptr;
   Config* to_ = nullptr;
   CorridorSwap swap_;  // reads occupied_now_
@@ -538,8 +662,8 @@ class LacamSearch::State {
 
 LacamSearch::LacamSearch(const Graph& graph, DistTable& dist, const LacamConfig& config, std::mt19937& rng,
                          const Config& starts, const Config& goals, const std::vector<char>& blocked,
-                         const Waypoints& waypoints)
-    : state_(std::make_unique<State>(graph, dist, config, rng, starts, goals, blocked, waypoints)) {}
+                         const Waypoints& waypoints, const Headings& start_headings)
+    : state_(std::make_unique<State>(graph, dist, config, rng, starts, goals, blocked, waypoints, start_headings)) {}
 
 LacamSearch::~LacamSearch() = default;
 

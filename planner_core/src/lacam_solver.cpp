@@ -2,10 +2,14 @@
 
 #include <algorithm>
 #include <chrono>
+#include <optional>
 #include <random>
 #include <stdexcept>
 
+#include "planner_core/guided_distances.hpp"
 #include "planner_core/scatter.hpp"
+#include "planner_core/turned_solver.hpp"
+#include "planner_core/turning_execution.hpp"
 #include "planner_core/validator.hpp"
 
 namespace planner_core {
@@ -47,7 +51,26 @@ Solution replan_tail(const Instance& instance, DistTable& dist, const Solution& 
   return spliced;
 }
 
+// Searches from every goal until they reach its agent's start (the first node needs each agent's
+// distance), on every core, looking at the clock between goals. False, with the reason in
+// `result`, when the deadline came first.
+bool prepare_distances_to_goals(const Instance& instance, DistTable& dist, const Deadline& deadline,
+                                Clock::time_point started, SolveResult& result) {
+  std::vector<DistTable::Query> to_goals;
+  for (int a = 0; a < instance.agent_count(); ++a) to_goals.push_back({instance.goals[a], instance.starts[a]});
+  if (dist.prepare(to_goals, deadline)) return true;
+  result.failure_reason = "deadline reached while computing distances to the goals";
+  result.preprocessing_ms = result.comp_time_ms = elapsed_ms(started);
+  return false;
+}
+
 }  // namespace
+
+Headings start_headings_of(const Instance& instance) {
+  Headings headings(instance.agent_count());
+  for (int a = 0; a < instance.agent_count(); ++a) headings[a] = instance.start_heading(a);
+  return headings;
+}
 
 SolveResult LacamSolver::solve(const Instance& instance, const SolveOptions& options) {
   const Clock::time_point started = options.started;
@@ -59,17 +82,10 @@ SolveResult LacamSolver::solve(const Instance& instance, const SolveOptions& opt
     result.comp_time_ms = elapsed_ms(started);
     return result;
   }
+  if (instance.actions == ActionModel::kRotate) return solve_with_turns(instance, options);
   std::mt19937 rng(config_.seed);
   const std::vector<std::vector<int>> no_tasks(instance.agent_count());
-  // The first node needs every agent's distance to its goal: the searches from the goals run at
-  // least that far. Done here, on every core, looking at the clock between goals.
-  std::vector<DistTable::Query> to_goals;
-  for (int a = 0; a < instance.agent_count(); ++a) to_goals.push_back({instance.goals[a], instance.starts[a]});
-  if (!dist.prepare(to_goals, deadline)) {
-    result.failure_reason = "deadline reached while computing distances to the goals";
-    result.preprocessing_ms = result.comp_time_ms = elapsed_ms(started);
-    return result;
-  }
+  if (!prepare_distances_to_goals(instance, dist, deadline, started, result)) return result;
   result.preprocessing_ms = elapsed_ms(started);
   const LacamConfig lacam_config{refine_, config_.forbid_rotations, /*swap=*/true, /*prefer_free_cells=*/true};
   std::unique_ptr<Scatter> scatter;  // guides `search` once set (declared first: outlives it)
@@ -107,10 +123,100 @@ SolveResult LacamSolver::solve(const Instance& instance, const SolveOptions& opt
   return result;
 }
 
+namespace {
+// LaCAM in the rotation model: the share of the time left after the turned plan that the search
+// over cell and heading gets for its first plan (when it finds one, it took 5-520 ms on the plain
+// MAPF suite; on its crowded maps it found none in 10 s).
+constexpr double kFirstPlanWithTurnsShare = 0.25;
+}  // namespace
+
+SolveResult LacamSolver::solve_with_turns(const Instance& instance, const SolveOptions& options) {
+  const Clock::time_point started = options.started;
+  const Deadline& deadline = options.deadline;
+  GuidedDistances turning(*instance.graph, Guidance::kNone, ActionModel::kRotate);
+  // Turns added only (--turns added, or too many goals to hold their tables): a four-way LaCAM(*)
+  // plan carried out with turns, as for every other solver (turned_solver.hpp).
+  if (!config_.plan_with_turns || !turning_tables_fit(instance, turning)) {
+    TurnedSolver turned(std::make_unique<LacamSolver>(config_, refine_), config_);
+    return turned.solve(instance, options);
+  }
+  SolveResult result;
+  DistTable dist(*instance.graph);
+  // The four-way distances to the goals (on both cores) first; the goals' tables with turns (and
+  // the bound with turns they give) after the turned plan, which does not need them.
+  if (!prepare_distances_to_goals(instance, dist, deadline, started, result)) return result;
+  int64_t four_way_bound = 0;
+  for (int a = 0; a < instance.agent_count(); ++a) four_way_bound += dist.get(instance.goals[a], instance.starts[a]);
+  result.lower_bound = four_way_bound;
+  result.preprocessing_ms = elapsed_ms(started);
+  const std::vector<std::vector<int>> no_tasks(instance.agent_count());
+
+  // Turns added to a four-way plan: every four-way plan can be carried out with turns (unless its
+  // agents move in a cycle and cycles are forbidden), so this is as sure to find a plan as four-way
+  // LaCAM, and quick; the search over cell and heading fails on crowded maps more often.
+  bool cycles = false;
+  if (config_.add_turns) {
+    // The same search and random numbers as four-way LaCAM's first plan (and as --turns added).
+    const LacamConfig four_way_config{false, config_.forbid_rotations, /*swap=*/true, /*prefer_free_cells=*/true};
+    std::mt19937 four_way_rng(config_.seed);
+    Lacam four_way(*instance.graph, dist, four_way_config, four_way_rng);
+    const LacamResult planned = four_way.solve(instance.starts, instance.goals, {}, deadline);
+    const std::optional<TurningPlan> turned =
+        planned.solved ? execute_with_turns(instance, planned.solution, !config_.forbid_rotations) : std::nullopt;
+    cycles = planned.solved && !turned;
+    if (turned) {
+      keep_if_better(result, instance, turned->cells, no_tasks, 0, started, options, "LaCAM (turned)", turned->headings);
+    }
+  }
+  const auto finish = [&](const LacamResult& searched) {
+    if (!result.solved) {
+      result.failure_reason = searched.exhausted ? "no solution exists (LaCAM searched every reachable configuration)"
+                              : cycles ? "the four-way plan has agents moving in a cycle, which robots that turn cannot follow"
+                                       : "deadline reached before LaCAM found a solution";
+    }
+    result.sequences_tried = 1;
+    result.comp_time_ms = elapsed_ms(started);
+    return result;
+  };
+  result.lower_bound = turning_lower_bound(instance, turning, config_.task_order, four_way_bound, deadline);
+  // The search over cell and heading. Where it finds a plan it is the cheaper one (a fifth less
+  // flowtime on the plain MAPF suite's open maps, docs/RESULTS.md), but on crowded maps it often
+  // finds none: with a turned plan in hand it gets kFirstPlanWithTurnsShare of the time left.
+  LacamConfig lacam_config{refine_, config_.forbid_rotations, /*swap=*/false, /*prefer_free_cells=*/true};
+  lacam_config.turning = &turning;
+  std::mt19937 rng(config_.seed);  // its own: the same plan with or without the turned one
+  LacamSearch search(*instance.graph, dist, lacam_config, rng, instance.starts, instance.goals, {}, {},
+                     start_headings_of(instance));
+  const LacamResult found =
+      search.run(result.solved ? deadline.slice(kFirstPlanWithTurnsShare * deadline.budget_left_s()) : deadline);
+  if (found.solved) {
+    keep_if_better(result, instance, found.solution, no_tasks, 0, started, options, "LaCAM with turns", found.headings);
+  }
+  if (!refine_ || !result.solved) return finish(found);
+  if (found.solved) {
+    // LaCAM*: the search goes on between LNS rounds with turns on the best plan of either kind.
+    refine_until_deadline(instance, dist, search, found.exhausted, config_, rng, no_tasks, 0, options, result,
+                          "LaCAM* with turns", &turning);
+  } else {
+    // No plan with turns: LaCAM* refines four-way plans for the rest of the time, the best turned
+    // at the end (the way every four-way solver plans for robots that turn).
+    SolveOptions rest = options;
+    rest.on_solution = nullptr;  // its plans are reported here, when cheaper
+    TurnedSolver turned_solver(std::make_unique<LacamSolver>(config_, refine_), config_);
+    const SolveResult turned = turned_solver.solve(instance, rest);
+    result.lns_iterations += turned.lns_iterations;
+    if (turned.solved) {
+      keep_if_better(result, instance, turned.solution, no_tasks, 0, started, options, "LaCAM* (turned)",
+                     turned.headings);
+    }
+  }
+  return finish(found);
+}
+
 void refine_until_deadline(const Instance& instance, DistTable& dist, LacamSearch& search, bool search_done,
                            const SolverConfig& config, std::mt19937& rng, const std::vector<std::vector<int>>& orders,
                            int sequence_index, const SolveOptions& options, SolveResult& result,
-                           const std::string& name) {
+                           const std::string& name, GuidedDistances* turning) {
   const Deadline& deadline = options.deadline;
   LnsConfig lns_config = config.lns;
   lns_config.search.forbid_rotations = lns_config.search.forbid_rotations || config.forbid_rotations;
@@ -120,6 +226,7 @@ void refine_until_deadline(const Instance& instance, DistTable& dist, LacamSearc
   // The refiner's own plan: it accepts changes of equal cost too, so it is not always the one
   // kept in `result`; handing it back lets the refiner go on without rebuilding its tables.
   Solution refined = result.solution;
+  HeadingPlan refined_headings = result.headings;
   // An exhausted LaCAM* search has proved its plan optimal (for plain MAPF; for a joint sequence,
   // optimal among plans that follow it, which the refiner may still beat).
   const bool plain_mapf = instance.task_count() == 0;
@@ -140,9 +247,9 @@ void refine_until_deadline(const Instance& instance, DistTable& dist, LacamSearc
     if (!clocked) return;
     unclocked_s = std::max(unclocked_s, std::chrono::duration<double>(Clock::now() - slice_deadline.at).count());
   };
-  const auto keep_timed = [&](const Solution& plan, const std::string& by) {
+  const auto keep_timed = [&](const Solution& plan, const HeadingPlan& headings, const std::string& by) {
     const Clock::time_point begin = Clock::now();
-    keep_if_better(result, instance, plan, orders, sequence_index, options.started, options, by);
+    keep_if_better(result, instance, plan, orders, sequence_index, options.started, options, by, headings);
     if (clocked) unclocked_s = std::max(unclocked_s, std::chrono::duration<double>(Clock::now() - begin).count());
   };
   while (deadline.budget_left_s() > unclocked_s && result.flowtime > result.lower_bound) {
@@ -152,30 +259,32 @@ void refine_until_deadline(const Instance& instance, DistTable& dist, LacamSearc
       search_done = found.exhausted;
       const bool cheaper = found.solved && flowtime(found.solution, instance.goals) < result.flowtime;
       if (cheaper) {
-        keep_timed(found.solution, name);
+        keep_timed(found.solution, found.headings, name);
         refined = result.solution;
+        refined_headings = result.headings;
       }
       measure_overrun(search_deadline);
       search_slice_s = std::clamp(search_slice_s * (cheaper ? 2.0 : 0.5), kMinSearchSliceS, kMaxSearchSliceS);
       if (search_done && optimal_when_exhausted) break;
       if (deadline.budget_left_s() <= unclocked_s) break;
     }
-    if (plain_mapf && config.recursive_lacam_rate > 0 &&
+    if (plain_mapf && !turning && config.recursive_lacam_rate > 0 &&
         std::uniform_real_distribution<double>(0, 1)(rng) < config.recursive_lacam_rate) {
       const Deadline recursion_deadline = slice(kRefinerSliceS);
       const Solution spliced =
           replan_tail(instance, dist, result.solution, config.forbid_rotations, rng, recursion_deadline);
       if (!spliced.empty() && flowtime(spliced, instance.goals) < result.flowtime) {
-        keep_timed(spliced, name + " recursive LaCAM");
+        keep_timed(spliced, {}, name + " recursive LaCAM");
         refined = result.solution;
       }
       measure_overrun(recursion_deadline);
       continue;
     }
     const Deadline refiner_deadline = slice(kRefinerSliceS);
-    const LnsStats stats = refiner.refine(refined, orders, refiner_deadline);
+    const LnsStats stats = turning ? refiner.refine_with_turns(refined, refined_headings, orders, turning, refiner_deadline)
+                                   : refiner.refine(refined, orders, refiner_deadline);
     result.lns_iterations += stats.iterations;
-    keep_timed(refined, name + " refiner");
+    keep_timed(refined, refined_headings, name + " refiner");
     measure_overrun(refiner_deadline);
   }
 }

@@ -36,7 +36,9 @@ void keep_if_better(SolveResult& result, const Instance& instance, const Solutio
 
 std::vector<std::string> solver_names() { return {"cts-pibt", "cts-pibt-anytime", "cts-pll-v1", "cts-pll-v2", "cts-pll-v3", "cts-lacam", "lacam", "lacam-star"}; }
 
-bool plans_with_turns(const std::string& solver) { return solver == "cts-pibt" || solver == "cts-pibt-anytime"; }
+bool plans_with_turns(const std::string& solver) {
+  return solver == "cts-pibt" || solver == "cts-pibt-anytime" || solver == "lacam" || solver == "lacam-star";
+}
 
 namespace {
 
@@ -45,8 +47,6 @@ std::unique_ptr<Solver> make_four_way_solver(const SolverConfig& config) {
   if (config.solver == "cts-pll-v2") return std::make_unique<CtsPll>(config, CtsPll::Variant::kV2);
   if (config.solver == "cts-pll-v3") return std::make_unique<CtsPll>(config, CtsPll::Variant::kV3);
   if (config.solver == "cts-lacam") return std::make_unique<CtsLacam>(config);
-  if (config.solver == "lacam") return std::make_unique<LacamSolver>(config, false);
-  if (config.solver == "lacam-star") return std::make_unique<LacamSolver>(config, true);
   return nullptr;
 }
 
@@ -55,6 +55,8 @@ std::unique_ptr<Solver> make_four_way_solver(const SolverConfig& config) {
 std::unique_ptr<Solver> make_solver(const SolverConfig& config) {
   if (config.solver == "cts-pibt") return std::make_unique<CtsPibt>(config, false);
   if (config.solver == "cts-pibt-anytime") return std::make_unique<CtsPibt>(config, true);
+  if (config.solver == "lacam") return std::make_unique<LacamSolver>(config, false);
+  if (config.solver == "lacam-star") return std::make_unique<LacamSolver>(config, true);
   if (std::unique_ptr<Solver> four_way = make_four_way_solver(config)) {
     return std::make_unique<TurnedSolver>(std::move(four_way), config);
   }

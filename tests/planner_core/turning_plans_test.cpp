@@ -287,16 +287,22 @@ TEST(TurningLowerBound, WithNoTimeLeftTheFourWayBoundStands) {
 // Plans for robots (--no-rotations) in the rotation model: no agents moving round a cycle in one
 // step, whichever way the plan was made; and the same seed gives the same plan.
 TEST(TurningSolvers, PlansForRobotsHaveNoCyclesAndRepeatWithTheSeed) {
-  Instance instance = load_instance(testing::data_path("instances/maze-32-32-2-N50-M60-00.yaml"));
-  instance.actions = ActionModel::kRotate;
-  for (const std::string solver : {"cts-pibt", "cts-pibt-anytime", "cts-pll-v3"}) {
-    for (const std::string turns : {"planned", "added"}) {
+  Instance with_tasks = load_instance(testing::data_path("instances/maze-32-32-2-N50-M60-00.yaml"));
+  with_tasks.actions = ActionModel::kRotate;
+  // LaCAM and LaCAM* plan plain MAPF: an instance without tasks.
+  Instance plain = load_instance(std::string(CTSFLEET_BENCHMARKS_DIR) + "/mapf/maze-32-32-2-N50-0.yaml");
+  plain.actions = ActionModel::kRotate;
+  for (const std::string solver : {"cts-pibt", "cts-pibt-anytime", "cts-pll-v3", "lacam", "lacam-star"}) {
+    const bool lacam = solver.rfind("lacam", 0) == 0;
+    const Instance& instance = lacam ? plain : with_tasks;
+    for (const std::string turns : {"planned", "added", "both"}) {
+      if (turns == "both" && !plans_with_turns(solver)) continue;
       SolverConfig config;
       config.solver = solver;
       config.forbid_rotations = true;
       config.max_sequences = 2;
-      config.plan_with_turns = turns == "planned";
-      config.add_turns = turns == "added";
+      config.plan_with_turns = turns != "added";
+      config.add_turns = turns != "planned";
       const auto solve = [&] {
         return make_solver(config)->solve(instance, SolveOptions{Deadline::in_seconds(60).with_work_budget(Deadline::work_of(0.3))});
       };
@@ -365,6 +371,51 @@ TEST(TurningSolvers, EverySolverPlansInTheRotationModel) {
   ASSERT_TRUE(four_way.solved);
   EXPECT_TRUE(four_way.headings.empty());
   EXPECT_TRUE(validate(with_tasks, four_way.solution).ok());
+}
+
+// LaCAM in the rotation model plans with turns (a search over cell and heading) and adds turns to
+// its four-way plan, and keeps the cheaper: with a one-shot search, exactly the cheaper of the two
+// plans it makes alone.
+TEST(TurningSolvers, LacamKeepsTheCheaperOfItsPlanWithTurnsAndItsTurnedPlan) {
+  for (const char* name : {"den520d-N500-0.yaml", "random-32-32-20-N200-0.yaml"}) {
+    Instance instance = load_instance(std::string(CTSFLEET_BENCHMARKS_DIR) + "/mapf/" + name);
+    instance.actions = ActionModel::kRotate;
+    const auto solve = [&](bool planned, bool added) {
+      SolverConfig config;
+      config.solver = "lacam";
+      config.plan_with_turns = planned;
+      config.add_turns = added;
+      const SolveResult result = make_solver(config)->solve(instance, SolveOptions{Deadline::in_seconds(60)});
+      EXPECT_TRUE(result.solved) << name << ": " << result.failure_reason;
+      EXPECT_TRUE(validate(instance, result.solution, {}, result.headings).ok()) << name;
+      return result.flowtime;
+    };
+    const int64_t with_turns = solve(true, false);
+    const int64_t turned = solve(false, true);
+    EXPECT_NE(with_turns, turned) << name;  // two different plans
+    EXPECT_EQ(solve(true, true), std::min(with_turns, turned)) << name;
+  }
+}
+
+// Where the search over cell and heading finds no plan (one-cell warehouse aisles, 300 agents: none
+// in 10 s, docs/RESULTS.md),
+// LaCAM and LaCAM* still plan, by turns added to their four-way plans; and LaCAM* keeps refining.
+TEST(TurningSolvers, LacamPlansWhereTheSearchWithTurnsFindsNoPlan) {
+  Instance instance =
+      load_instance(std::string(CTSFLEET_BENCHMARKS_DIR) + "/mapf/warehouse-10-20-10-2-1-N300-0.yaml");
+  instance.actions = ActionModel::kRotate;
+  SolverConfig config;
+  for (const std::string solver : {"lacam", "lacam-star"}) {
+    config.solver = solver;
+    const SolveResult result = make_solver(config)->solve(instance, SolveOptions{Deadline::in_seconds(4)});
+    ASSERT_TRUE(result.solved) << solver << ": " << result.failure_reason;
+    const ValidationReport report = validate(instance, result.solution, {}, result.headings);
+    EXPECT_TRUE(report.ok()) << solver << ": " << report.summary();
+    EXPECT_GT(result.flowtime, result.lower_bound) << solver;
+    if (solver == "lacam-star") {
+      EXPECT_LT(result.flowtime, result.improvements.front().flowtime) << "refined";
+    }
+  }
 }
 
 }  // namespace

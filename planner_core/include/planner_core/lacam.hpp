@@ -10,6 +10,13 @@
 // visited so far; PIBT then drives each agent to its current waypoint, and an agent is home when
 // it has visited them all and stands on its goal. The augmented space is finite, so the search
 // stays complete (docs/ARCHITECTURE.md, "CTS-LaCAM").
+//
+// In the rotation model (action_model.hpp; LacamConfig::turning set, start headings given) a
+// configuration also carries every agent's heading, a constraint fixes an agent's action (forward,
+// a quarter turn either way, or a wait) and the generator is PIBT over these actions: an agent
+// ranks them by the distance with turns of the pose each leads to, and one that must make way can
+// only move forward. Every action of every agent can still be fixed by a constraint, so the search
+// stays complete.
 #pragma once
 
 #include <cstdint>
@@ -17,12 +24,14 @@
 #include <random>
 #include <vector>
 
+#include "planner_core/action_model.hpp"
 #include "planner_core/deadline.hpp"
 #include "planner_core/dist_table.hpp"
 #include "planner_core/solution.hpp"
 
 namespace planner_core {
 
+class GuidedDistances;
 class Scatter;
 
 struct LacamConfig {
@@ -38,6 +47,11 @@ struct LacamConfig {
   // Plain MAPF only: each agent's next cell on its Scatter path is its generator's first choice
   // (ahead of the nearest cell to its goal). Must outlive the search; null for none.
   const Scatter* guide = nullptr;
+  // The rotation model: distances per cell and heading (a GuidedDistances of ActionModel::kRotate,
+  // without lanes), searched for every goal and waypoint as needed; it must outlive the search.
+  // Null for the four-move model. Neither the swap nor the guide applies then, and no cell may be
+  // blocked.
+  GuidedDistances* turning = nullptr;
 };
 
 // Per agent, the cells it must visit in this order before its goal; empty rows (or an empty
@@ -47,6 +61,7 @@ using Waypoints = std::vector<std::vector<Vertex>>;
 struct LacamResult {
   bool solved = false;
   Solution solution;       // solution[0] = starts, back() = goals
+  HeadingPlan headings;    // the rotation model: each step's headings, beside `solution`
   int64_t explored = 0;    // configurations generated
   int64_t cost = 0;        // sum of loss of the solution
   bool exhausted = false;  // the whole reachable space was searched: no solution exists when !solved,
@@ -56,8 +71,10 @@ struct LacamResult {
 // One search, kept between calls so that LaCAM* can be run in slices between other work.
 class LacamSearch {
  public:
+  // `start_headings`: in the rotation model (config.turning set), one per agent; else empty.
   LacamSearch(const Graph& graph, DistTable& dist, const LacamConfig& config, std::mt19937& rng, const Config& starts,
-              const Config& goals, const std::vector<char>& blocked = {}, const Waypoints& waypoints = {});
+              const Config& goals, const std::vector<char>& blocked = {}, const Waypoints& waypoints = {},
+              const Headings& start_headings = {});
   ~LacamSearch();
   LacamSearch(const LacamSearch&) = delete;
   LacamSearch& operator=(const LacamSearch&) = delete;

@@ -1,5 +1,6 @@
 // LacamSolver: LaCAM (or LaCAM* with refine) as a plain MAPF solver behind the Solver interface,
-// for instances without tasks such as MovingAI scenarios.
+// for instances without tasks such as MovingAI scenarios. In the rotation model it searches over
+// cell and heading (lacam.hpp) and LaCAM* refines with turns.
 #pragma once
 
 #include <random>
@@ -17,6 +18,7 @@ class LacamSolver : public Solver {
   SolveResult solve(const Instance& instance, const SolveOptions& options) override;
 
  private:
+  SolveResult solve_with_turns(const Instance& instance, const SolveOptions& options);
   SolverConfig config_;
   bool refine_;
 };
@@ -24,10 +26,14 @@ class LacamSolver : public Solver {
 // LaCAM*'s anytime loop: `search` (which found the plan kept in `result`) goes on for cheaper plans
 // in slices, between LNS refinement of the best plan so far (as lacam3 runs its refiners beside the
 // search), until the deadline or a proved optimum. `orders` and `sequence_index` are the joint
-// sequence the search follows (empty orders for plain MAPF).
+// sequence the search follows (empty orders for plain MAPF). In the rotation model `turning` holds
+// the distances with turns the search uses, and the refiner repairs over cell and heading.
 void refine_until_deadline(const Instance& instance, DistTable& dist, LacamSearch& search, bool search_done,
                            const SolverConfig& config, std::mt19937& rng, const std::vector<std::vector<int>>& orders,
                            int sequence_index, const SolveOptions& options, SolveResult& result,
-                           const std::string& name);
+                           const std::string& name, GuidedDistances* turning = nullptr);
+
+// The start headings of `instance` in the rotation model, one per agent (east when it gives none).
+Headings start_headings_of(const Instance& instance);
 
 }  // namespace planner_core

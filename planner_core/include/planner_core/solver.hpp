@@ -39,8 +39,9 @@ struct SolverConfig {
   // fresh LaCAM from one of its configurations, picked at random (lacam3's recursive LaCAM); the
   // spliced plan is kept when cheaper. 0 = never.
   double recursive_lacam_rate = 0;
-  // cts-pibt and cts-pibt-anytime in the rotation model: plans made with turns, and four-way plans
-  // with turns added afterwards; the cheaper is kept. One of them off, to measure what each gives.
+  // The solvers that plan with turns (plans_with_turns) in the rotation model: plans made with
+  // turns, and four-way plans with turns added afterwards; the cheaper is kept. One of them off, to
+  // measure what each gives.
   bool plan_with_turns = true;
   bool add_turns = true;
 };
@@ -102,8 +103,9 @@ void keep_if_better(SolveResult& result, const Instance& instance, const Solutio
                     const SolveOptions& options, const std::string& solver, const HeadingPlan& headings = {});
 
 std::vector<std::string> solver_names();
-// The solvers that plan with turns themselves in the rotation model (action_model.hpp): cts-pibt
-// and cts-pibt-anytime. The others plan four-way moves, to which turns are added (turned_solver.hpp).
+// The solvers that plan with turns themselves in the rotation model (action_model.hpp): cts-pibt,
+// cts-pibt-anytime, lacam and lacam-star. The others plan four-way moves, to which turns are added
+// (turned_solver.hpp).
 bool plans_with_turns(const std::string& solver);
 // Throws std::invalid_argument for an unknown solver name.
 std::unique_ptr<Solver> make_solver(const SolverConfig& config);
