@@ -86,9 +86,9 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   std::string turns = "both";
   app.add_option("--turns", turns,
-                 "cts-pibt* and lacam* with --actions rotate: 'planned' (Extended-PIBT, or LaCAM over cell and "
-                 "heading, plans with turns), 'added' (four-way plans, turns added as robots would carry them out) "
-                 "or 'both', keeping the cheaper; to measure each")
+                 "cts-pibt*, cts-lacam and lacam* with --actions rotate: 'planned' (Extended-PIBT, or LaCAM over "
+                 "cell and heading, plans with turns), 'added' (four-way plans, turns added as robots would carry "
+                 "them out) or 'both', keeping the cheaper; to measure each")
       ->check(CLI::IsMember({"both", "planned", "added"}))
       ->capture_default_str();
   app.add_option("--svg", svg_path, "also draw the plan as an SVG picture")->check(ctsfleet::writable_file());

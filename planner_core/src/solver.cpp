@@ -37,7 +37,8 @@ void keep_if_better(SolveResult& result, const Instance& instance, const Solutio
 std::vector<std::string> solver_names() { return {"cts-pibt", "cts-pibt-anytime", "cts-pll-v1", "cts-pll-v2", "cts-pll-v3", "cts-lacam", "lacam", "lacam-star"}; }
 
 bool plans_with_turns(const std::string& solver) {
-  return solver == "cts-pibt" || solver == "cts-pibt-anytime" || solver == "lacam" || solver == "lacam-star";
+  return solver == "cts-pibt" || solver == "cts-pibt-anytime" || solver == "cts-lacam" || solver == "lacam" ||
+         solver == "lacam-star";
 }
 
 namespace {
@@ -46,7 +47,6 @@ std::unique_ptr<Solver> make_four_way_solver(const SolverConfig& config) {
   if (config.solver == "cts-pll-v1") return std::make_unique<CtsPll>(config, CtsPll::Variant::kV1);
   if (config.solver == "cts-pll-v2") return std::make_unique<CtsPll>(config, CtsPll::Variant::kV2);
   if (config.solver == "cts-pll-v3") return std::make_unique<CtsPll>(config, CtsPll::Variant::kV3);
-  if (config.solver == "cts-lacam") return std::make_unique<CtsLacam>(config);
   return nullptr;
 }
 
@@ -55,6 +55,7 @@ std::unique_ptr<Solver> make_four_way_solver(const SolverConfig& config) {
 std::unique_ptr<Solver> make_solver(const SolverConfig& config) {
   if (config.solver == "cts-pibt") return std::make_unique<CtsPibt>(config, false);
   if (config.solver == "cts-pibt-anytime") return std::make_unique<CtsPibt>(config, true);
+  if (config.solver == "cts-lacam") return std::make_unique<CtsLacam>(config);
   if (config.solver == "lacam") return std::make_unique<LacamSolver>(config, false);
   if (config.solver == "lacam-star") return std::make_unique<LacamSolver>(config, true);
   if (std::unique_ptr<Solver> four_way = make_four_way_solver(config)) {

@@ -292,7 +292,7 @@ TEST(TurningSolvers, PlansForRobotsHaveNoCyclesAndRepeatWithTheSeed) {
   // LaCAM and LaCAM* plan plain MAPF: an instance without tasks.
   Instance plain = load_instance(std::string(CTSFLEET_BENCHMARKS_DIR) + "/mapf/maze-32-32-2-N50-0.yaml");
   plain.actions = ActionModel::kRotate;
-  for (const std::string solver : {"cts-pibt", "cts-pibt-anytime", "cts-pll-v3", "lacam", "lacam-star"}) {
+  for (const std::string solver : {"cts-pibt", "cts-pibt-anytime", "cts-pll-v3", "cts-lacam", "lacam", "lacam-star"}) {
     const bool lacam = solver.rfind("lacam", 0) == 0;
     const Instance& instance = lacam ? plain : with_tasks;
     for (const std::string turns : {"planned", "added", "both"}) {

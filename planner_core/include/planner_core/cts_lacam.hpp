@@ -6,6 +6,11 @@
 // LNS refinement until the deadline), and the fallback of the other CTS solvers: they give it
 // time whenever their own method fails on a joint sequence, and the rest of the time when their
 // own method has nothing left to try.
+//
+// In the rotation model `cts-lacam` also searches over cell and heading (lacam.hpp), as lacam
+// does (lacam_solver.hpp): four-way CTS-LaCAM's first plan with turns added, then the search with
+// turns for a quarter of the time left, and whichever plan is cheaper is kept. The fallback of the
+// other CTS solvers still plans four-way moves (their turns are added).
 #pragma once
 
 #include <memory>
@@ -29,6 +34,7 @@ class CtsLacam : public Solver {
   SolveResult solve(const Instance& instance, const SolveOptions& options) override;
 
  private:
+  SolveResult solve_with_turns(const Instance& instance, const SolveOptions& options);
   SolverConfig config_;
 };
 
@@ -37,9 +43,10 @@ class CompleteSearch {
  public:
   enum class Outcome { kFound, kNoPlanExists, kOutOfTime };
 
-  // `anytime`: keep what LaCAM* needs to improve the plan later (refine()).
+  // `anytime`: keep what LaCAM* needs to improve the plan later (refine()). `turning`: search over
+  // cell and heading with these distances (the instance in the rotation model); null: four-way.
   CompleteSearch(const Instance& instance, DistTable& dist, const SolverConfig& config, std::mt19937& rng,
-                 bool anytime);
+                 bool anytime, GuidedDistances* turning = nullptr);
   ~CompleteSearch();
 
   // Goes on from where the last call stopped until it has a plan (kept in `result` through
@@ -56,6 +63,7 @@ class CompleteSearch {
   SolverConfig config_;
   std::mt19937& rng_;
   bool anytime_;
+  GuidedDistances* turning_;
   std::unique_ptr<JointSequencer> sequencer_;  // made on the first call that has time to finish it
   std::optional<JointSequence> sequence_;      // the one being searched
   std::unique_ptr<LacamSearch> lacam_;

@@ -104,8 +104,8 @@ void keep_if_better(SolveResult& result, const Instance& instance, const Solutio
 
 std::vector<std::string> solver_names();
 // The solvers that plan with turns themselves in the rotation model (action_model.hpp): cts-pibt,
-// cts-pibt-anytime, lacam and lacam-star. The others plan four-way moves, to which turns are added
-// (turned_solver.hpp).
+// cts-pibt-anytime, cts-lacam, lacam and lacam-star. The others plan four-way moves, to which turns
+// are added (turned_solver.hpp).
 bool plans_with_turns(const std::string& solver);
 // Throws std::invalid_argument for an unknown solver name.
 std::unique_ptr<Solver> make_solver(const SolverConfig& config);
