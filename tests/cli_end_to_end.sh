@@ -111,6 +111,9 @@ grep -q -- "--hold-plans" "$work/err"
 "$bin/ctsfleet-bench" --experiment lifelong --problem "$lorr" --steps 60 --step-time 0.2 --league-output \
   --actions rotate --rollout-steps 8 --lns --out-dir "$work/lifelong-lns" > "$work/lifelong-lns.out"
 grep -q "window LNS: [1-9]" "$work/lifelong-lns.out"
+# With LNS and 50 agents on 819 free cells, "auto" guidance (the default) takes shortest paths.
+grep -q "guidance none (auto)" "$work/lifelong-lns.out"
+grep -q "^random_50,50,60,0.2,pibt-rotate-none-r128-lns-hold-half-keep," "$work/lifelong-lns/lifelong.csv"
 "$python" "$(dirname "$0")/lorr_replay.py" "$work/lifelong-lns/random_50.lorr.json" "$map"
 set +e
 "$bin/ctsfleet-bench" --experiment lifelong --problem "$lorr" --actions diagonal > /dev/null 2> "$work/err"

@@ -84,9 +84,10 @@ int main(int argc, char** argv) {
       ->check(ctsfleet::positive_seconds(3600))
       ->capture_default_str();
   app.add_option("--guidance", lifelong.guidance,
-                 "experiment lifelong: none (shortest paths) or lanes (one-way lanes: rows alternate east and west, "
-                 "columns south and north; a move against its lane costs 3)")
-      ->check(CLI::IsMember({"none", "lanes"}))
+                 "experiment lifelong: none (shortest paths), lanes (one-way lanes: rows alternate east and west, "
+                 "columns south and north; a move against its lane costs 3) or auto (lanes, but none with --lns "
+                 "while agents number at most a quarter of the free cells)")
+      ->check(CLI::IsMember({"auto", "none", "lanes"}))
       ->capture_default_str();
   app.add_option("--actions", lifelong.actions,
                  "move4 (up, down, left, right, wait) or rotate (the league's 2023 model: forward, turn clockwise, "

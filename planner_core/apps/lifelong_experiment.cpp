@@ -71,7 +71,9 @@ int run_lifelong_experiment(const LifelongExperimentSettings& settings) {
   for (const std::string& path : problems) {
     const planner_core::LorrProblem problem = planner_core::load_lorr_problem(path);
     planner_core::PibtLifelongSettings pibt;
-    pibt.guidance = planner_core::parse_guidance(settings.guidance, "--guidance");
+    pibt.guidance = settings.guidance == "auto"
+                        ? planner_core::lifelong_guidance(*problem.graph, problem.starts.size(), settings.lns)
+                        : planner_core::parse_guidance(settings.guidance, "--guidance");
     pibt.rollouts = settings.rollouts;
     pibt.rollout_steps = settings.rollout_steps;
     pibt.lns = settings.lns;
@@ -109,15 +111,18 @@ int run_lifelong_experiment(const LifelongExperimentSettings& settings) {
                   static_cast<long long>(lns.cost_before), static_cast<long long>(lns.cost_after));
     }
     if (pibt.guidance == planner_core::Guidance::kLanes) {
-      std::printf("  lanes turn every %d rows and every %d columns\n", planner.distances().row_period(),
+      std::printf("  guidance lanes%s: they turn every %d rows and every %d columns\n",
+                  settings.guidance == "auto" ? " (auto)" : "", planner.distances().row_period(),
                   planner.distances().column_period());
+    } else {
+      std::printf("  guidance none%s: shortest paths\n", settings.guidance == "auto" ? " (auto)" : "");
     }
     if (settings.league_output) {
       const fs::path output = fs::path(settings.out_dir) / (name + ".lorr.json");
       planner_core::write_lorr_output(output.string(), problem, result, log);
       std::printf("  wrote %s\n", output.c_str());
     }
-    table << name << "," << problem.starts.size() << "," << settings.steps << "," << settings.step_time_s << ",pibt-" << (actions == planner_core::ActionModel::kRotate ? "rotate-" : "") << settings.guidance << "-r" << settings.rollouts << (settings.lns ? "-lns" : "") << turning_name << ","
+    table << name << "," << problem.starts.size() << "," << settings.steps << "," << settings.step_time_s << ",pibt-" << (actions == planner_core::ActionModel::kRotate ? "rotate-" : "") << planner_core::to_string(pibt.guidance) << "-r" << settings.rollouts << (settings.lns ? "-lns" : "") << turning_name << ","
           << result.errands_finished << "," << result.tasks_finished << "," << per << ","
           << quantile(result.step_ms, 0.5) << "," << quantile(result.step_ms, 0.99) << ","
           << quantile(result.step_ms, 1.0) << "," << result.steps_over_budget << "," << result.invalid_steps << ","

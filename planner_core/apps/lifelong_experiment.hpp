@@ -19,7 +19,7 @@ struct LifelongExperimentSettings {
   int steps = 500;
   double step_time_s = 1.0;
   unsigned seed = 0;
-  std::string guidance = "lanes";     // planner_core/guided_distances.hpp
+  std::string guidance = "auto";      // none, lanes (planner_core/guided_distances.hpp) or auto (lifelong_guidance)
   std::string actions = "move4";      // planner_core/action_model.hpp
   int rollouts = 128;                 // PibtLifelongSettings::rollouts
   int rollout_steps = 3;              // PibtLifelongSettings::rollout_steps

@@ -141,6 +141,7 @@ SolveResult CtsLacam::solve_with_turns(const Instance& instance, const SolveOpti
   } else if (result.solved && !deadline.expired()) {
     // No plan with turns: four-way plans refined for the rest of the time, the best turned.
     TurnedSolver turned_solver(std::make_unique<CtsLacam>(config_), config_);
+    turned_solver.use_turning_tables(turning, result.lower_bound);
     const SolveResult turned = turned_solver.solve(instance, quiet);
     result.lns_iterations += turned.lns_iterations;
     keep(turned, "CTS-LaCAM* (turned)");

@@ -203,6 +203,7 @@ SolveResult LacamSolver::solve_with_turns(const Instance& instance, const SolveO
     SolveOptions rest = options;
     rest.on_solution = nullptr;  // its plans are reported here, when cheaper
     TurnedSolver turned_solver(std::make_unique<LacamSolver>(config_, refine_), config_);
+    turned_solver.use_turning_tables(turning, result.lower_bound);
     const SolveResult turned = turned_solver.solve(instance, rest);
     result.lns_iterations += turned.lns_iterations;
     if (turned.solved) {

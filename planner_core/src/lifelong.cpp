@@ -32,6 +32,11 @@ std::string to_string(PlanHolding holding) {
   return "?";
 }
 
+Guidance lifelong_guidance(const Graph& graph, size_t agents, bool lns) {
+  const bool few = agents * 4 <= static_cast<size_t>(graph.vertex_count());
+  return lns && few ? Guidance::kNone : Guidance::kLanes;
+}
+
 PibtLifelong::PibtLifelong(const Graph& graph, uint32_t seed, PibtLifelongSettings settings)
     : graph_(graph),
       settings_(settings),

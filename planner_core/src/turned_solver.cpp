@@ -1,5 +1,6 @@
 #include "planner_core/turned_solver.hpp"
 
+#include <optional>
 #include <set>
 
 #include "planner_core/guided_distances.hpp"
@@ -51,11 +52,16 @@ int TurnedSolver::refine_with_turns(const Instance& instance, GuidedDistances* t
 
 SolveResult TurnedSolver::solve(const Instance& instance, const SolveOptions& options) {
   if (instance.actions != ActionModel::kRotate) return four_way_->solve(instance, options);
-  // The bound first, in a tenth of the time; its tables (distances with turns) guide the
-  // refinement with turns later.
-  GuidedDistances turning(*instance.graph, Guidance::kNone, ActionModel::kRotate);
-  const int64_t lower_bound = turning_lower_bound(instance, turning, config_.task_order, 0,
-                                                  options.deadline.slice(0.1 * options.deadline.budget_left_s()));
+  // The bound first, in a tenth of the time (unless the caller has it); its tables (distances
+  // with turns) guide the refinement with turns later.
+  std::optional<GuidedDistances> own_turning;
+  GuidedDistances* turning = known_turning_;
+  int64_t lower_bound = known_lower_bound_;
+  if (turning == nullptr) {
+    turning = &own_turning.emplace(*instance.graph, Guidance::kNone, ActionModel::kRotate);
+    lower_bound = turning_lower_bound(instance, *turning, config_.task_order, 0,
+                                      options.deadline.slice(0.1 * options.deadline.budget_left_s()));
+  }
   SolveResult result;
   bool cycles = false;
   int64_t turned_four_way_flowtime = -1;  // the four-way flowtime of the plan turned last
@@ -94,7 +100,7 @@ SolveResult TurnedSolver::solve(const Instance& instance, const SolveOptions& op
   if (planned.solved && planned.flowtime != turned_four_way_flowtime) keep_turned(planned);
   int lns_iterations = 0;
   if (refines_with_turns && result.solved && !options.deadline.expired()) {
-    lns_iterations = refine_with_turns(instance, turning_tables_fit(instance, turning) ? &turning : nullptr, result,
+    lns_iterations = refine_with_turns(instance, turning_tables_fit(instance, *turning) ? turning : nullptr, result,
                                        options);
   }
 

@@ -266,6 +266,20 @@ TEST(Lifelong, WithLanesEightHundredAgentsStepValidlyAndTheSameSeedRunsTheSame) 
   EXPECT_EQ(a.errands_per_step, b.errands_per_step);
 }
 
+// "auto" guidance: shortest paths only with window LNS while agents number at most a quarter of
+// the free cells (random-32-32-20 has 819), else lanes.
+TEST(Lifelong, AutoGuidanceTakesShortestPathsOnlyWithLnsWhileAgentsAreFew) {
+  const LorrProblem problem = load_lorr_problem(kRandom + "random_100.json");
+  const Graph& graph = *problem.graph;
+  ASSERT_EQ(graph.vertex_count(), 819);
+  EXPECT_EQ(lifelong_guidance(graph, 100, true), Guidance::kNone);
+  EXPECT_EQ(lifelong_guidance(graph, 204, true), Guidance::kNone);
+  EXPECT_EQ(lifelong_guidance(graph, 205, true), Guidance::kLanes);
+  EXPECT_EQ(lifelong_guidance(graph, 800, true), Guidance::kLanes);
+  EXPECT_EQ(lifelong_guidance(graph, 100, false), Guidance::kLanes);
+  EXPECT_EQ(lifelong_guidance(graph, 1, false), Guidance::kLanes);
+}
+
 // Rollouts pick among PIBT runs: every step still valid, and with time to spare for every run the
 // same seed gives the same run.
 TEST(Lifelong, WithRolloutsEveryStepIsValidAndTheSameSeedRunsTheSame) {

@@ -3,6 +3,7 @@
 // the lower bound with turns, and CTS-PIBT planning with turns on the benchmark instances.
 #include <gtest/gtest.h>
 
+#include "planner_core/cts_lacam.hpp"
 #include "planner_core/input_error.hpp"
 #include "planner_core/lns.hpp"
 #include "planner_core/safe_interval_planning.hpp"
@@ -282,6 +283,28 @@ TEST(TurningLowerBound, WithNoTimeLeftTheFourWayBoundStands) {
   const int64_t with_turns = turning_lower_bound(instance, turning, TaskOrderConfig{}, 1234, Deadline::in_seconds(60));
   DistTable dist(*instance.graph);
   EXPECT_GT(with_turns, tour_lower_bound(instance, dist, TaskOrderConfig{}));
+}
+
+// A solver falling back on turned four-way plans hands over the tables with turns it searched:
+// the TurnedSolver reports their bound, the same one it finds on its own, and plans validly.
+TEST(TurningLowerBound, ATurnedSolverHandedTheTablesKeepsTheirBound) {
+  Instance instance = load_instance(testing::data_path("instances/random-32-32-20-N10-M30-00.yaml"));
+  instance.actions = ActionModel::kRotate;
+  GuidedDistances turning(*instance.graph, Guidance::kNone, ActionModel::kRotate);
+  const int64_t bound = turning_lower_bound(instance, turning, TaskOrderConfig{}, 0, Deadline::in_seconds(60));
+  DistTable dist(*instance.graph);
+  ASSERT_GT(bound, tour_lower_bound(instance, dist, TaskOrderConfig{}));
+  SolverConfig config;
+  config.solver = "cts-lacam";
+  for (const bool handed : {false, true}) {
+    TurnedSolver solver(std::make_unique<CtsLacam>(config), config);
+    if (handed) solver.use_turning_tables(turning, bound);
+    const SolveResult result =
+        solver.solve(instance, SolveOptions{Deadline::in_seconds(60).with_work_budget(Deadline::work_of(0.3))});
+    ASSERT_TRUE(result.solved) << result.failure_reason;
+    EXPECT_EQ(result.lower_bound, bound) << (handed ? "handed" : "its own");
+    EXPECT_TRUE(validate(instance, result.solution, {}, result.headings).ok());
+  }
 }
 
 // Plans for robots (--no-rotations) in the rotation model: no agents moving round a cycle in one

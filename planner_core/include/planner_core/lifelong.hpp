@@ -113,6 +113,15 @@ struct PibtLifelongSettings {
   PlanHolding hold_plans = PlanHolding::kInHalfTheRollouts;
 };
 
+// The guidance a lifelong run takes when asked for "auto": one-way lanes, except with window LNS
+// while agents number at most a quarter of the free cells. There the few meetings LNS plans
+// around cost less than the lanes' detours; more crowded, lanes keep streams apart better than
+// LNS (8 agents at a time) can. Measured on random-32-32-20, 200 steps, seed 0, shortest paths
+// against lanes, with LNS: 100 agents 812 / 734 errands (four moves), 608 / 563 (rotation); 200
+// agents 989 / 989 (rotation); 400 agents 636 / 913 (rotation). Without LNS lanes win even at 100
+// agents (rotation 1,148 / 1,325 in 500 steps). Figures: docs/RESULTS.md.
+Guidance lifelong_guidance(const Graph& graph, size_t agents, bool lns);
+
 class PibtLifelong : public LifelongPlanner {
  public:
   PibtLifelong(const Graph& graph, uint32_t seed, PibtLifelongSettings settings = {});

@@ -19,6 +19,13 @@ class TurnedSolver : public Solver {
       : four_way_(std::move(four_way)), config_(config) {}
   SolveResult solve(const Instance& instance, const SolveOptions& options) override;
 
+  // The caller's tables with turns (turning_lower_bound searched them for every task and goal) and
+  // the bound they gave: solve() then searches neither again. `turning` must outlive solve().
+  void use_turning_tables(GuidedDistances& turning, int64_t lower_bound) {
+    known_turning_ = &turning;
+    known_lower_bound_ = lower_bound;
+  }
+
   static constexpr double kFourWayShare = 0.5;
 
  private:
@@ -28,6 +35,8 @@ class TurnedSolver : public Solver {
                         const SolveOptions& options) const;
   std::unique_ptr<Solver> four_way_;
   SolverConfig config_;
+  GuidedDistances* known_turning_ = nullptr;
+  int64_t known_lower_bound_ = 0;
 };
 
 // The tables of `turning` (a GuidedDistances per cell and heading) for every task and goal fit in
