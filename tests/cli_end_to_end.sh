@@ -112,7 +112,13 @@ grep -q -- "--hold-plans" "$work/err"
   --actions rotate --rollout-steps 8 --lns --out-dir "$work/lifelong-lns" > "$work/lifelong-lns.out"
 grep -q "window LNS: [1-9]" "$work/lifelong-lns.out"
 # With LNS and 50 agents on 819 free cells, "auto" guidance (the default) takes shortest paths.
-grep -q "guidance none (auto)" "$work/lifelong-lns.out"
+grep -q "guidance none (auto): shortest paths; a wait or turn costs 1" "$work/lifelong-lns.out"
+set +e
+"$bin/ctsfleet-bench" --experiment lifelong --problem "$lorr" --stay-cost 9 > /dev/null 2> "$work/err"
+code=$?
+set -e
+[ "$code" -eq 2 ] || { echo "--stay-cost 9: expected exit 2, got $code"; exit 1; }
+grep -q -- "--stay-cost" "$work/err"
 grep -q "^random_50,50,60,0.2,pibt-rotate-none-r128-lns-hold-half-keep," "$work/lifelong-lns/lifelong.csv"
 "$python" "$(dirname "$0")/lorr_replay.py" "$work/lifelong-lns/random_50.lorr.json" "$map"
 set +e

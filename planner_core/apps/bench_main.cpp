@@ -15,6 +15,7 @@
 #include "mapf_scale_experiment.hpp"
 #include "paper_experiments.hpp"
 #include "planner_core/benchmark_runner.hpp"
+#include "planner_core/guided_distances.hpp"
 #include "planner_core/input_error.hpp"
 #include "solver_options.hpp"
 
@@ -88,6 +89,11 @@ int main(int argc, char** argv) {
                  "columns south and north; a move against its lane costs 3) or auto (lanes, but none with --lns "
                  "while agents number at most a quarter of the free cells)")
       ->check(CLI::IsMember({"auto", "none", "lanes"}))
+      ->capture_default_str();
+  app.add_option("--stay-cost", lifelong.stay_cost,
+                 "experiment lifelong: what a wait or a quarter turn costs in the guidance, 1-6 (0: 3 with --lns "
+                 "on lanes in the rotation model, else 1)")
+      ->check(CLI::Range(0, planner_core::GuidedDistances::kMaxStayCost))
       ->capture_default_str();
   app.add_option("--actions", lifelong.actions,
                  "move4 (up, down, left, right, wait) or rotate (the league's 2023 model: forward, turn clockwise, "

@@ -72,8 +72,10 @@ int run_lifelong_experiment(const LifelongExperimentSettings& settings) {
     const planner_core::LorrProblem problem = planner_core::load_lorr_problem(path);
     planner_core::PibtLifelongSettings pibt;
     pibt.guidance = settings.guidance == "auto"
-                        ? planner_core::lifelong_guidance(*problem.graph, problem.starts.size(), settings.lns)
+                        ? planner_core::lifelong_guidance(*problem.graph, problem.starts.size(), settings.lns, actions).guidance
                         : planner_core::parse_guidance(settings.guidance, "--guidance");
+    pibt.stay_cost =
+        settings.stay_cost > 0 ? settings.stay_cost : planner_core::lifelong_stay_cost(pibt.guidance, settings.lns, actions);
     pibt.rollouts = settings.rollouts;
     pibt.rollout_steps = settings.rollout_steps;
     pibt.lns = settings.lns;
@@ -111,18 +113,19 @@ int run_lifelong_experiment(const LifelongExperimentSettings& settings) {
                   static_cast<long long>(lns.cost_before), static_cast<long long>(lns.cost_after));
     }
     if (pibt.guidance == planner_core::Guidance::kLanes) {
-      std::printf("  guidance lanes%s: they turn every %d rows and every %d columns\n",
+      std::printf("  guidance lanes%s: they turn every %d rows and every %d columns; a wait or turn costs %d\n",
                   settings.guidance == "auto" ? " (auto)" : "", planner.distances().row_period(),
-                  planner.distances().column_period());
+                  planner.distances().column_period(), pibt.stay_cost);
     } else {
-      std::printf("  guidance none%s: shortest paths\n", settings.guidance == "auto" ? " (auto)" : "");
+      std::printf("  guidance none%s: shortest paths; a wait or turn costs %d\n",
+                  settings.guidance == "auto" ? " (auto)" : "", pibt.stay_cost);
     }
     if (settings.league_output) {
       const fs::path output = fs::path(settings.out_dir) / (name + ".lorr.json");
       planner_core::write_lorr_output(output.string(), problem, result, log);
       std::printf("  wrote %s\n", output.c_str());
     }
-    table << name << "," << problem.starts.size() << "," << settings.steps << "," << settings.step_time_s << ",pibt-" << (actions == planner_core::ActionModel::kRotate ? "rotate-" : "") << planner_core::to_string(pibt.guidance) << "-r" << settings.rollouts << (settings.lns ? "-lns" : "") << turning_name << ","
+    table << name << "," << problem.starts.size() << "," << settings.steps << "," << settings.step_time_s << ",pibt-" << (actions == planner_core::ActionModel::kRotate ? "rotate-" : "") << planner_core::to_string(pibt.guidance) << (pibt.stay_cost != 1 ? "-stay" + std::to_string(pibt.stay_cost) : "") << "-r" << settings.rollouts << (settings.lns ? "-lns" : "") << turning_name << ","
           << result.errands_finished << "," << result.tasks_finished << "," << per << ","
           << quantile(result.step_ms, 0.5) << "," << quantile(result.step_ms, 0.99) << ","
           << quantile(result.step_ms, 1.0) << "," << result.steps_over_budget << "," << result.invalid_steps << ","

@@ -20,6 +20,7 @@ struct LifelongExperimentSettings {
   double step_time_s = 1.0;
   unsigned seed = 0;
   std::string guidance = "auto";      // none, lanes (planner_core/guided_distances.hpp) or auto (lifelong_guidance)
+  int stay_cost = 0;                  // PibtLifelongSettings::stay_cost; 0: lifelong_stay_cost
   std::string actions = "move4";      // planner_core/action_model.hpp
   int rollouts = 128;                 // PibtLifelongSettings::rollouts
   int rollout_steps = 3;              // PibtLifelongSettings::rollout_steps

@@ -2,6 +2,8 @@
 
 #include <atomic>
 #include <cstdlib>
+#include <stdexcept>
+#include <string>
 #include <thread>
 
 #include "planner_core/input_error.hpp"
@@ -43,15 +45,30 @@ int balanced_period(const Graph& graph, bool rows) {
 
 }  // namespace
 
-GuidedDistances::GuidedDistances(const Graph& graph, Guidance guidance, ActionModel actions)
+namespace {
+
+int checked_stay_cost(int stay_cost) {
+  if (stay_cost < 1 || stay_cost > GuidedDistances::kMaxStayCost) {
+    throw std::invalid_argument("GuidedDistances: a wait's cost must be 1.." +
+                                std::to_string(GuidedDistances::kMaxStayCost) + ", not " + std::to_string(stay_cost));
+  }
+  return stay_cost;
+}
+
+}  // namespace
+
+GuidedDistances::GuidedDistances(const Graph& graph, Guidance guidance, ActionModel actions, int stay_cost)
     : graph_(graph),
       guidance_(guidance),
       actions_(actions),
       headings_(actions == ActionModel::kRotate ? kHeadings : 1),
       row_period_(guidance == Guidance::kLanes ? balanced_period(graph, true) : 1),
       column_period_(guidance == Guidance::kLanes ? balanced_period(graph, false) : 1),
-      // The dearest path costs at most kAgainstLaneCost per state.
-      narrow_(static_cast<int64_t>(graph.vertex_count()) * static_cast<int64_t>(headings_) * kAgainstLaneCost < 0xFFFF),
+      stay_cost_(checked_stay_cost(stay_cost)),
+      // The dearest path costs at most the dearest action per state.
+      narrow_(static_cast<int64_t>(graph.vertex_count()) * static_cast<int64_t>(headings_) *
+                  std::max(kAgainstLaneCost, stay_cost_) <
+              0xFFFF),
       by_target_(graph.vertex_count()) {}
 
 namespace {
@@ -92,7 +109,7 @@ void search_from(size_t states, const std::vector<size_t>& targets, std::vector<
 
 const GuidedDistances::Table& GuidedDistances::search(Vertex target) {
   auto table = std::make_unique<Table>();
-  const int dearest = guidance_ == Guidance::kNone ? 1 : kAgainstLaneCost;
+  const int dearest = std::max(guidance_ == Guidance::kNone ? 1 : kAgainstLaneCost, stay_cost_);
   const size_t states = static_cast<size_t>(graph_.vertex_count()) * headings_;
   std::vector<size_t> targets;
   // Four moves: a cell's neighbours step to it.
@@ -105,8 +122,8 @@ const GuidedDistances::Table& GuidedDistances::search(Vertex target) {
     const Vertex cell = static_cast<Vertex>(u / kHeadings);
     const int heading = static_cast<int>(u % kHeadings);
     const size_t base = static_cast<size_t>(cell) * kHeadings;
-    visit(base + static_cast<size_t>(turned_clockwise(heading)), 1);
-    visit(base + static_cast<size_t>(turned_counter_clockwise(heading)), 1);
+    visit(base + static_cast<size_t>(turned_clockwise(heading)), stay_cost_);
+    visit(base + static_cast<size_t>(turned_counter_clockwise(heading)), stay_cost_);
     const Vertex behind = ahead(graph_, cell, (heading + 2) % kHeadings);
     if (behind != kNoVertex) visit(static_cast<size_t>(behind) * kHeadings + static_cast<size_t>(heading), move_cost(behind, cell));
   };

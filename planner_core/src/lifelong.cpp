@@ -32,15 +32,20 @@ std::string to_string(PlanHolding holding) {
   return "?";
 }
 
-Guidance lifelong_guidance(const Graph& graph, size_t agents, bool lns) {
+LifelongGuidance lifelong_guidance(const Graph& graph, size_t agents, bool lns, ActionModel actions) {
   const bool few = agents * 4 <= static_cast<size_t>(graph.vertex_count());
-  return lns && few ? Guidance::kNone : Guidance::kLanes;
+  const Guidance guidance = lns && few ? Guidance::kNone : Guidance::kLanes;
+  return {guidance, lifelong_stay_cost(guidance, lns, actions)};
+}
+
+int lifelong_stay_cost(Guidance guidance, bool lns, ActionModel actions) {
+  return lns && guidance == Guidance::kLanes && actions == ActionModel::kRotate ? 3 : 1;
 }
 
 PibtLifelong::PibtLifelong(const Graph& graph, uint32_t seed, PibtLifelongSettings settings)
     : graph_(graph),
       settings_(settings),
-      distances_(graph, settings.guidance, settings.actions),
+      distances_(graph, settings.guidance, settings.actions, settings.stay_cost),
       bound_for_(graph.vertex_count(), 0),
       table_held_(graph.vertex_count(), 0),
       rng_(seed),
@@ -267,14 +272,14 @@ void PibtLifelong::end_step(const Poses& now, const Config& planned) {
 int64_t PibtLifelong::step_cost(int agent, const Poses& now, Vertex goal, Vertex cell) {
   const Vertex here = now.cells[agent];
   if (settings_.actions == ActionModel::kMove4) {
-    return int64_t{cell == here ? 1 : distances_.move_cost(here, cell)} + distances_.get(goal, cell);
+    return int64_t{cell == here ? distances_.stay_cost() : distances_.move_cost(here, cell)} + distances_.get(goal, cell);
   }
   const int heading = now.headings[agent];
-  if (cell == here) return 1 + int64_t{distances_.get(goal, here, heading)};
+  if (cell == here) return distances_.stay_cost() + int64_t{distances_.get(goal, here, heading)};
   // The turns to face the cell, the move, and the cost from there facing on.
   const int towards = heading_towards(graph_, here, cell);
   const int turns = towards == heading ? 0 : (towards == (heading + 2) % kHeadings ? 2 : 1);
-  return turns + int64_t{distances_.move_cost(here, cell)} + distances_.get(goal, cell, towards);
+  return turns * distances_.stay_cost() + int64_t{distances_.move_cost(here, cell)} + distances_.get(goal, cell, towards);
 }
 
 void PibtLifelong::take_rotation_actions(const Poses& now, const Config& goals) {

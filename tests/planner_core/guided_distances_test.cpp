@@ -98,6 +98,28 @@ TEST(GuidedDistances, LanesFollowTheStreets) {
   EXPECT_EQ(on_open.column_period(), 1);
 }
 
+// A wait and a quarter turn cost stay_cost: an agent facing away from its goal pays two turns at
+// that cost; one facing it pays none, and four-move tables do not change.
+TEST(GuidedDistances, TurnsCostWhatAWaitCosts) {
+  constexpr int kEast = 0, kWest = 2, kNorth = 3;  // headings (action_model.hpp)
+  const Graph graph(5, 1, {"....."});
+  const Vertex start = graph.vertex_at({0, 0}), goal = graph.vertex_at({4, 0});
+  for (int stay_cost : {1, 3, GuidedDistances::kMaxStayCost}) {
+    for (Guidance guidance : {Guidance::kNone, Guidance::kLanes}) {
+      GuidedDistances turning(graph, guidance, ActionModel::kRotate, stay_cost);
+      EXPECT_EQ(turning.stay_cost(), stay_cost);
+      EXPECT_EQ(turning.get(goal, start, kEast), 4) << stay_cost;  // row 0 runs east
+      EXPECT_EQ(turning.get(goal, start, kWest), 2 * stay_cost + 4) << stay_cost;
+      EXPECT_EQ(turning.get(goal, start, kNorth), stay_cost + 4) << stay_cost;
+      GuidedDistances four_moves(graph, guidance, ActionModel::kMove4, stay_cost);
+      EXPECT_EQ(four_moves.get(goal, start), 4);
+    }
+  }
+  for (int bad : {0, -1, GuidedDistances::kMaxStayCost + 1}) {
+    EXPECT_THROW(GuidedDistances(graph, Guidance::kLanes, ActionModel::kRotate, bad), std::invalid_argument) << bad;
+  }
+}
+
 TEST(GuidedDistances, AnUnknownGuidanceIsNamed) {
   EXPECT_EQ(parse_guidance("lanes", "--guidance"), Guidance::kLanes);
   EXPECT_EQ(parse_guidance("none", "--guidance"), Guidance::kNone);

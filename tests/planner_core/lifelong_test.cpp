@@ -272,12 +272,21 @@ TEST(Lifelong, AutoGuidanceTakesShortestPathsOnlyWithLnsWhileAgentsAreFew) {
   const LorrProblem problem = load_lorr_problem(kRandom + "random_100.json");
   const Graph& graph = *problem.graph;
   ASSERT_EQ(graph.vertex_count(), 819);
-  EXPECT_EQ(lifelong_guidance(graph, 100, true), Guidance::kNone);
-  EXPECT_EQ(lifelong_guidance(graph, 204, true), Guidance::kNone);
-  EXPECT_EQ(lifelong_guidance(graph, 205, true), Guidance::kLanes);
-  EXPECT_EQ(lifelong_guidance(graph, 800, true), Guidance::kLanes);
-  EXPECT_EQ(lifelong_guidance(graph, 100, false), Guidance::kLanes);
-  EXPECT_EQ(lifelong_guidance(graph, 1, false), Guidance::kLanes);
+  constexpr ActionModel kRotate = ActionModel::kRotate;
+  EXPECT_EQ(lifelong_guidance(graph, 100, true, kRotate).guidance, Guidance::kNone);
+  EXPECT_EQ(lifelong_guidance(graph, 204, true, kRotate).guidance, Guidance::kNone);
+  EXPECT_EQ(lifelong_guidance(graph, 205, true, kRotate).guidance, Guidance::kLanes);
+  EXPECT_EQ(lifelong_guidance(graph, 800, true, kRotate).guidance, Guidance::kLanes);
+  EXPECT_EQ(lifelong_guidance(graph, 100, false, kRotate).guidance, Guidance::kLanes);
+  EXPECT_EQ(lifelong_guidance(graph, 1, false, kRotate).guidance, Guidance::kLanes);
+  EXPECT_EQ(lifelong_guidance(graph, 100, true, ActionModel::kMove4).guidance, Guidance::kNone);
+  EXPECT_EQ(lifelong_guidance(graph, 400, true, ActionModel::kMove4).guidance, Guidance::kLanes);
+  // Waits and turns cost 3 on lanes with LNS in the rotation model, else 1.
+  EXPECT_EQ(lifelong_guidance(graph, 100, true, kRotate).stay_cost, 1);
+  EXPECT_EQ(lifelong_guidance(graph, 400, true, kRotate).stay_cost, 3);
+  EXPECT_EQ(lifelong_guidance(graph, 400, false, kRotate).stay_cost, 1);
+  EXPECT_EQ(lifelong_guidance(graph, 400, true, ActionModel::kMove4).stay_cost, 1);
+  EXPECT_EQ(lifelong_stay_cost(Guidance::kNone, true, kRotate), 1);
 }
 
 // Rollouts pick among PIBT runs: every step still valid, and with time to spare for every run the

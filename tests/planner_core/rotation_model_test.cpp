@@ -229,6 +229,7 @@ TEST(RotationLifelong, HeldPlansWithWindowLnsStepValidly) {
     for (PlanHolding holding : {PlanHolding::kInHalfTheRollouts, PlanHolding::kAlways}) {
       PibtLifelong planner(*problem.graph, 2,
                            {.guidance = Guidance::kLanes,
+                            .stay_cost = 3,  // as ctsfleet-bench runs it (lifelong_stay_cost)
                             .actions = ActionModel::kRotate,
                             .rollouts = 16,
                             .rollout_steps = 8,

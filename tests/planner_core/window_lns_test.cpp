@@ -48,16 +48,19 @@ TEST(WindowLns, FourHundredAgentsKeepEveryStepValidAndTheCostNeverGrows) {
 
 TEST(WindowLns, AnAgentLeftWaitingIsSentOnItsCheapestWay) {
   const Graph graph(5, 1, {"....."});
-  for (const auto& [heading, arrival] : {std::pair{0, 4}, std::pair{2, 6}}) {  // facing the goal, or away
-    GuidedDistances distances(graph, Guidance::kNone, ActionModel::kRotate);
-    WindowLns lns(graph, distances, ActionModel::kRotate);
-    std::vector<Poses> window = waiting_window({{0}, {heading}}, 8);
-    std::mt19937 rng(1);
-    const WindowLnsStats stats = lns.improve(window, {4}, Deadline::in_seconds(0.2), rng);
-    EXPECT_EQ(stats.cost_after, arrival) << "facing " << heading;
-    EXPECT_EQ(window[arrival].cells[0], 4);
-    EXPECT_NE(window[arrival - 1].cells[0], 4);
-    EXPECT_EQ(window.back().cells[0], 4);  // and waits there
+  for (const int stay_cost : {1, 3}) {  // turns cost what a wait costs (guided_distances.hpp)
+    for (const auto& [heading, arrival] : {std::pair{0, 4}, std::pair{2, 6}}) {  // facing the goal, or away
+      GuidedDistances distances(graph, Guidance::kNone, ActionModel::kRotate, stay_cost);
+      WindowLns lns(graph, distances, ActionModel::kRotate);
+      std::vector<Poses> window = waiting_window({{0}, {heading}}, 8);
+      std::mt19937 rng(1);
+      const WindowLnsStats stats = lns.improve(window, {4}, Deadline::in_seconds(0.2), rng);
+      EXPECT_EQ(stats.cost_before, 8 * stay_cost + distances.get(4, 0, heading)) << "waiting, facing " << heading;
+      EXPECT_EQ(stats.cost_after, 4 + (arrival - 4) * stay_cost) << "facing " << heading;
+      EXPECT_EQ(window[arrival].cells[0], 4);
+      EXPECT_NE(window[arrival - 1].cells[0], 4);
+      EXPECT_EQ(window.back().cells[0], 4);  // and waits there
+    }
   }
 }
 

@@ -6,7 +6,13 @@
 // or a single corridor has only one way), it is only dearer.
 //
 // In the rotation model (action_model.hpp) a table holds a cost per cell and heading: an agent
-// facing away from its way pays its turns (one step each) as well.
+// facing away from its way pays its turns as well.
+//
+// A wait, and in the rotation model a quarter turn, costs `stay_cost` (1 unless asked). The 2023
+// winner's learned weights for random-32-32-20 with 400 agents (DiligentPanda/MAPF-LRR2023,
+// scripts/random_weight_040.w) are one-way lanes like these, with a wait or turn costing about
+// twice a move along the lane; dearer waits send window LNS paths round a queue rather than into
+// it, and make turns worth avoiding (figures: docs/RESULTS.md).
 //
 // Which lines take turns depends on the map: on a sortation floor only every other row is a
 // street, so rows taking turns one by one would send every street east. Rows therefore change
@@ -39,7 +45,10 @@ std::string to_string(Guidance guidance);
 class GuidedDistances {
  public:
   static constexpr int kAgainstLaneCost = 3;
-  GuidedDistances(const Graph& graph, Guidance guidance, ActionModel actions = ActionModel::kMove4);
+  static constexpr int kMaxStayCost = 6;
+  // Throws std::invalid_argument unless 1 <= stay_cost <= kMaxStayCost.
+  GuidedDistances(const Graph& graph, Guidance guidance, ActionModel actions = ActionModel::kMove4,
+                  int stay_cost = 1);
 
   // The cost of the move from `from` to its neighbour `to`.
   int move_cost(Vertex from, Vertex to) const {
@@ -50,6 +59,8 @@ class GuidedDistances {
                                       : (b.y > a.y) == (a.x / column_period_ % 2 == 0);
     return with_lane ? 1 : kAgainstLaneCost;
   }
+  // The cost of a wait, and in the rotation model of a quarter turn.
+  int stay_cost() const { return stay_cost_; }
   int row_period() const { return row_period_; }
   int column_period() const { return column_period_; }
 
@@ -95,6 +106,7 @@ class GuidedDistances {
   size_t headings_;  // states per cell: 1, or 4 in the rotation model
   int row_period_ = 1;
   int column_period_ = 1;
+  int stay_cost_ = 1;
   bool narrow_;
   std::vector<std::unique_ptr<Table>> by_target_;
 };

@@ -86,6 +86,7 @@ std::string to_string(PlanHolding holding);
 // 5,000 steps, 3.4 GB had every table been kept.
 struct PibtLifelongSettings {
   Guidance guidance = Guidance::kNone;
+  int stay_cost = 1;  // GuidedDistances: a wait's (and a quarter turn's) cost in the guidance
   ActionModel actions = ActionModel::kMove4;
   // Rollouts: each step, PIBT is run `rollouts` times `rollout_steps` steps ahead, each run with its
   // own tie-breaks (the first with the planner's own), and the first step of the run whose agents
@@ -119,8 +120,17 @@ struct PibtLifelongSettings {
 // LNS (8 agents at a time) can. Measured on random-32-32-20, 200 steps, seed 0, shortest paths
 // against lanes, with LNS: 100 agents 812 / 734 errands (four moves), 608 / 563 (rotation); 200
 // agents 989 / 989 (rotation); 400 agents 636 / 913 (rotation). Without LNS lanes win even at 100
-// agents (rotation 1,148 / 1,325 in 500 steps). Figures: docs/RESULTS.md.
-Guidance lifelong_guidance(const Graph& graph, size_t agents, bool lns);
+// agents (rotation 1,148 / 1,325 in 500 steps).
+// In the rotation model on lanes with LNS, a wait or a turn costs 3 (lifelong_stay_cost), as much
+// as a move against the lane: random_400 +28% over 500 steps, random_800 +11% over 200. Without
+// LNS it gained 3% at random_400 and cost 9% at random_800 (plans held always), and in four moves
+// with LNS it cost 2% at random_400, so it stays 1 there. Figures: docs/RESULTS.md.
+struct LifelongGuidance {
+  Guidance guidance;
+  int stay_cost;
+};
+LifelongGuidance lifelong_guidance(const Graph& graph, size_t agents, bool lns, ActionModel actions);
+int lifelong_stay_cost(Guidance guidance, bool lns, ActionModel actions);
 
 class PibtLifelong : public LifelongPlanner {
  public:
