@@ -43,10 +43,6 @@ int balanced_period(const Graph& graph, bool rows) {
   return best;
 }
 
-}  // namespace
-
-namespace {
-
 int checked_stay_cost(int stay_cost) {
   if (stay_cost < 1 || stay_cost > GuidedDistances::kMaxStayCost) {
     throw std::invalid_argument("GuidedDistances: a wait's cost must be 1.." +
