@@ -72,7 +72,7 @@ int run_lifelong_experiment(const LifelongExperimentSettings& settings) {
     const planner_core::LorrProblem problem = planner_core::load_lorr_problem(path);
     planner_core::PibtLifelongSettings pibt;
     pibt.guidance = settings.guidance == "auto"
-                        ? planner_core::lifelong_guidance(*problem.graph, problem.starts.size(), settings.lns, actions).guidance
+                        ? planner_core::lifelong_guidance(*problem.graph, problem.starts.size(), settings.lns)
                         : planner_core::parse_guidance(settings.guidance, "--guidance");
     pibt.stay_cost =
         settings.stay_cost > 0 ? settings.stay_cost : planner_core::lifelong_stay_cost(pibt.guidance, settings.lns, actions);

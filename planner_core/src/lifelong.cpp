@@ -32,10 +32,9 @@ std::string to_string(PlanHolding holding) {
   return "?";
 }
 
-LifelongGuidance lifelong_guidance(const Graph& graph, size_t agents, bool lns, ActionModel actions) {
+Guidance lifelong_guidance(const Graph& graph, size_t agents, bool lns) {
   const bool few = agents * 4 <= static_cast<size_t>(graph.vertex_count());
-  const Guidance guidance = lns && few ? Guidance::kNone : Guidance::kLanes;
-  return {guidance, lifelong_stay_cost(guidance, lns, actions)};
+  return lns && few ? Guidance::kNone : Guidance::kLanes;
 }
 
 int lifelong_stay_cost(Guidance guidance, bool lns, ActionModel actions) {

@@ -273,19 +273,18 @@ TEST(Lifelong, AutoGuidanceTakesShortestPathsOnlyWithLnsWhileAgentsAreFew) {
   const Graph& graph = *problem.graph;
   ASSERT_EQ(graph.vertex_count(), 819);
   constexpr ActionModel kRotate = ActionModel::kRotate;
-  EXPECT_EQ(lifelong_guidance(graph, 100, true, kRotate).guidance, Guidance::kNone);
-  EXPECT_EQ(lifelong_guidance(graph, 204, true, kRotate).guidance, Guidance::kNone);
-  EXPECT_EQ(lifelong_guidance(graph, 205, true, kRotate).guidance, Guidance::kLanes);
-  EXPECT_EQ(lifelong_guidance(graph, 800, true, kRotate).guidance, Guidance::kLanes);
-  EXPECT_EQ(lifelong_guidance(graph, 100, false, kRotate).guidance, Guidance::kLanes);
-  EXPECT_EQ(lifelong_guidance(graph, 1, false, kRotate).guidance, Guidance::kLanes);
-  EXPECT_EQ(lifelong_guidance(graph, 100, true, ActionModel::kMove4).guidance, Guidance::kNone);
-  EXPECT_EQ(lifelong_guidance(graph, 400, true, ActionModel::kMove4).guidance, Guidance::kLanes);
+  EXPECT_EQ(lifelong_guidance(graph, 100, true), Guidance::kNone);
+  EXPECT_EQ(lifelong_guidance(graph, 204, true), Guidance::kNone);
+  EXPECT_EQ(lifelong_guidance(graph, 205, true), Guidance::kLanes);
+  EXPECT_EQ(lifelong_guidance(graph, 800, true), Guidance::kLanes);
+  EXPECT_EQ(lifelong_guidance(graph, 100, false), Guidance::kLanes);
+  EXPECT_EQ(lifelong_guidance(graph, 1, false), Guidance::kLanes);
+  EXPECT_EQ(lifelong_guidance(graph, 400, true), Guidance::kLanes);
   // Waits and turns cost 3 on lanes with LNS in the rotation model, else 1.
-  EXPECT_EQ(lifelong_guidance(graph, 100, true, kRotate).stay_cost, 1);
-  EXPECT_EQ(lifelong_guidance(graph, 400, true, kRotate).stay_cost, 3);
-  EXPECT_EQ(lifelong_guidance(graph, 400, false, kRotate).stay_cost, 1);
-  EXPECT_EQ(lifelong_guidance(graph, 400, true, ActionModel::kMove4).stay_cost, 1);
+  EXPECT_EQ(lifelong_stay_cost(lifelong_guidance(graph, 100, true), true, kRotate), 1);
+  EXPECT_EQ(lifelong_stay_cost(lifelong_guidance(graph, 400, true), true, kRotate), 3);
+  EXPECT_EQ(lifelong_stay_cost(lifelong_guidance(graph, 400, false), false, kRotate), 1);
+  EXPECT_EQ(lifelong_stay_cost(lifelong_guidance(graph, 400, true), true, ActionModel::kMove4), 1);
   EXPECT_EQ(lifelong_stay_cost(Guidance::kNone, true, kRotate), 1);
 }
 

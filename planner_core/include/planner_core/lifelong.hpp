@@ -125,11 +125,7 @@ struct PibtLifelongSettings {
 // as a move against the lane: random_400 +28% over 500 steps, random_800 +11% over 200. Without
 // LNS it gained 3% at random_400 and cost 9% at random_800 (plans held always), and in four moves
 // with LNS it cost 2% at random_400, so it stays 1 there. Figures: docs/RESULTS.md.
-struct LifelongGuidance {
-  Guidance guidance;
-  int stay_cost;
-};
-LifelongGuidance lifelong_guidance(const Graph& graph, size_t agents, bool lns, ActionModel actions);
+Guidance lifelong_guidance(const Graph& graph, size_t agents, bool lns);
 int lifelong_stay_cost(Guidance guidance, bool lns, ActionModel actions);
 
 class PibtLifelong : public LifelongPlanner {
