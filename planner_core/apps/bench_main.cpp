@@ -86,9 +86,10 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--guidance", lifelong.guidance,
                  "experiment lifelong: none (shortest paths), lanes (one-way lanes: rows alternate east and west, "
-                 "columns south and north; a move against its lane costs 3) or auto (lanes, but none with --lns "
+                 "columns south and north; a move against its lane costs 3), ring (lanes, and within 5 cells of the "
+                 "map's edge moves and waits cost up to 0.4 of a move less) or auto (lanes, but none with --lns "
                  "while agents number at most a quarter of the free cells)")
-      ->check(CLI::IsMember({"auto", "none", "lanes"}))
+      ->check(CLI::IsMember({"auto", "none", "lanes", "ring"}))
       ->capture_default_str();
   app.add_option("--stay-cost", lifelong.stay_cost,
                  "experiment lifelong: what a wait or a quarter turn costs in the guidance, 1-6 (0: 3 with --lns "

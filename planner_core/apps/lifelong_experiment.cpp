@@ -72,7 +72,7 @@ int run_lifelong_experiment(const LifelongExperimentSettings& settings) {
     const planner_core::LorrProblem problem = planner_core::load_lorr_problem(path);
     planner_core::PibtLifelongSettings pibt;
     pibt.guidance = settings.guidance == "auto"
-                        ? planner_core::lifelong_guidance(*problem.graph, problem.starts.size(), settings.lns)
+                        ? planner_core::lifelong_guidance(*problem.graph, problem.starts.size(), settings.lns, actions)
                         : planner_core::parse_guidance(settings.guidance, "--guidance");
     pibt.stay_cost =
         settings.stay_cost > 0 ? settings.stay_cost : planner_core::lifelong_stay_cost(pibt.guidance, settings.lns, actions);
@@ -112,13 +112,18 @@ int run_lifelong_experiment(const LifelongExperimentSettings& settings) {
                   static_cast<long long>(lns.iterations), static_cast<long long>(lns.improvements),
                   static_cast<long long>(lns.cost_before), static_cast<long long>(lns.cost_after));
     }
+    const char* chosen = settings.guidance == "auto" ? " (auto)" : "";
     if (pibt.guidance == planner_core::Guidance::kLanes) {
-      std::printf("  guidance lanes%s: they turn every %d rows and every %d columns; a wait or turn costs %d\n",
-                  settings.guidance == "auto" ? " (auto)" : "", planner.distances().row_period(),
-                  planner.distances().column_period(), pibt.stay_cost);
+      std::printf("  guidance lanes%s: they turn every %d rows and every %d columns; a wait or turn costs %d\n", chosen,
+                  planner.distances().row_period(), planner.distances().column_period(), pibt.stay_cost);
+    } else if (pibt.guidance == planner_core::Guidance::kRing) {
+      std::printf(
+          "  guidance ring%s: lanes turning every %d rows and every %d columns, and cheaper within %d cells of the "
+          "edge; a wait or turn costs %d (costs in tenths of a move)\n",
+          chosen, planner.distances().row_period(), planner.distances().column_period(),
+          planner_core::GuidedDistances::kRingDepth, pibt.stay_cost);
     } else {
-      std::printf("  guidance none%s: shortest paths; a wait or turn costs %d\n",
-                  settings.guidance == "auto" ? " (auto)" : "", pibt.stay_cost);
+      std::printf("  guidance none%s: shortest paths; a wait or turn costs %d\n", chosen, pibt.stay_cost);
     }
     if (settings.league_output) {
       const fs::path output = fs::path(settings.out_dir) / (name + ".lorr.json");

@@ -13,10 +13,21 @@ namespace planner_core {
 Guidance parse_guidance(const std::string& text, const std::string& what) {
   if (text == "none") return Guidance::kNone;
   if (text == "lanes") return Guidance::kLanes;
-  throw InputError(what + ": \"" + text + "\" is no guidance (none or lanes)");
+  if (text == "ring") return Guidance::kRing;
+  throw InputError(what + ": \"" + text + "\" is no guidance (none, lanes or ring)");
 }
 
-std::string to_string(Guidance guidance) { return guidance == Guidance::kLanes ? "lanes" : "none"; }
+std::string to_string(Guidance guidance) {
+  switch (guidance) {
+    case Guidance::kNone:
+      return "none";
+    case Guidance::kLanes:
+      return "lanes";
+    case Guidance::kRing:
+      return "ring";
+  }
+  return "?";
+}
 
 namespace {
 
@@ -43,6 +54,17 @@ int balanced_period(const Graph& graph, bool rows) {
   return best;
 }
 
+// Per vertex, what a move or wait from it costs less for being near the map's edge (kRing).
+std::vector<uint8_t> ring_discounts(const Graph& graph) {
+  std::vector<uint8_t> discount(graph.vertex_count(), 0);
+  for (Vertex v = 0; v < graph.vertex_count(); ++v) {
+    const Cell c = graph.cell_of(v);
+    const int depth = std::min({c.x, c.y, graph.width() - 1 - c.x, graph.height() - 1 - c.y});
+    if (depth < GuidedDistances::kRingDepth) discount[v] = static_cast<uint8_t>(GuidedDistances::kRingDiscount[depth]);
+  }
+  return discount;
+}
+
 int checked_stay_cost(int stay_cost) {
   if (stay_cost < 1 || stay_cost > GuidedDistances::kMaxStayCost) {
     throw std::invalid_argument("GuidedDistances: a wait's cost must be 1.." +
@@ -58,13 +80,13 @@ GuidedDistances::GuidedDistances(const Graph& graph, Guidance guidance, ActionMo
       guidance_(guidance),
       actions_(actions),
       headings_(actions == ActionModel::kRotate ? kHeadings : 1),
-      row_period_(guidance == Guidance::kLanes ? balanced_period(graph, true) : 1),
-      column_period_(guidance == Guidance::kLanes ? balanced_period(graph, false) : 1),
+      row_period_(guidance == Guidance::kNone ? 1 : balanced_period(graph, true)),
+      column_period_(guidance == Guidance::kNone ? 1 : balanced_period(graph, false)),
       stay_cost_(checked_stay_cost(stay_cost)),
+      unit_(guidance == Guidance::kRing ? kRingUnit : 1),
+      discount_(guidance == Guidance::kRing ? ring_discounts(graph) : std::vector<uint8_t>{}),
       // The dearest path costs at most the dearest action per state.
-      narrow_(static_cast<int64_t>(graph.vertex_count()) * static_cast<int64_t>(headings_) *
-                  std::max(kAgainstLaneCost, stay_cost_) <
-              0xFFFF),
+      narrow_(static_cast<int64_t>(graph.vertex_count()) * static_cast<int64_t>(headings_) * dearest_action() < 0xFFFF),
       by_target_(graph.vertex_count()) {}
 
 namespace {
@@ -105,7 +127,7 @@ void search_from(size_t states, const std::vector<size_t>& targets, std::vector<
 
 const GuidedDistances::Table& GuidedDistances::search(Vertex target) {
   auto table = std::make_unique<Table>();
-  const int dearest = std::max(guidance_ == Guidance::kNone ? 1 : kAgainstLaneCost, stay_cost_);
+  const int dearest = dearest_action();
   const size_t states = static_cast<size_t>(graph_.vertex_count()) * headings_;
   std::vector<size_t> targets;
   // Four moves: a cell's neighbours step to it.
@@ -118,8 +140,8 @@ const GuidedDistances::Table& GuidedDistances::search(Vertex target) {
     const Vertex cell = static_cast<Vertex>(u / kHeadings);
     const int heading = static_cast<int>(u % kHeadings);
     const size_t base = static_cast<size_t>(cell) * kHeadings;
-    visit(base + static_cast<size_t>(turned_clockwise(heading)), stay_cost_);
-    visit(base + static_cast<size_t>(turned_counter_clockwise(heading)), stay_cost_);
+    visit(base + static_cast<size_t>(turned_clockwise(heading)), stay_cost(cell));
+    visit(base + static_cast<size_t>(turned_counter_clockwise(heading)), stay_cost(cell));
     const Vertex behind = ahead(graph_, cell, (heading + 2) % kHeadings);
     if (behind != kNoVertex) visit(static_cast<size_t>(behind) * kHeadings + static_cast<size_t>(heading), move_cost(behind, cell));
   };

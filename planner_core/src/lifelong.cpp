@@ -32,13 +32,14 @@ std::string to_string(PlanHolding holding) {
   return "?";
 }
 
-Guidance lifelong_guidance(const Graph& graph, size_t agents, bool lns) {
+Guidance lifelong_guidance(const Graph& graph, size_t agents, bool lns, ActionModel actions) {
   const bool few = agents * 4 <= static_cast<size_t>(graph.vertex_count());
-  return lns && few ? Guidance::kNone : Guidance::kLanes;
+  if (lns && few) return Guidance::kNone;
+  return lns && actions == ActionModel::kRotate ? Guidance::kRing : Guidance::kLanes;
 }
 
 int lifelong_stay_cost(Guidance guidance, bool lns, ActionModel actions) {
-  return lns && guidance == Guidance::kLanes && actions == ActionModel::kRotate ? 3 : 1;
+  return lns && guidance != Guidance::kNone && actions == ActionModel::kRotate ? 3 : 1;
 }
 
 PibtLifelong::PibtLifelong(const Graph& graph, uint32_t seed, PibtLifelongSettings settings)
@@ -137,9 +138,11 @@ Poses PibtLifelong::next_step(const Poses& now, const Config& goals, const Deadl
         if (reached[a] < 0 && at.cells[a] == goals[a]) reached[a] = step;
       }
     }
+    // In cost units (GuidedDistances::cost_unit), a step counting as a move along a lane.
+    const int64_t unit = distances_.cost_unit();
     int64_t score = 0;
     for (int a = 0; a < n; ++a) {
-      score += reached[a] >= 0 ? reached[a] : settings_.rollout_steps + int64_t{distance(goals[a], at, a)};
+      score += reached[a] >= 0 ? reached[a] * unit : settings_.rollout_steps * unit + int64_t{distance(goals[a], at, a)};
     }
     if (score < best_score) {
       best_score = score;
@@ -271,14 +274,14 @@ void PibtLifelong::end_step(const Poses& now, const Config& planned) {
 int64_t PibtLifelong::step_cost(int agent, const Poses& now, Vertex goal, Vertex cell) {
   const Vertex here = now.cells[agent];
   if (settings_.actions == ActionModel::kMove4) {
-    return int64_t{cell == here ? distances_.stay_cost() : distances_.move_cost(here, cell)} + distances_.get(goal, cell);
+    return int64_t{cell == here ? distances_.stay_cost(here) : distances_.move_cost(here, cell)} + distances_.get(goal, cell);
   }
   const int heading = now.headings[agent];
-  if (cell == here) return distances_.stay_cost() + int64_t{distances_.get(goal, here, heading)};
+  if (cell == here) return distances_.stay_cost(here) + int64_t{distances_.get(goal, here, heading)};
   // The turns to face the cell, the move, and the cost from there facing on.
   const int towards = heading_towards(graph_, here, cell);
   const int turns = towards == heading ? 0 : (towards == (heading + 2) % kHeadings ? 2 : 1);
-  return turns * distances_.stay_cost() + int64_t{distances_.move_cost(here, cell)} + distances_.get(goal, cell, towards);
+  return turns * distances_.stay_cost(here) + int64_t{distances_.move_cost(here, cell)} + distances_.get(goal, cell, towards);
 }
 
 void PibtLifelong::take_rotation_actions(const Poses& now, const Config& goals) {

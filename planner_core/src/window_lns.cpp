@@ -18,7 +18,7 @@ int64_t WindowLns::path_cost(const std::vector<Poses>& window, int agent, Vertex
   for (int t = 1; t <= steps_; ++t) {
     const Vertex from = window[t - 1].cells[agent];
     const Vertex to = window[t].cells[agent];
-    cost += to == from ? distances_.stay_cost() : distances_.move_cost(from, to);
+    cost += to == from ? distances_.stay_cost(from) : distances_.move_cost(from, to);
     if (to == goal) return cost;
   }
   const int heading = actions_ == ActionModel::kRotate ? window[steps_].headings[agent] : 0;
@@ -82,12 +82,12 @@ bool WindowLns::plan_agent(std::vector<Poses>& window, int agent, Vertex goal) {
     if (rotate) {
       const Vertex forward = ahead(graph_, node.cell, node.heading);
       if (forward != kNoVertex) visit(forward, node.heading, distances_.move_cost(node.cell, forward));
-      visit(node.cell, turned_clockwise(node.heading), distances_.stay_cost());
-      visit(node.cell, turned_counter_clockwise(node.heading), distances_.stay_cost());
+      visit(node.cell, turned_clockwise(node.heading), distances_.stay_cost(node.cell));
+      visit(node.cell, turned_counter_clockwise(node.heading), distances_.stay_cost(node.cell));
     } else {
       for (Vertex next : graph_.neighbours(node.cell)) visit(next, 0, distances_.move_cost(node.cell, next));
     }
-    visit(node.cell, node.heading, distances_.stay_cost());
+    visit(node.cell, node.heading, distances_.stay_cost(node.cell));
   }
   return false;
 }

@@ -1,8 +1,9 @@
 // Distances over a guidance graph: with no guidance they are the shortest paths; with one-way
-// lanes they are the cheapest costs a plain Bellman-Ford finds over the same move costs, and the
-// lanes' period follows the map's streets.
+// lanes (and with a ring road) they are the cheapest costs a plain Bellman-Ford finds over the
+// same move costs, and the lanes' period follows the map's streets.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <random>
 
 #include "planner_core/dist_table.hpp"
@@ -75,6 +76,49 @@ TEST(GuidedDistances, WithLanesTheyAreTheCheapestCosts) {
   EXPECT_GT(dearer, 0);
 }
 
+// A ring road: the lanes' costs in tenths, less near the map's edge; the tables are still the
+// cheapest costs, also in the rotation model where a turn costs the stay cost of its cell.
+TEST(GuidedDistances, ARingRoadMakesTheEdgeCheaper) {
+  const LorrProblem problem = load_lorr_problem(kRandom + "random_20.json");
+  const Graph& graph = *problem.graph;
+  GuidedDistances ring(graph, Guidance::kRing, ActionModel::kMove4, 2);
+  const GuidedDistances lanes(graph, Guidance::kLanes, ActionModel::kMove4, 2);
+  const int unit = GuidedDistances::kRingUnit;
+  EXPECT_EQ(ring.cost_unit(), unit);
+  EXPECT_EQ(lanes.cost_unit(), 1);
+  EXPECT_EQ(ring.stay_cost(), 2 * unit);
+  int on_the_ring = 0, inside = 0;
+  for (Vertex v = 0; v < graph.vertex_count(); ++v) {
+    const Cell c = graph.cell_of(v);
+    const int depth = std::min({c.x, c.y, graph.width() - 1 - c.x, graph.height() - 1 - c.y});
+    const int discount = depth < GuidedDistances::kRingDepth ? GuidedDistances::kRingDiscount[depth] : 0;
+    (discount > 0 ? on_the_ring : inside) += 1;
+    EXPECT_EQ(ring.stay_cost(v), 2 * unit - discount);
+    for (Vertex u : graph.neighbours(v)) {
+      // The same lanes, in tenths, with the cell's discount.
+      ASSERT_EQ(ring.move_cost(v, u), lanes.move_cost(v, u) * unit - discount) << to_string(c);
+    }
+  }
+  EXPECT_GT(on_the_ring, 0);
+  EXPECT_GT(inside, 0);
+  std::mt19937 rng(7);
+  std::uniform_int_distribution<Vertex> any(0, graph.vertex_count() - 1);
+  for (int k = 0; k < 5; ++k) {
+    const Vertex target = any(rng);
+    const std::vector<int64_t> expected = cheapest_to(graph, ring, target);
+    for (Vertex v = 0; v < graph.vertex_count(); ++v) ASSERT_EQ(ring.get(target, v), expected[v]);
+  }
+  // Rotation model on a corridor along the top edge (depth 0 everywhere): a turn costs the
+  // cell's stay cost, 2 units less its discount.
+  constexpr int kEast = 0, kWest = 2;
+  const Graph corridor(5, 1, {"....."});
+  GuidedDistances turning(corridor, Guidance::kRing, ActionModel::kRotate, 2);
+  const Vertex start = corridor.vertex_at({0, 0}), goal = corridor.vertex_at({4, 0});
+  const int along = unit - GuidedDistances::kRingDiscount[0];  // row 0 runs east
+  EXPECT_EQ(turning.get(goal, start, kEast), 4 * along);
+  EXPECT_EQ(turning.get(goal, start, kWest), 2 * (2 * unit - GuidedDistances::kRingDiscount[0]) + 4 * along);
+}
+
 TEST(GuidedDistances, LanesFollowTheStreets) {
   // Streets only on even rows and odd columns, as on a sortation floor: lanes alternating row by
   // row would send every street the same way.
@@ -123,6 +167,8 @@ TEST(GuidedDistances, TurnsCostWhatAWaitCosts) {
 TEST(GuidedDistances, AnUnknownGuidanceIsNamed) {
   EXPECT_EQ(parse_guidance("lanes", "--guidance"), Guidance::kLanes);
   EXPECT_EQ(parse_guidance("none", "--guidance"), Guidance::kNone);
+  EXPECT_EQ(parse_guidance("ring", "--guidance"), Guidance::kRing);
+  EXPECT_EQ(to_string(Guidance::kRing), "ring");
   try {
     parse_guidance("highway", "guidance (config.yaml line 4)");
     FAIL() << "no error";

@@ -267,24 +267,31 @@ TEST(Lifelong, WithLanesEightHundredAgentsStepValidlyAndTheSameSeedRunsTheSame) 
 }
 
 // "auto" guidance: shortest paths only with window LNS while agents number at most a quarter of
-// the free cells (random-32-32-20 has 819), else lanes.
+// the free cells (random-32-32-20 has 819), else lanes, with a ring road in the rotation model
+// with LNS.
 TEST(Lifelong, AutoGuidanceTakesShortestPathsOnlyWithLnsWhileAgentsAreFew) {
   const LorrProblem problem = load_lorr_problem(kRandom + "random_100.json");
   const Graph& graph = *problem.graph;
   ASSERT_EQ(graph.vertex_count(), 819);
   constexpr ActionModel kRotate = ActionModel::kRotate;
-  EXPECT_EQ(lifelong_guidance(graph, 100, true), Guidance::kNone);
-  EXPECT_EQ(lifelong_guidance(graph, 204, true), Guidance::kNone);
-  EXPECT_EQ(lifelong_guidance(graph, 205, true), Guidance::kLanes);
-  EXPECT_EQ(lifelong_guidance(graph, 800, true), Guidance::kLanes);
-  EXPECT_EQ(lifelong_guidance(graph, 100, false), Guidance::kLanes);
-  EXPECT_EQ(lifelong_guidance(graph, 1, false), Guidance::kLanes);
-  EXPECT_EQ(lifelong_guidance(graph, 400, true), Guidance::kLanes);
-  // Waits and turns cost 3 on lanes with LNS in the rotation model, else 1.
-  EXPECT_EQ(lifelong_stay_cost(lifelong_guidance(graph, 100, true), true, kRotate), 1);
-  EXPECT_EQ(lifelong_stay_cost(lifelong_guidance(graph, 400, true), true, kRotate), 3);
-  EXPECT_EQ(lifelong_stay_cost(lifelong_guidance(graph, 400, false), false, kRotate), 1);
-  EXPECT_EQ(lifelong_stay_cost(lifelong_guidance(graph, 400, true), true, ActionModel::kMove4), 1);
+  constexpr ActionModel kMove4 = ActionModel::kMove4;
+  for (ActionModel actions : {kMove4, kRotate}) {
+    const Guidance crowded_with_lns = actions == kRotate ? Guidance::kRing : Guidance::kLanes;
+    EXPECT_EQ(lifelong_guidance(graph, 100, true, actions), Guidance::kNone);
+    EXPECT_EQ(lifelong_guidance(graph, 204, true, actions), Guidance::kNone);
+    EXPECT_EQ(lifelong_guidance(graph, 205, true, actions), crowded_with_lns);
+    EXPECT_EQ(lifelong_guidance(graph, 400, true, actions), crowded_with_lns);
+    EXPECT_EQ(lifelong_guidance(graph, 800, true, actions), crowded_with_lns);
+    EXPECT_EQ(lifelong_guidance(graph, 100, false, actions), Guidance::kLanes);
+    EXPECT_EQ(lifelong_guidance(graph, 1, false, actions), Guidance::kLanes);
+    EXPECT_EQ(lifelong_guidance(graph, 800, false, actions), Guidance::kLanes);
+  }
+  // Waits and turns cost 3 with guidance and LNS in the rotation model, else 1.
+  EXPECT_EQ(lifelong_stay_cost(lifelong_guidance(graph, 100, true, kRotate), true, kRotate), 1);
+  EXPECT_EQ(lifelong_stay_cost(lifelong_guidance(graph, 400, true, kRotate), true, kRotate), 3);
+  EXPECT_EQ(lifelong_stay_cost(Guidance::kLanes, true, kRotate), 3);
+  EXPECT_EQ(lifelong_stay_cost(lifelong_guidance(graph, 400, false, kRotate), false, kRotate), 1);
+  EXPECT_EQ(lifelong_stay_cost(lifelong_guidance(graph, 400, true, kMove4), true, kMove4), 1);
   EXPECT_EQ(lifelong_stay_cost(Guidance::kNone, true, kRotate), 1);
 }
 

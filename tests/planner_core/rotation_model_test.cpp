@@ -53,11 +53,12 @@ TEST(RotationDistances, TurnsCountAsSteps) {
   EXPECT_EQ(distances.bytes_per_target(), 5u * 4 * 2);
 }
 
-// Every state's cost against a plain Bellman-Ford over cells and headings, with lanes.
+// Every state's cost against a plain Bellman-Ford over cells and headings, with lanes and with a
+// ring road (where a turn costs its cell's stay cost).
 TEST(RotationDistances, MatchBellmanFordOverCellAndHeading) {
   const LorrProblem problem = load_lorr_problem(kRandom + "random_20.json");
   const Graph& graph = *problem.graph;
-  for (Guidance guidance : {Guidance::kNone, Guidance::kLanes}) {
+  for (Guidance guidance : {Guidance::kNone, Guidance::kLanes, Guidance::kRing}) {
     GuidedDistances distances(graph, guidance, ActionModel::kRotate);
     for (Vertex target : {Vertex{0}, graph.vertex_count() / 2, graph.vertex_count() - 1}) {
       const int n = graph.vertex_count() * kHeadings;
@@ -68,8 +69,8 @@ TEST(RotationDistances, MatchBellmanFordOverCellAndHeading) {
         for (Vertex v = 0; v < graph.vertex_count(); ++v) {
           for (int h = 0; h < kHeadings; ++h) {
             int best = cost[v * kHeadings + h];
-            best = std::min(best, cost[v * kHeadings + turned_clockwise(h)] + 1);
-            best = std::min(best, cost[v * kHeadings + turned_counter_clockwise(h)] + 1);
+            best = std::min(best, cost[v * kHeadings + turned_clockwise(h)] + distances.stay_cost(v));
+            best = std::min(best, cost[v * kHeadings + turned_counter_clockwise(h)] + distances.stay_cost(v));
             const Vertex next = ahead(graph, v, h);
             if (next != kNoVertex && cost[next * kHeadings + h] < GuidedDistances::kUnreachable) {
               best = std::min(best, cost[next * kHeadings + h] + distances.move_cost(v, next));
@@ -228,8 +229,8 @@ TEST(RotationLifelong, HeldPlansWithWindowLnsStepValidly) {
     settings.actions = ActionModel::kRotate;
     for (PlanHolding holding : {PlanHolding::kInHalfTheRollouts, PlanHolding::kAlways}) {
       PibtLifelong planner(*problem.graph, 2,
-                           {.guidance = Guidance::kLanes,
-                            .stay_cost = 3,  // as ctsfleet-bench runs it (lifelong_stay_cost)
+                           {.guidance = Guidance::kRing,  // as ctsfleet-bench runs it (lifelong_guidance)
+                            .stay_cost = 3,               // (lifelong_stay_cost)
                             .actions = ActionModel::kRotate,
                             .rollouts = 16,
                             .rollout_steps = 8,

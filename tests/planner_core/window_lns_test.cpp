@@ -23,7 +23,7 @@ TEST(WindowLns, FourHundredAgentsKeepEveryStepValidAndTheCostNeverGrows) {
   Config goals(problem.starts.size());
   for (size_t a = 0; a < goals.size(); ++a) goals[a] = problem.tasks[a][0];
   for (ActionModel model : {ActionModel::kMove4, ActionModel::kRotate}) {
-    for (Guidance guidance : {Guidance::kNone, Guidance::kLanes}) {
+    for (Guidance guidance : {Guidance::kNone, Guidance::kLanes, Guidance::kRing}) {
       GuidedDistances distances(graph, guidance, model);
       WindowLns lns(graph, distances, model);
       Poses now{problem.starts, {}};
@@ -48,18 +48,23 @@ TEST(WindowLns, FourHundredAgentsKeepEveryStepValidAndTheCostNeverGrows) {
 
 TEST(WindowLns, AnAgentLeftWaitingIsSentOnItsCheapestWay) {
   const Graph graph(5, 1, {"....."});
-  for (const int stay_cost : {1, 3}) {  // turns cost what a wait costs (guided_distances.hpp)
-    for (const auto& [heading, arrival] : {std::pair{0, 4}, std::pair{2, 6}}) {  // facing the goal, or away
-      GuidedDistances distances(graph, Guidance::kNone, ActionModel::kRotate, stay_cost);
-      WindowLns lns(graph, distances, ActionModel::kRotate);
-      std::vector<Poses> window = waiting_window({{0}, {heading}}, 8);
-      std::mt19937 rng(1);
-      const WindowLnsStats stats = lns.improve(window, {4}, Deadline::in_seconds(0.2), rng);
-      EXPECT_EQ(stats.cost_before, 8 * stay_cost + distances.get(4, 0, heading)) << "waiting, facing " << heading;
-      EXPECT_EQ(stats.cost_after, 4 + (arrival - 4) * stay_cost) << "facing " << heading;
-      EXPECT_EQ(window[arrival].cells[0], 4);
-      EXPECT_NE(window[arrival - 1].cells[0], 4);
-      EXPECT_EQ(window.back().cells[0], 4);  // and waits there
+  for (const Guidance guidance : {Guidance::kNone, Guidance::kRing}) {  // the ring: every cell on the edge
+    for (const int stay_cost : {1, 3}) {  // turns cost what a wait costs (guided_distances.hpp)
+      for (const auto& [heading, arrival] : {std::pair{0, 4}, std::pair{2, 6}}) {  // facing the goal, or away
+        GuidedDistances distances(graph, guidance, ActionModel::kRotate, stay_cost);
+        const int unit = guidance == Guidance::kRing ? GuidedDistances::kRingUnit : 1;
+        const int discount = guidance == Guidance::kRing ? GuidedDistances::kRingDiscount[0] : 0;
+        const int wait = stay_cost * unit - discount, move = unit - discount;  // row 0 runs east
+        WindowLns lns(graph, distances, ActionModel::kRotate);
+        std::vector<Poses> window = waiting_window({{0}, {heading}}, 8);
+        std::mt19937 rng(1);
+        const WindowLnsStats stats = lns.improve(window, {4}, Deadline::in_seconds(0.2), rng);
+        EXPECT_EQ(stats.cost_before, 8 * wait + distances.get(4, 0, heading)) << "waiting, facing " << heading;
+        EXPECT_EQ(stats.cost_after, 4 * move + (arrival - 4) * wait) << "facing " << heading << ", " << to_string(guidance);
+        EXPECT_EQ(window[arrival].cells[0], 4);
+        EXPECT_NE(window[arrival - 1].cells[0], 4);
+        EXPECT_EQ(window.back().cells[0], 4);  // and waits there
+      }
     }
   }
 }

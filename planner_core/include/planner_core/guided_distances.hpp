@@ -36,9 +36,10 @@ namespace planner_core {
 enum class Guidance {
   kNone,   // every move costs 1: distances are shortest paths
   kLanes,  // one-way lanes: rows take turns east and west, columns south and north (lane_period)
+  kRing,   // one-way lanes and a ring road: near the map's edge, moves and waits cost less
 };
 
-// "none" or "lanes"; throws InputError naming `what` otherwise.
+// "none", "lanes" or "ring"; throws InputError naming `what` otherwise.
 Guidance parse_guidance(const std::string& text, const std::string& what);
 std::string to_string(Guidance guidance);
 
@@ -46,6 +47,11 @@ class GuidedDistances {
  public:
   static constexpr int kAgainstLaneCost = 3;
   static constexpr int kMaxStayCost = 6;
+  // The ring road (Guidance::kRing): a move or wait from a cell d < kRingDepth cells from the
+  // map's edge costs kRingDiscount[d] units (of kRingUnit to a move) less.
+  static constexpr int kRingUnit = 10;
+  static constexpr int kRingDepth = 5;
+  static constexpr int kRingDiscount[kRingDepth] = {4, 3, 2, 2, 1};
   // Throws std::invalid_argument unless 1 <= stay_cost <= kMaxStayCost.
   GuidedDistances(const Graph& graph, Guidance guidance, ActionModel actions = ActionModel::kMove4,
                   int stay_cost = 1);
@@ -57,10 +63,15 @@ class GuidedDistances {
     const Cell b = graph_.cell_of(to);
     const bool with_lane = a.y == b.y ? (b.x > a.x) == (a.y / row_period_ % 2 == 0)
                                       : (b.y > a.y) == (a.x / column_period_ % 2 == 0);
-    return with_lane ? 1 : kAgainstLaneCost;
+    return (with_lane ? 1 : kAgainstLaneCost) * unit_ - ring_discount(from);
   }
-  // The cost of a wait, and in the rotation model of a quarter turn.
-  int stay_cost() const { return stay_cost_; }
+  // The cost of a wait, and in the rotation model of a quarter turn, on `cell`.
+  int stay_cost(Vertex cell) const { return stay_cost_ * unit_ - ring_discount(cell); }
+  // ... away from the ring road: the stay cost asked for, in cost units.
+  int stay_cost() const { return stay_cost_ * unit_; }
+  // What a move along a lane costs away from the ring road: 1, or kRingUnit with a ring road
+  // (whose discounts are fractions of a move). Distances are in these units.
+  int cost_unit() const { return unit_; }
   int row_period() const { return row_period_; }
   int column_period() const { return column_period_; }
 
@@ -98,6 +109,11 @@ class GuidedDistances {
     std::vector<uint32_t> wide;
   };
   uint32_t unreachable() const { return narrow_ ? 0xFFFFu : 0xFFFFFFFFu; }
+  int ring_discount(Vertex cell) const { return discount_.empty() ? 0 : discount_[cell]; }
+  // The dearest single action, in cost units.
+  int dearest_action() const {
+    return std::max(guidance_ == Guidance::kNone ? 1 : kAgainstLaneCost, stay_cost_) * unit_;
+  }
   const Table& search(Vertex target);
 
   const Graph& graph_;
@@ -107,6 +123,8 @@ class GuidedDistances {
   int row_period_ = 1;
   int column_period_ = 1;
   int stay_cost_ = 1;
+  int unit_ = 1;
+  std::vector<uint8_t> discount_;  // per vertex, Guidance::kRing only
   bool narrow_;
   std::vector<std::unique_ptr<Table>> by_target_;
 };

@@ -114,18 +114,23 @@ struct PibtLifelongSettings {
   PlanHolding hold_plans = PlanHolding::kInHalfTheRollouts;
 };
 
-// The guidance a lifelong run takes when asked for "auto": one-way lanes, except with window LNS
-// while agents number at most a quarter of the free cells. There the few meetings LNS plans
+// The guidance a lifelong run takes when asked for "auto": one-way lanes (with a ring road in the
+// rotation model with window LNS), except with window LNS while agents number at most a quarter
+// of the free cells. There the few meetings LNS plans
 // around cost less than the lanes' detours; more crowded, lanes keep streams apart better than
 // LNS (8 agents at a time) can. Measured on random-32-32-20, 200 steps, seed 0, shortest paths
 // against lanes, with LNS: 100 agents 812 / 734 errands (four moves), 608 / 563 (rotation); 200
 // agents 989 / 989 (rotation); 400 agents 636 / 913 (rotation). Without LNS lanes win even at 100
 // agents (rotation 1,148 / 1,325 in 500 steps).
+// In the rotation model with LNS the lanes get a ring road (Guidance::kRing; the 2023 winner's
+// learned weights for random_400 are lanes whose cells cost less the nearer the map's edge):
+// random_400 +9% and +11% (seeds 0 and 1), random_600 +11%, 200 steps; in four moves it gained
+// nothing (1,894 against 1,899), nor on warehouse_small_400 (1,586 against 1,579).
 // In the rotation model on lanes with LNS, a wait or a turn costs 3 (lifelong_stay_cost), as much
 // as a move against the lane: random_400 +28% over 500 steps, random_800 +11% over 200. Without
 // LNS it gained 3% at random_400 and cost 9% at random_800 (plans held always), and in four moves
 // with LNS it cost 2% at random_400, so it stays 1 there. Figures: docs/RESULTS.md.
-Guidance lifelong_guidance(const Graph& graph, size_t agents, bool lns);
+Guidance lifelong_guidance(const Graph& graph, size_t agents, bool lns, ActionModel actions);
 int lifelong_stay_cost(Guidance guidance, bool lns, ActionModel actions);
 
 class PibtLifelong : public LifelongPlanner {
