@@ -86,8 +86,8 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--guidance", lifelong.guidance,
                  "experiment lifelong: none (shortest paths), lanes (one-way lanes: rows alternate east and west, "
-                 "columns south and north; a move against its lane costs 3), ring (lanes, and within 5 cells of the "
-                 "map's edge moves and waits cost up to 0.4 of a move less) or auto (lanes, but none with --lns "
+                 "columns south and north; a move against its lane costs 3), ring (lanes, and within 12 cells of the "
+                 "map's edge moves and waits cost up to 0.6 of a move less, the more the nearer) or auto (lanes, but none with --lns "
                  "while agents number at most a quarter of the free cells)")
       ->check(CLI::IsMember({"auto", "none", "lanes", "ring"}))
       ->capture_default_str();

@@ -60,7 +60,7 @@ std::vector<uint8_t> ring_discounts(const Graph& graph) {
   for (Vertex v = 0; v < graph.vertex_count(); ++v) {
     const Cell c = graph.cell_of(v);
     const int depth = std::min({c.x, c.y, graph.width() - 1 - c.x, graph.height() - 1 - c.y});
-    if (depth < GuidedDistances::kRingDepth) discount[v] = static_cast<uint8_t>(GuidedDistances::kRingDiscount[depth]);
+    discount[v] = static_cast<uint8_t>(GuidedDistances::ring_discount_at(depth));
   }
   return discount;
 }

@@ -91,7 +91,7 @@ TEST(GuidedDistances, ARingRoadMakesTheEdgeCheaper) {
   for (Vertex v = 0; v < graph.vertex_count(); ++v) {
     const Cell c = graph.cell_of(v);
     const int depth = std::min({c.x, c.y, graph.width() - 1 - c.x, graph.height() - 1 - c.y});
-    const int discount = depth < GuidedDistances::kRingDepth ? GuidedDistances::kRingDiscount[depth] : 0;
+    const int discount = GuidedDistances::ring_discount_at(depth);
     (discount > 0 ? on_the_ring : inside) += 1;
     EXPECT_EQ(ring.stay_cost(v), 2 * unit - discount);
     for (Vertex u : graph.neighbours(v)) {
@@ -99,6 +99,13 @@ TEST(GuidedDistances, ARingRoadMakesTheEdgeCheaper) {
       ASSERT_EQ(ring.move_cost(v, u), lanes.move_cost(v, u) * unit - discount) << to_string(c);
     }
   }
+  // The discount: 6 tenths at the edge, half a tenth less a cell in (rounded up), none from 12 in.
+  EXPECT_EQ(GuidedDistances::ring_discount_at(0), 6);
+  EXPECT_EQ(GuidedDistances::ring_discount_at(1), 6);
+  EXPECT_EQ(GuidedDistances::ring_discount_at(2), 5);
+  EXPECT_EQ(GuidedDistances::ring_discount_at(11), 1);
+  EXPECT_EQ(GuidedDistances::ring_discount_at(12), 0);
+  EXPECT_EQ(GuidedDistances::ring_discount_at(40), 0);
   EXPECT_GT(on_the_ring, 0);
   EXPECT_GT(inside, 0);
   std::mt19937 rng(7);
@@ -114,9 +121,9 @@ TEST(GuidedDistances, ARingRoadMakesTheEdgeCheaper) {
   const Graph corridor(5, 1, {"....."});
   GuidedDistances turning(corridor, Guidance::kRing, ActionModel::kRotate, 2);
   const Vertex start = corridor.vertex_at({0, 0}), goal = corridor.vertex_at({4, 0});
-  const int along = unit - GuidedDistances::kRingDiscount[0];  // row 0 runs east
+  const int along = unit - GuidedDistances::ring_discount_at(0);  // row 0 runs east
   EXPECT_EQ(turning.get(goal, start, kEast), 4 * along);
-  EXPECT_EQ(turning.get(goal, start, kWest), 2 * (2 * unit - GuidedDistances::kRingDiscount[0]) + 4 * along);
+  EXPECT_EQ(turning.get(goal, start, kWest), 2 * (2 * unit - GuidedDistances::ring_discount_at(0)) + 4 * along);
 }
 
 TEST(GuidedDistances, LanesFollowTheStreets) {

@@ -53,7 +53,7 @@ TEST(WindowLns, AnAgentLeftWaitingIsSentOnItsCheapestWay) {
       for (const auto& [heading, arrival] : {std::pair{0, 4}, std::pair{2, 6}}) {  // facing the goal, or away
         GuidedDistances distances(graph, guidance, ActionModel::kRotate, stay_cost);
         const int unit = guidance == Guidance::kRing ? GuidedDistances::kRingUnit : 1;
-        const int discount = guidance == Guidance::kRing ? GuidedDistances::kRingDiscount[0] : 0;
+        const int discount = guidance == Guidance::kRing ? GuidedDistances::ring_discount_at(0) : 0;
         const int wait = stay_cost * unit - discount, move = unit - discount;  // row 0 runs east
         WindowLns lns(graph, distances, ActionModel::kRotate);
         std::vector<Poses> window = waiting_window({{0}, {heading}}, 8);

@@ -47,11 +47,15 @@ class GuidedDistances {
  public:
   static constexpr int kAgainstLaneCost = 3;
   static constexpr int kMaxStayCost = 6;
-  // The ring road (Guidance::kRing): a move or wait from a cell d < kRingDepth cells from the
-  // map's edge costs kRingDiscount[d] units (of kRingUnit to a move) less.
+  // The ring road (Guidance::kRing): a move or wait from a cell `depth` cells from the map's
+  // edge costs ring_discount_at(depth) units (of kRingUnit to a move along a lane) less: 6 at the
+  // edge, falling by half a unit a cell to 0 at kRingDepth.
   static constexpr int kRingUnit = 10;
-  static constexpr int kRingDepth = 5;
-  static constexpr int kRingDiscount[kRingDepth] = {4, 3, 2, 2, 1};
+  static constexpr int kRingDepth = 12;
+  static constexpr int kRingDiscountAtEdge = 6;
+  static constexpr int ring_discount_at(int depth) {
+    return depth >= kRingDepth ? 0 : (kRingDiscountAtEdge * (kRingDepth - depth) + kRingDepth - 1) / kRingDepth;
+  }
   // Throws std::invalid_argument unless 1 <= stay_cost <= kMaxStayCost.
   GuidedDistances(const Graph& graph, Guidance guidance, ActionModel actions = ActionModel::kMove4,
                   int stay_cost = 1);
