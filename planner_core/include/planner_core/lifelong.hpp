@@ -124,8 +124,9 @@ struct PibtLifelongSettings {
 // agents (rotation 1,148 / 1,325 in 500 steps).
 // In the rotation model with LNS the lanes get a ring road (Guidance::kRing; the 2023 winner's
 // learned weights for random_400 are lanes whose cells cost less the nearer the map's edge):
-// random_400 +9% and +11% (seeds 0 and 1), random_600 +11%, 200 steps; in four moves it gained
-// nothing (1,894 against 1,899), nor on warehouse_small_400 (1,586 against 1,579).
+// 200 steps, random_400 1,197 / 1,181 errands against 1,012 / 971 (seeds 0 / 1), random_600 757
+// against 585; even on warehouse_small_400 (1,579 both). It costs in four moves (1,752 against
+// 1,899) and without LNS (random_800, plans held always: 242 against 275), so not there.
 // In the rotation model on lanes with LNS, a wait or a turn costs 3 (lifelong_stay_cost), as much
 // as a move against the lane: random_400 +28% over 500 steps, random_800 +11% over 200. Without
 // LNS it gained 3% at random_400 and cost 9% at random_800 (plans held always), and in four moves
