@@ -116,8 +116,7 @@ struct PibtLifelongSettings {
 
 // The guidance a lifelong run takes when asked for "auto": one-way lanes (with a ring road in the
 // rotation model with window LNS), except with window LNS while agents number at most a quarter
-// of the free cells. There the few meetings LNS plans
-// around cost less than the lanes' detours; more crowded, lanes keep streams apart better than
+// of the free cells. There the few meetings LNS plans around cost less than the lanes' detours; more crowded, lanes keep streams apart better than
 // LNS (8 agents at a time) can. Measured on random-32-32-20, 200 steps, seed 0, shortest paths
 // against lanes, with LNS: 100 agents 812 / 734 errands (four moves), 608 / 563 (rotation); 200
 // agents 989 / 989 (rotation); 400 agents 636 / 913 (rotation). Without LNS lanes win even at 100
@@ -125,8 +124,9 @@ struct PibtLifelongSettings {
 // In the rotation model with LNS the lanes get a ring road (Guidance::kRing; the 2023 winner's
 // learned weights for random_400 are lanes whose cells cost less the nearer the map's edge):
 // 200 steps, random_400 1,197 / 1,181 errands against 1,012 / 971 (seeds 0 / 1), random_600 757
-// against 585; even on warehouse_small_400 (1,579 both). It costs in four moves (1,752 against
-// 1,899) and without LNS (random_800, plans held always: 242 against 275), so not there.
+// against 585, warehouse_small_800 1,674 against 1,343; warehouse_small_400 1,579 both. It
+// costs in four moves (1,752 against 1,899) and without LNS (random_800, plans held always: 242
+// against 275), so not there.
 // In the rotation model on lanes with LNS, a wait or a turn costs 3 (lifelong_stay_cost), as much
 // as a move against the lane: random_400 +28% over 500 steps, random_800 +11% over 200. Without
 // LNS it gained 3% at random_400 and cost 9% at random_800 (plans held always), and in four moves
