@@ -128,6 +128,12 @@ int main(int argc, char** argv) {
                "experiment lifelong, rotation model: an agent short of the cell PIBT chose for it (turned towards "
                "it, or queued behind one that turned) decides first and tries that cell first")
       ->capture_default_str();
+  app.add_option("--park-dead-ends", lifelong.park_dead_ends,
+                 "experiment lifelong: park agents whose errand is a dead end (a cell with one neighbour): they "
+                 "only move to make way, and give that errand up; on, off or auto (on when agents fill more than "
+                 "90% of the free cells)")
+      ->check(CLI::IsMember({"auto", "on", "off"}))
+      ->capture_default_str();
   app.add_flag("--league-output", lifelong.league_output,
                "experiment lifelong: also write each run as the league's output file, <out-dir>/<problem>.lorr.json "
                "(for PlanViz; about 4 bytes per agent and step)");

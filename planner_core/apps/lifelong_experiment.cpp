@@ -82,6 +82,9 @@ int run_lifelong_experiment(const LifelongExperimentSettings& settings) {
     pibt.actions = actions;
     pibt.hold_plans = hold_plans;
     pibt.keep_targets = settings.keep_targets;
+    pibt.park_dead_end_errands = settings.park_dead_ends == "auto"
+                                     ? planner_core::lifelong_parks_dead_ends(*problem.graph, problem.starts.size())
+                                     : settings.park_dead_ends == "on";
     const std::string turning_name = actions == planner_core::ActionModel::kRotate
                                          ? "-hold-" + settings.hold_plans + (settings.keep_targets ? "-keep" : "")
                                          : "";
@@ -125,12 +128,16 @@ int run_lifelong_experiment(const LifelongExperimentSettings& settings) {
     } else {
       std::printf("  guidance none%s: shortest paths; a wait or turn costs %d\n", chosen, pibt.stay_cost);
     }
+    if (pibt.park_dead_end_errands) {
+      std::printf("  parked%s: %d agents at the last step, whose errand is a dead end (given up)\n",
+                  settings.park_dead_ends == "auto" ? " (auto)" : "", planner.parked_agents());
+    }
     if (settings.league_output) {
       const fs::path output = fs::path(settings.out_dir) / (name + ".lorr.json");
       planner_core::write_lorr_output(output.string(), problem, result, log);
       std::printf("  wrote %s\n", output.c_str());
     }
-    table << name << "," << problem.starts.size() << "," << settings.steps << "," << settings.step_time_s << ",pibt-" << (actions == planner_core::ActionModel::kRotate ? "rotate-" : "") << planner_core::to_string(pibt.guidance) << (pibt.stay_cost != 1 ? "-stay" + std::to_string(pibt.stay_cost) : "") << "-r" << settings.rollouts << (settings.lns ? "-lns" : "") << turning_name << ","
+    table << name << "," << problem.starts.size() << "," << settings.steps << "," << settings.step_time_s << ",pibt-" << (actions == planner_core::ActionModel::kRotate ? "rotate-" : "") << planner_core::to_string(pibt.guidance) << (pibt.stay_cost != 1 ? "-stay" + std::to_string(pibt.stay_cost) : "") << "-r" << settings.rollouts << (settings.lns ? "-lns" : "") << turning_name << (pibt.park_dead_end_errands ? "-park" : "") << ","
           << result.errands_finished << "," << result.tasks_finished << "," << per << ","
           << quantile(result.step_ms, 0.5) << "," << quantile(result.step_ms, 0.99) << ","
           << quantile(result.step_ms, 1.0) << "," << result.steps_over_budget << "," << result.invalid_steps << ","

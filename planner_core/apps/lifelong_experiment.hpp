@@ -27,6 +27,7 @@ struct LifelongExperimentSettings {
   bool lns = false;                   // PibtLifelongSettings::lns
   std::string hold_plans = "half";    // PibtLifelongSettings::hold_plans (rotation model)
   bool keep_targets = true;           // PibtLifelongSettings::keep_targets (rotation model)
+  std::string park_dead_ends = "auto";  // PibtLifelongSettings::park_dead_end_errands: on, off or auto (lifelong_parks_dead_ends)
   bool league_output = false;         // also write <out-dir>/<problem>.lorr.json (planner_core/lorr_output.hpp)
   const std::atomic<bool>* interrupt = nullptr;  // Ctrl-C: the run under way ends, nothing more runs
 };

@@ -38,6 +38,17 @@ Guidance lifelong_guidance(const Graph& graph, size_t agents, bool lns, ActionMo
   return lns && actions == ActionModel::kRotate ? Guidance::kRing : Guidance::kLanes;
 }
 
+bool lifelong_parks_dead_ends(const Graph& graph, size_t agents) {
+  return agents * 10 > static_cast<size_t>(graph.vertex_count()) * 9;
+}
+
+int stuck_steps_for(const Graph& graph, size_t agents) {
+  const int64_t cells = graph.vertex_count();
+  const int64_t free = std::max<int64_t>(1, cells - static_cast<int64_t>(agents));
+  const int64_t crowd = static_cast<int64_t>(agents);
+  return static_cast<int>(std::min<int64_t>(1'000'000, std::max<int64_t>(kStuckSteps, kStuckSteps * crowd / free)));
+}
+
 int lifelong_stay_cost(Guidance guidance, bool lns, ActionModel actions) {
   return lns && guidance != Guidance::kNone && actions == ActionModel::kRotate ? 3 : 1;
 }
@@ -90,11 +101,43 @@ int PibtLifelong::distance(Vertex goal, const Poses& poses, int agent) {
   return distances_.get(goal, poses.cells[agent]);
 }
 
-Poses PibtLifelong::next_step(const Poses& now, const Config& goals, const Deadline& deadline) {
+Config PibtLifelong::planning_goals(const Poses& now, const Config& errands) {
+  const size_t n = errands.size();
+  parked_agent_.assign(n, 0);
+  parked_ = 0;
+  if (!settings_.park_dead_end_errands) return errands;
+  released_for_.resize(n, kNoVertex);
+  Config planned = errands;
+  for (size_t a = 0; a < n; ++a) {
+    const bool dead_end = errands[a] != now.cells[a] && graph_.neighbours(errands[a]).size() <= 1;
+    if (dead_end && released_for_[a] != errands[a]) {
+      planned[a] = now.cells[a];
+      parked_agent_[a] = 1;
+    }
+  }
+  // A parked agent standing on the errand of one stuck for stuck_steps_ may be unable to make way
+  // (in a dead end behind it): it is let go for that errand of its own.
+  if (still_.size() == n) {
+    for (size_t a = 0; a < n; ++a) standing_on_[now.cells[a]] = static_cast<int>(a);
+    for (size_t b = 0; b < n; ++b) {
+      const int there = standing_on_[errands[b]];
+      if (parked_agent_[b] || still_[b] < stuck_steps_ || there == -1 || !parked_agent_[there]) continue;
+      released_for_[there] = errands[there];
+      parked_agent_[there] = 0;
+      planned[there] = errands[there];
+    }
+    for (size_t a = 0; a < n; ++a) standing_on_[now.cells[a]] = -1;
+  }
+  parked_ = static_cast<int>(std::count(parked_agent_.begin(), parked_agent_.end(), 1));
+  return planned;
+}
+
+Poses PibtLifelong::next_step(const Poses& now, const Config& errands, const Deadline& deadline) {
   const Config& positions = now.cells;
   if (settings_.actions == ActionModel::kRotate && now.headings.size() != positions.size()) {
     throw std::invalid_argument("PibtLifelong: the rotation model needs a heading per agent");
   }
+  const Config goals = planning_goals(now, errands);
   const Config previous_goals = following_ ? last_goals_ : goals;
   follow_goals(goals, deadline);
   if (fraction_.size() != positions.size()) {  // the first step (a rollout starts from a copy of what follows)
@@ -103,6 +146,7 @@ Poses PibtLifelong::next_step(const Poses& now, const Config& goals, const Deadl
     for (double& f : fraction_) f = fraction(rng_);
     still_.assign(positions.size(), 0);
     boost_.assign(positions.size(), 0);
+    stuck_steps_ = stuck_steps_for(graph_, positions.size());
   }
   if (settings_.rollouts <= 1 && !settings_.lns) {
     holding_ = settings_.hold_plans == PlanHolding::kAlways;
@@ -231,7 +275,7 @@ Poses PibtLifelong::one_step(const Poses& now, const Config& goals, const Config
   std::uniform_real_distribution<double> draw(0, 1);
   for (int a = 0; a < n; ++a) {
     if (goals[a] != previous_goals[a] || positions[a] == goals[a]) boost_[a] = 0;
-    if (still_[a] >= kStuckSteps && positions[a] != goals[a]) {
+    if (still_[a] >= stuck_steps_ && positions[a] != goals[a]) {
       boost_[a] = 1e12 + draw(rng_);
       still_[a] = 0;
     }
@@ -241,11 +285,13 @@ Poses PibtLifelong::one_step(const Poses& now, const Config& goals, const Config
   planning_.assign(n, 0);
   for (int a = 0; a < n; ++a) standing_on_[positions[a]] = a;
   // Agents that were stuck first, in the order drawn; then the nearest their goals (measured:
-  // 0-9% more errands than the longest waiting first, history 24), ties by a fixed fraction.
+  // 0-9% more errands than the longest waiting first, history 24), ties by a fixed fraction;
+  // parked agents last.
   std::vector<double> rank(n);
   for (int a = 0; a < n; ++a) {
     rank[a] = boost_[a] > 0 ? boost_[a] : fraction_[a] - distance(goals[a], now, a);
     if (settings_.keep_targets && boost_[a] == 0 && short_of_target(now, a)) rank[a] += kTargetPriority;
+    if (parked_agent_[a]) rank[a] -= kParkedPriority;
   }
   std::vector<int> order(n);
   for (int a = 0; a < n; ++a) order[a] = a;

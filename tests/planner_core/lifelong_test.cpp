@@ -220,6 +220,92 @@ TEST(Lifelong, AnAgentInADeadEndIsLetOutWhateverTheSeed) {
   }
 }
 
+// An agent stands still a while before it is drawn ahead of the others: 8 steps while free cells
+// are at least as many as agents, 8 n / (V - n) for n agents on V free cells beyond.
+TEST(Lifelong, AgentsWaitLongerBeforeTheyAreDrawnAheadTheFewerCellsAreFree) {
+  const LorrProblem problem = load_lorr_problem(kRandom + "random_20.json");
+  const Graph& graph = *problem.graph;
+  ASSERT_EQ(graph.vertex_count(), 819);
+  EXPECT_EQ(stuck_steps_for(graph, 0), 8);
+  EXPECT_EQ(stuck_steps_for(graph, 400), 8);
+  EXPECT_EQ(stuck_steps_for(graph, 410), 8);
+  EXPECT_EQ(stuck_steps_for(graph, 600), 21);
+  EXPECT_EQ(stuck_steps_for(graph, 800), 336);
+  EXPECT_EQ(stuck_steps_for(graph, 819), 8 * 819);     // no cell free
+  EXPECT_EQ(stuck_steps_for(graph, 2000), 8 * 2000);   // more agents than cells: as if one were free
+  EXPECT_EQ(stuck_steps_for(graph, 10'000'000), 1'000'000);
+  // Dead-end errands are parked when agents fill more than 90% of the free cells.
+  EXPECT_FALSE(lifelong_parks_dead_ends(graph, 600));
+  EXPECT_FALSE(lifelong_parks_dead_ends(graph, 737));
+  EXPECT_TRUE(lifelong_parks_dead_ends(graph, 738));
+  EXPECT_TRUE(lifelong_parks_dead_ends(graph, 800));
+}
+
+// An agent whose errand is a dead end (a cell with one neighbour) is parked: it stays where it
+// stands and gives that errand up; unparked it goes there.
+TEST(Lifelong, AnAgentWhoseErrandIsADeadEndIsParked) {
+  // (1,0) = 1 is a dead end above the corridor (0,1)..(4,1) = 5..9; the agent stands at 8.
+  TinyProblem tiny({"@.@@@", "....."}, {"1", "8"}, {"1", "1"});
+  const LorrProblem problem = load_lorr_problem(tiny.path());
+  for (ActionModel actions : {ActionModel::kMove4, ActionModel::kRotate}) {
+    LifelongSettings settings{.steps = 20, .step_time_s = 1.0};
+    settings.actions = actions;
+    PibtLifelong free_to_go(*problem.graph, 1, {.actions = actions});
+    EXPECT_GT(run_lifelong(problem, free_to_go, settings).errands_finished, 0);
+    EXPECT_EQ(free_to_go.parked_agents(), 0);
+    PibtLifelong parking(*problem.graph, 1, {.actions = actions, .park_dead_end_errands = true});
+    const LifelongResult parked = run_lifelong(problem, parking, settings);
+    EXPECT_EQ(parked.invalid_steps, 0) << parked.first_invalid;
+    EXPECT_EQ(parked.errands_finished, 0);
+    EXPECT_EQ(parked.moves, 0);
+    EXPECT_EQ(parking.parked_agents(), 1);
+  }
+}
+
+// Two parked agents fill a spur off a loop, the outer one in its dead end; a third agent's errand
+// is the inner one's cell, which it cannot leave but through that agent. Once that one has been
+// stuck, the inner parked agent is let go for its own errand and they get past each other,
+// whatever the seed. Without it they would lock for ever, finishing nothing.
+TEST(Lifelong, AParkedAgentInTheWayOfAnErrandIsLetGo) {
+  // A loop of rows 0 and 2 through columns 0 and 5; the spur 14 -> 20 -> 26 (a dead end) below
+  // it, and the dead end 23 off 17. Agents 0 and 1 stand at 26 and 20 with errands at 23 (both
+  // parked); agent 2 stands at 0 with its errand at 20.
+  TinyProblem tiny({"......", ".@@@@.", "......", "@@.@@.", "@@.@@@"}, {"3", "26", "20", "0"},
+                   {"6", "23", "23", "20", "23", "23", "0"});
+  const LorrProblem problem = load_lorr_problem(tiny.path());
+  for (ActionModel actions : {ActionModel::kMove4, ActionModel::kRotate}) {
+    LifelongSettings settings{.steps = 200, .step_time_s = 1.0};
+    settings.actions = actions;
+    for (uint32_t seed = 0; seed < 10; ++seed) {
+      PibtLifelong planner(*problem.graph, seed,
+                           {.actions = actions, .hold_plans = PlanHolding::kAlways, .park_dead_end_errands = true});
+      const LifelongResult result = run_lifelong(problem, planner, settings);
+      EXPECT_EQ(result.invalid_steps, 0) << result.first_invalid;
+      EXPECT_GE(result.errands_finished, 2) << "seed " << seed << ", " << to_string(actions);
+    }
+  }
+}
+
+// On a map nearly full of agents, parking and the longer wait before an agent is drawn ahead
+// keep every step valid, and the same seed runs the same.
+TEST(RotationLifelong, EightHundredAgentsParkedAndHeldStepValidlyAndTheSameSeedRunsTheSame) {
+  const LorrProblem problem = load_lorr_problem(kRandom + "random_800.json");
+  const PibtLifelongSettings crowded{.guidance = Guidance::kLanes,
+                                     .actions = ActionModel::kRotate,
+                                     .rollouts = 8,
+                                     .hold_plans = PlanHolding::kAlways,
+                                     .park_dead_end_errands = true};
+  PibtLifelong first(*problem.graph, 4, crowded), second(*problem.graph, 4, crowded);
+  LifelongSettings settings{.steps = 150, .step_time_s = 60};
+  settings.actions = ActionModel::kRotate;
+  const LifelongResult a = run_lifelong(problem, first, settings);
+  const LifelongResult b = run_lifelong(problem, second, settings);
+  EXPECT_EQ(a.invalid_steps, 0) << a.first_invalid;
+  EXPECT_GT(a.errands_finished, 150);
+  EXPECT_GT(first.parked_agents(), 0);
+  EXPECT_EQ(a.errands_per_step, b.errands_per_step);
+}
+
 TEST(Lifelong, AnInterruptEndsTheRunAtOnce) {
   const LorrProblem problem = load_lorr_problem(kRandom + "random_20.json");
   PibtLifelong planner(*problem.graph, 1);

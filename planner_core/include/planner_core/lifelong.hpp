@@ -63,12 +63,29 @@ class LifelongPlanner {
 //
 // Plain PIBT can lock for ever off a biconnected map: an agent at the end of a dead end whose way
 // out is the cell of an agent that wants the dead end, the latter ahead in priority at every step
-// (with priorities by waiting time both grow alike; by distance the order is as fixed). So an agent that has stood still for kStuckSteps steps while it
-// has somewhere to go is put ahead of every other, in a random order among such agents drawn
-// afresh after each kStuckSteps it stays stuck, and it keeps that place until its goal changes:
-// the one in the dead end, once drawn first, pushes the other aside and keeps going (a place it
-// lost at its first move would send it straight back in).
+// (with priorities by waiting time both grow alike; by distance the order is as fixed). So an
+// agent that has stood still for `stuck_steps` steps while it has somewhere to go is put ahead of
+// every other, in a random order among such agents drawn afresh after each `stuck_steps` it stays
+// stuck, and it keeps that place until its goal changes: the one in the dead end, once drawn
+// first, pushes the other aside and keeps going (a place it lost at its first move would send it
+// straight back in).
+// `stuck_steps` is kStuckSteps stretched by how crowded the map is: 8 n / (V - n) for n agents on
+// V free cells, at least 8 (stuck_steps_for). Where agents outnumber free cells, standing still a
+// while is no lock, and boosting every agent that did turns the priorities into a lottery:
+// random_800 (800 agents on 819 cells; rotation model, plans held always, 500 steps, seed 0)
+// finished 840 errands boosting after 8 steps, 863 after 20, 945 after 50, 902 never; now 336.
 //
+// On such a map the 2023 winner also parks agents whose errand is a dead end (a cell with one
+// neighbour), and so may this planner (park_dead_end_errands): the agent plans as if its errand
+// were the cell it stands on and decides after every other agent, so it only moves to make way.
+// It gives that errand up (it finishes it only if pushed onto it), but never walks into a dead end
+// that another agent's way out depends on. A parked agent may itself be pushed into a dead end and
+// stand on another's errand with no way out but through that agent; when that one has been stuck
+// for `stuck_steps`, the parked agent is let go for its own errand until that changes.
+// Measured in docs/RESULTS.md ("Crowded maps").
+//
+inline constexpr int kStuckSteps = 8;
+
 // Rotation model (above): when PIBT's cells are held as a plan until every agent stands on its own.
 enum class PlanHolding {
   kNever,               // PIBT decides every step afresh
@@ -112,7 +129,17 @@ struct PibtLifelongSettings {
   bool keep_targets = false;
   // Rotation model: when the step's targets are carried out as a plan until all are reached.
   PlanHolding hold_plans = PlanHolding::kInHalfTheRollouts;
+  // An agent whose errand is a dead end is parked: it stays unless pushed, and gives that errand up
+  // (above). For maps nearly full of agents (lifelong_parks_dead_ends).
+  bool park_dead_end_errands = false;
 };
+
+// Steps an agent stands still before it is drawn ahead of the others (above): kStuckSteps while
+// free cells are at least as many as agents, more the fewer they are.
+int stuck_steps_for(const Graph& graph, size_t agents);
+// Whether a lifelong run parks agents whose errand is a dead end: when agents fill more than 90%
+// of the free cells. random_800 (98%): 991 / 1,043 / 967 errands in 500 steps (seeds 0 / 1 / 2)
+// against 902 / 934 / 934 without; random_600 (73%, window LNS): 720 against 772 in 200 steps.
 
 // The guidance a lifelong run takes when asked for "auto": one-way lanes (with a ring road in the
 // rotation model with window LNS), except with window LNS while agents number at most a quarter
@@ -132,6 +159,7 @@ struct PibtLifelongSettings {
 // LNS it gained 3% at random_400 and cost 9% at random_800 (plans held always), and in four moves
 // with LNS it cost 2% at random_400, so it stays 1 there. Figures: docs/RESULTS.md.
 Guidance lifelong_guidance(const Graph& graph, size_t agents, bool lns, ActionModel actions);
+bool lifelong_parks_dead_ends(const Graph& graph, size_t agents);
 int lifelong_stay_cost(Guidance guidance, bool lns, ActionModel actions);
 
 class PibtLifelong : public LifelongPlanner {
@@ -141,6 +169,8 @@ class PibtLifelong : public LifelongPlanner {
   void prepare(const Poses& now, const Config& goals, const Deadline& deadline) override;
 
   int distance_tables() const { return tables_held_; }
+  // Agents parked at the last step (park_dead_end_errands).
+  int parked_agents() const { return parked_; }
   const WindowLnsStats& lns_totals() const { return lns_totals_; }
   const GuidedDistances& distances() const { return distances_; }
 
@@ -159,6 +189,8 @@ class PibtLifelong : public LifelongPlanner {
   // The cost to the goal of a step to `cell` (a neighbour or the agent's own); in the rotation
   // model with the turns to face it.
   int64_t step_cost(int agent, const Poses& now, Vertex goal, Vertex cell);
+  // The goals PIBT plans for: the errands, but a parked agent's is the cell it stands on.
+  Config planning_goals(const Poses& now, const Config& errands);
   // Rotation model: turns the cells in next_ (entering_ holds who enters each) into actions.
   void take_rotation_actions(const Poses& now, const Config& goals);
   // Rotation model: whether an agent stands short of its target; whether some agent does and
@@ -185,8 +217,12 @@ class PibtLifelong : public LifelongPlanner {
   bool following_ = false;
   std::mt19937 rng_;
   Config last_goals_;
-  static constexpr int kStuckSteps = 8;
+  int stuck_steps_ = kStuckSteps;  // stuck_steps_for the map and the agents
+  std::vector<char> parked_agent_;  // per agent: parked at this step
+  Config released_for_;             // per agent: the errand it was let go for (kNoVertex: none)
+  int parked_ = 0;
   static constexpr double kTargetPriority = 1e6;  // ahead of any distance, behind a stuck agent's boost
+  static constexpr double kParkedPriority = 1e9;  // behind any distance and kept target
   std::vector<double> fraction_;   // per agent, a fixed fraction that breaks ties in priority
   std::vector<int> still_;         // steps the agent stood still (since it last moved, or was drawn)
   std::vector<double> boost_;      // a stuck agent's place ahead of the others (0: none)
