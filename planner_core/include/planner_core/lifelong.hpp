@@ -138,8 +138,9 @@ struct PibtLifelongSettings {
 // free cells are at least as many as agents, more the fewer they are.
 int stuck_steps_for(const Graph& graph, size_t agents);
 // Whether a lifelong run parks agents whose errand is a dead end: when agents fill more than 90%
-// of the free cells. random_800 (98%): 991 / 1,043 / 967 errands in 500 steps (seeds 0 / 1 / 2)
-// against 902 / 934 / 934 without; random_600 (73%, window LNS): 720 against 772 in 200 steps.
+// of the free cells. random_800 (98%, rotation model, plans held always): 950 / 972 / 993 errands
+// in 500 steps (seeds 0 / 1 / 2) against 914 / 921 / 948 without; random_600 (73%, window LNS):
+// 720 against 772 in 200 steps.
 
 // The guidance a lifelong run takes when asked for "auto": one-way lanes (with a ring road in the
 // rotation model with window LNS), except with window LNS while agents number at most a quarter
