@@ -97,16 +97,23 @@ grep -q "^random_50,50,120,1,pibt-rotate-lanes-r1-hold-half-keep," "$work/lifelo
 "$python" "$(dirname "$0")/lorr_replay.py" "$work/lifelong-rotate/random_50.lorr.json" "$map"
 # Plans held until every agent stands on its cell, in every rollout: its steps replay as validly.
 "$bin/ctsfleet-bench" --experiment lifelong --problem "$lorr" --steps 120 --step-time 1 --league-output \
-  --actions rotate --rollouts 4 --hold-plans always --out-dir "$work/lifelong-hold" > "$work/lifelong-hold.out"
+  --actions rotate --rollouts 4 --hold-plans always --park-dead-ends on --out-dir "$work/lifelong-hold" \
+  > "$work/lifelong-hold.out"
 grep -q "plans held always, targets kept" "$work/lifelong-hold.out"
-grep -q "^random_50,50,120,1,pibt-rotate-lanes-r4-hold-always-keep," "$work/lifelong-hold/lifelong.csv"
+# Parking asked for (auto parks only on maps more than 90% full: not in the run above).
+grep -Eq "^  parked: [0-9]+ agents at the last step" "$work/lifelong-hold.out"
+if grep -q "parked" "$work/lifelong.out"; then echo "50 agents on 819 cells parked under auto"; exit 1; fi
+grep -q "^random_50,50,120,1,pibt-rotate-lanes-r4-hold-always-keep-park," "$work/lifelong-hold/lifelong.csv"
 "$python" "$(dirname "$0")/lorr_replay.py" "$work/lifelong-hold/random_50.lorr.json" "$map"
-set +e
-"$bin/ctsfleet-bench" --experiment lifelong --problem "$lorr" --actions rotate --hold-plans sometimes > /dev/null 2> "$work/err"
-code=$?
-set -e
-[ "$code" -eq 2 ] || { echo "--hold-plans sometimes: expected exit 2, got $code"; exit 1; }
-grep -q -- "--hold-plans" "$work/err"
+for bad in "--hold-plans sometimes" "--park-dead-ends yes"; do
+  set +e
+  # shellcheck disable=SC2086  # the option and its value are two words
+  "$bin/ctsfleet-bench" --experiment lifelong --problem "$lorr" --actions rotate $bad > /dev/null 2> "$work/err"
+  code=$?
+  set -e
+  [ "$code" -eq 2 ] || { echo "$bad: expected exit 2, got $code"; exit 1; }
+  grep -q -- "${bad%% *}" "$work/err"
+done
 # And with window LNS: its steps replay as validly.
 "$bin/ctsfleet-bench" --experiment lifelong --problem "$lorr" --steps 60 --step-time 0.2 --league-output \
   --actions rotate --rollout-steps 8 --lns --out-dir "$work/lifelong-lns" > "$work/lifelong-lns.out"

@@ -35,7 +35,8 @@ std::string to_string(PlanHolding holding) {
 Guidance lifelong_guidance(const Graph& graph, size_t agents, bool lns, ActionModel actions) {
   const bool few = agents * 4 <= static_cast<size_t>(graph.vertex_count());
   if (lns && few) return Guidance::kNone;
-  return lns && actions == ActionModel::kRotate ? Guidance::kRing : Guidance::kLanes;
+  const bool ring_covers_the_map = std::min(graph.width(), graph.height()) <= 3 * GuidedDistances::kRingDepth;
+  return lns && actions == ActionModel::kRotate && ring_covers_the_map ? Guidance::kRing : Guidance::kLanes;
 }
 
 bool lifelong_parks_dead_ends(const Graph& graph, size_t agents) {

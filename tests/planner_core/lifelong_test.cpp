@@ -354,7 +354,7 @@ TEST(Lifelong, WithLanesEightHundredAgentsStepValidlyAndTheSameSeedRunsTheSame) 
 
 // "auto" guidance: shortest paths only with window LNS while agents number at most a quarter of
 // the free cells (random-32-32-20 has 819), else lanes, with a ring road in the rotation model
-// with LNS.
+// with LNS on small maps.
 TEST(Lifelong, AutoGuidanceTakesShortestPathsOnlyWithLnsWhileAgentsAreFew) {
   const LorrProblem problem = load_lorr_problem(kRandom + "random_100.json");
   const Graph& graph = *problem.graph;
@@ -372,6 +372,15 @@ TEST(Lifelong, AutoGuidanceTakesShortestPathsOnlyWithLnsWhileAgentsAreFew) {
     EXPECT_EQ(lifelong_guidance(graph, 1, false, actions), Guidance::kLanes);
     EXPECT_EQ(lifelong_guidance(graph, 800, false, actions), Guidance::kLanes);
   }
+  // The ring road only where its 12 cells from each edge cover most of the map (the shorter side
+  // at most 36 cells): warehouse_small (33 by 57) yes, warehouse_large (140 by 500) no.
+  const std::string warehouse = std::string(CTSFLEET_BENCHMARKS_DIR) + "/lorr-2023/warehouse.domain/";
+  const LorrProblem small = load_lorr_problem(warehouse + "warehouse_small_800.json");
+  EXPECT_EQ(lifelong_guidance(*small.graph, 800, true, kRotate), Guidance::kRing);
+  const LorrProblem large = load_lorr_problem(warehouse + "warehouse_large_8000.json");
+  ASSERT_EQ(large.graph->vertex_count(), 38'586);
+  EXPECT_EQ(lifelong_guidance(*large.graph, 10'000, true, kRotate), Guidance::kLanes);
+  EXPECT_EQ(lifelong_guidance(*large.graph, 9'646, true, kRotate), Guidance::kNone);
   // Waits and turns cost 3 with guidance and LNS in the rotation model, else 1.
   EXPECT_EQ(lifelong_stay_cost(lifelong_guidance(graph, 100, true, kRotate), true, kRotate), 1);
   EXPECT_EQ(lifelong_stay_cost(lifelong_guidance(graph, 400, true, kRotate), true, kRotate), 3);

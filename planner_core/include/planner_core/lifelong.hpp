@@ -154,7 +154,10 @@ int stuck_steps_for(const Graph& graph, size_t agents);
 // 200 steps, random_400 1,197 / 1,181 errands against 1,012 / 971 (seeds 0 / 1), random_600 757
 // against 585, warehouse_small_800 1,674 against 1,343; warehouse_small_400 1,579 both. It
 // costs in four moves (1,752 against 1,899) and without LNS (random_800, plans held always: 242
-// against 275), so not there.
+// against 275), so not there. Nor on large maps: those it helped are 32 and 33 cells across, where
+// its 12 cells from each edge cover all but the middle; on warehouse_large (140 by 500 cells,
+// MR23-I-10, 10,000 agents, 200 steps) it drew paths round the edge, 2,455 errands against 4,599
+// with lanes. So only where the map's shorter side is at most 3 kRingDepth (36 cells).
 // In the rotation model on lanes with LNS, a wait or a turn costs 3 (lifelong_stay_cost), as much
 // as a move against the lane: random_400 +28% over 500 steps, random_800 +11% over 200. Without
 // LNS it gained 3% at random_400 and cost 9% at random_800 (plans held always), and in four moves
