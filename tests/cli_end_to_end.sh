@@ -94,6 +94,7 @@ map="$data/../../benchmarks/lorr-2023/random.domain/maps/random-32-32-20.map"
 "$bin/ctsfleet-bench" --experiment lifelong --problem "$lorr" --steps 120 --step-time 1 --league-output \
   --actions rotate --rollouts 1 --out-dir "$work/lifelong-rotate" > "$work/lifelong-rotate.out"
 grep -q "^random_50,50,120,1,pibt-rotate-lanes-r1-hold-half-keep," "$work/lifelong-rotate/lifelong.csv"
+grep -q "^  plans held half (auto)" "$work/lifelong-rotate.out"
 "$python" "$(dirname "$0")/lorr_replay.py" "$work/lifelong-rotate/random_50.lorr.json" "$map"
 # Plans held until every agent stands on its cell, in every rollout: its steps replay as validly.
 "$bin/ctsfleet-bench" --experiment lifelong --problem "$lorr" --steps 120 --step-time 1 --league-output \

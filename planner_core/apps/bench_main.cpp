@@ -121,8 +121,9 @@ int main(int argc, char** argv) {
   app.add_option("--hold-plans", lifelong.hold_plans,
                  "experiment lifelong, rotation model: when the cells PIBT chose are carried out as a plan, turning "
                  "and moving agents while the others wait, until every agent stands on its own: never, half (in "
-                 "every second rollout; the look-ahead picks) or always")
-      ->check(CLI::IsMember({"never", "half", "always"}))
+                 "every second rollout; the look-ahead picks), always, or auto (always when agents fill more than "
+                 "90% of the free cells, else half)")
+      ->check(CLI::IsMember({"auto", "never", "half", "always"}))
       ->capture_default_str();
   app.add_flag("--keep-targets,!--no-keep-targets", lifelong.keep_targets,
                "experiment lifelong, rotation model: an agent short of the cell PIBT chose for it (turned towards "

@@ -56,7 +56,10 @@ int run_lifelong_experiment(const LifelongExperimentSettings& settings) {
            "step_ms_max,over_budget,invalid,peak_mb,preprocess_ms\n";
   per_step << "problem,step,errands\n";
   const planner_core::ActionModel actions = planner_core::parse_action_model(settings.actions, "--actions");
-  const planner_core::PlanHolding hold_plans = planner_core::parse_plan_holding(settings.hold_plans, "--hold-plans");
+  const bool auto_holding = settings.hold_plans == "auto";
+  const planner_core::PlanHolding asked_holding =
+      auto_holding ? planner_core::PlanHolding::kInHalfTheRollouts
+                   : planner_core::parse_plan_holding(settings.hold_plans, "--hold-plans");
   const std::string turning =
       actions == planner_core::ActionModel::kRotate
           ? ", plans held " + settings.hold_plans + (settings.keep_targets ? ", targets kept" : ", targets not kept")
@@ -80,13 +83,14 @@ int run_lifelong_experiment(const LifelongExperimentSettings& settings) {
     pibt.rollout_steps = settings.rollout_steps;
     pibt.lns = settings.lns;
     pibt.actions = actions;
-    pibt.hold_plans = hold_plans;
+    pibt.hold_plans =
+        auto_holding ? planner_core::lifelong_plan_holding(*problem.graph, problem.starts.size()) : asked_holding;
     pibt.keep_targets = settings.keep_targets;
     pibt.park_dead_end_errands = settings.park_dead_ends == "auto"
                                      ? planner_core::lifelong_parks_dead_ends(*problem.graph, problem.starts.size())
                                      : settings.park_dead_ends == "on";
     const std::string turning_name = actions == planner_core::ActionModel::kRotate
-                                         ? "-hold-" + settings.hold_plans + (settings.keep_targets ? "-keep" : "")
+                                         ? "-hold-" + planner_core::to_string(pibt.hold_plans) + (settings.keep_targets ? "-keep" : "")
                                          : "";
     planner_core::PibtLifelong planner(*problem.graph, settings.seed, pibt);
     planner_core::LifelongLog log;
@@ -127,6 +131,9 @@ int run_lifelong_experiment(const LifelongExperimentSettings& settings) {
           planner_core::GuidedDistances::kRingDepth, pibt.stay_cost);
     } else {
       std::printf("  guidance none%s: shortest paths; a wait or turn costs %d\n", chosen, pibt.stay_cost);
+    }
+    if (auto_holding && actions == planner_core::ActionModel::kRotate) {
+      std::printf("  plans held %s (auto)\n", planner_core::to_string(pibt.hold_plans).c_str());
     }
     if (pibt.park_dead_end_errands) {
       std::printf("  parked%s: %d agents at the last step, whose errand is a dead end (given up)\n",

@@ -25,7 +25,7 @@ struct LifelongExperimentSettings {
   int rollouts = 128;                 // PibtLifelongSettings::rollouts
   int rollout_steps = 3;              // PibtLifelongSettings::rollout_steps
   bool lns = false;                   // PibtLifelongSettings::lns
-  std::string hold_plans = "half";    // PibtLifelongSettings::hold_plans (rotation model)
+  std::string hold_plans = "auto";    // PibtLifelongSettings::hold_plans (rotation model); auto: lifelong_plan_holding
   bool keep_targets = true;           // PibtLifelongSettings::keep_targets (rotation model)
   std::string park_dead_ends = "auto";  // PibtLifelongSettings::park_dead_end_errands: on, off or auto (lifelong_parks_dead_ends)
   bool league_output = false;         // also write <out-dir>/<problem>.lorr.json (planner_core/lorr_output.hpp)

@@ -43,6 +43,10 @@ bool lifelong_parks_dead_ends(const Graph& graph, size_t agents) {
   return agents * 10 > static_cast<size_t>(graph.vertex_count()) * 9;
 }
 
+PlanHolding lifelong_plan_holding(const Graph& graph, size_t agents) {
+  return lifelong_parks_dead_ends(graph, agents) ? PlanHolding::kAlways : PlanHolding::kInHalfTheRollouts;
+}
+
 int stuck_steps_for(const Graph& graph, size_t agents) {
   const int64_t cells = graph.vertex_count();
   const int64_t free = std::max<int64_t>(1, cells - static_cast<int64_t>(agents));

@@ -239,6 +239,9 @@ TEST(Lifelong, AgentsWaitLongerBeforeTheyAreDrawnAheadTheFewerCellsAreFree) {
   EXPECT_FALSE(lifelong_parks_dead_ends(graph, 737));
   EXPECT_TRUE(lifelong_parks_dead_ends(graph, 738));
   EXPECT_TRUE(lifelong_parks_dead_ends(graph, 800));
+  // And there plans are held always, elsewhere in half the rollouts.
+  EXPECT_EQ(lifelong_plan_holding(graph, 737), PlanHolding::kInHalfTheRollouts);
+  EXPECT_EQ(lifelong_plan_holding(graph, 738), PlanHolding::kAlways);
 }
 
 // An agent whose errand is a dead end (a cell with one neighbour) is parked: it stays where it

@@ -164,6 +164,11 @@ int stuck_steps_for(const Graph& graph, size_t agents);
 // with LNS it cost 2% at random_400, so it stays 1 there. Figures: docs/RESULTS.md.
 Guidance lifelong_guidance(const Graph& graph, size_t agents, bool lns, ActionModel actions);
 bool lifelong_parks_dead_ends(const Graph& graph, size_t agents);
+// How a lifelong run in the rotation model holds plans when asked for "auto": always where it parks
+// dead-end errands (more than 90% full), else in half the rollouts. random_800 (500 steps, seeds
+// 0 / 1 / 2): 950 / 972 / 993 errands held always against 958 / 942 / 950 in half; MR23-I-08
+// 4,453 against 4,337. Less crowded, holding always costs (random_400 1,139 against 1,454).
+PlanHolding lifelong_plan_holding(const Graph& graph, size_t agents);
 int lifelong_stay_cost(Guidance guidance, bool lns, ActionModel actions);
 
 class PibtLifelong : public LifelongPlanner {
