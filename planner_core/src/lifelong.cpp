@@ -50,8 +50,8 @@ PlanHolding lifelong_plan_holding(const Graph& graph, size_t agents) {
 int stuck_steps_for(const Graph& graph, size_t agents) {
   const int64_t cells = graph.vertex_count();
   const int64_t free = std::max<int64_t>(1, cells - static_cast<int64_t>(agents));
-  const int64_t crowd = static_cast<int64_t>(agents);
-  return static_cast<int>(std::min<int64_t>(1'000'000, std::max<int64_t>(kStuckSteps, kStuckSteps * crowd / free)));
+  const int64_t stretched = kStuckSteps * static_cast<int64_t>(agents) / free;
+  return static_cast<int>(std::min<int64_t>(1'000'000, std::max<int64_t>(kStuckSteps, stretched)));
 }
 
 int lifelong_stay_cost(Guidance guidance, bool lns, ActionModel actions) {
@@ -109,7 +109,6 @@ int PibtLifelong::distance(Vertex goal, const Poses& poses, int agent) {
 Config PibtLifelong::planning_goals(const Poses& now, const Config& errands) {
   const size_t n = errands.size();
   parked_agent_.assign(n, 0);
-  parked_ = 0;
   if (!settings_.park_dead_end_errands) return errands;
   released_for_.resize(n, kNoVertex);
   Config planned = errands;
@@ -133,7 +132,6 @@ Config PibtLifelong::planning_goals(const Poses& now, const Config& errands) {
     }
     for (size_t a = 0; a < n; ++a) standing_on_[now.cells[a]] = -1;
   }
-  parked_ = static_cast<int>(std::count(parked_agent_.begin(), parked_agent_.end(), 1));
   return planned;
 }
 

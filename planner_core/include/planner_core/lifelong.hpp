@@ -12,6 +12,7 @@
 // as in the league.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <atomic>
 #include <deque>
@@ -179,7 +180,7 @@ class PibtLifelong : public LifelongPlanner {
 
   int distance_tables() const { return tables_held_; }
   // Agents parked at the last step (park_dead_end_errands).
-  int parked_agents() const { return parked_; }
+  int parked_agents() const { return static_cast<int>(std::count(parked_agent_.begin(), parked_agent_.end(), 1)); }
   const WindowLnsStats& lns_totals() const { return lns_totals_; }
   const GuidedDistances& distances() const { return distances_; }
 
@@ -229,7 +230,6 @@ class PibtLifelong : public LifelongPlanner {
   int stuck_steps_ = kStuckSteps;  // stuck_steps_for the map and the agents
   std::vector<char> parked_agent_;  // per agent: parked at this step
   Config released_for_;             // per agent: the errand it was let go for (kNoVertex: none)
-  int parked_ = 0;
   static constexpr double kTargetPriority = 1e6;  // ahead of any distance, behind a stuck agent's boost
   static constexpr double kParkedPriority = 1e9;  // behind any distance and kept target
   std::vector<double> fraction_;   // per agent, a fixed fraction that breaks ties in priority
