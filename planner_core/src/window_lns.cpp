@@ -25,8 +25,11 @@ int64_t WindowLns::path_cost(const std::vector<Poses>& window, int agent, Vertex
   return cost + heuristic(goal, window[steps_].cells[agent], heading);
 }
 
-void WindowLns::reserve(const std::vector<Poses>& window, int agent, int who) {
-  for (int t = 0; t <= steps_; ++t) occupied_[static_cast<size_t>(t) * cells_ + window[t].cells[agent]] = who;
+void WindowLns::reserve(const std::vector<Poses>& window, int agent, Vertex goal, int who) {
+  for (int t = 0; t <= steps_; ++t) {
+    occupied_[static_cast<size_t>(t) * cells_ + window[t].cells[agent]] = who;
+    if (t > 0 && window[t].cells[agent] == goal) return;  // arrived: its next errand takes it on
+  }
 }
 
 bool WindowLns::plan_agent(std::vector<Poses>& window, int agent, Vertex goal) {
@@ -40,18 +43,12 @@ bool WindowLns::plan_agent(std::vector<Poses>& window, int agent, Vertex goal) {
   const int start_heading = rotate ? window[0].headings[agent] : 0;
   nodes_.push_back({heuristic(goal, start, start_heading), 0, 0, start, start_heading, -1});
   open.push({{nodes_[0].f, 0}, 0});
-  const auto tail_free = [&](int from_t, Vertex cell) {
-    for (int t = from_t + 1; t <= steps_; ++t) {
-      if (!free_at(t, cell)) return false;
-    }
-    return true;
-  };
   while (!open.empty()) {
     const int index = open.top().second;
     open.pop();
     const Node node = nodes_[index];
-    if (node.t == steps_ || (node.t > 0 && node.cell == goal && tail_free(node.t, node.cell))) {
-      // Write the path back, waiting on the goal after it is reached.
+    if (node.t == steps_ || (node.t > 0 && node.cell == goal)) {
+      // Write the path back, standing on the goal after it is reached (holding no cell there).
       for (int t = steps_; t > node.t; --t) {
         window[t].cells[agent] = node.cell;
         if (rotate) window[t].headings[agent] = node.heading;
@@ -126,7 +123,7 @@ WindowLnsStats WindowLns::improve(std::vector<Poses>& window, const Config& goal
     best_g_.assign(states, 0);
     stamp_ = 0;
   }
-  for (int a = 0; a < n; ++a) reserve(window, a, a);
+  for (int a = 0; a < n; ++a) reserve(window, a, goals[a], a);
   std::vector<int64_t> cost(n);
   std::vector<int> late;
   for (int a = 0; a < n; ++a) {
@@ -147,7 +144,7 @@ WindowLnsStats WindowLns::improve(std::vector<Poses>& window, const Config& goal
         old_paths[t].cells[k] = window[t].cells[group[k]];
         if (rotate) old_paths[t].headings[k] = window[t].headings[group[k]];
       }
-      reserve(window, group[k], -1);
+      reserve(window, group[k], goals[group[k]], -1);
     }
     std::vector<size_t> order(group.size());
     for (size_t k = 0; k < order.size(); ++k) order[k] = k;
@@ -160,7 +157,7 @@ WindowLnsStats WindowLns::improve(std::vector<Poses>& window, const Config& goal
         planned = false;
         break;
       }
-      reserve(window, a, a);
+      reserve(window, a, goals[a], a);
     }
     int64_t new_cost = 0;
     if (planned) {
@@ -171,13 +168,13 @@ WindowLnsStats WindowLns::improve(std::vector<Poses>& window, const Config& goal
       for (int a : group) cost[a] = path_cost(window, a, goals[a]);
       continue;
     }
-    for (size_t k = 0; k < done; ++k) reserve(window, group[order[k]], -1);
+    for (size_t k = 0; k < done; ++k) reserve(window, group[order[k]], goals[group[order[k]]], -1);
     for (size_t k = 0; k < group.size(); ++k) {
       for (int t = 0; t <= steps_; ++t) {
         window[t].cells[group[k]] = old_paths[t].cells[k];
         if (rotate) window[t].headings[group[k]] = old_paths[t].headings[k];
       }
-      reserve(window, group[k], group[k]);
+      reserve(window, group[k], goals[group[k]], group[k]);
     }
   }
   for (int a = 0; a < n; ++a) stats.cost_after += cost[a];

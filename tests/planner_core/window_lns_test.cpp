@@ -1,6 +1,8 @@
 // Window LNS (planner_core/window_lns.hpp): whatever it changes, every step of the window stays
-// valid, the window starts where the agents stand, and the window's cost never grows; an agent
-// left waiting is sent on its cheapest way; the lifelong run with it steps validly.
+// valid among the agents yet to reach their goals (the first step for all), the window starts
+// where the agents stand, and the window's cost never grows; an agent left waiting is sent on its
+// cheapest way; one that has reached its goal holds no cell after; the lifelong run with it steps
+// validly.
 #include <gtest/gtest.h>
 
 #include <numeric>
@@ -16,6 +18,25 @@ const std::string kRandom = std::string(CTSFLEET_BENCHMARKS_DIR) + "/lorr-2023/r
 
 // Every agent waits where it stands for `steps` steps.
 std::vector<Poses> waiting_window(const Poses& now, int steps) { return std::vector<Poses>(steps + 1, now); }
+
+// What is wrong with step t of `window` among the agents that have not stood on their goals
+// before it ("" when nothing); an agent arriving at step t still counts.
+std::string fault_among_travellers(const Graph& graph, ActionModel model, const std::vector<Poses>& window,
+                                   const Config& goals, size_t t) {
+  Poses before, after;
+  for (size_t a = 0; a < goals.size(); ++a) {
+    bool arrived = false;
+    for (size_t s = 1; s < t; ++s) arrived = arrived || window[s].cells[a] == goals[a];
+    if (arrived) continue;
+    before.cells.push_back(window[t - 1].cells[a]);
+    after.cells.push_back(window[t].cells[a]);
+    if (model == ActionModel::kRotate) {
+      before.headings.push_back(window[t - 1].headings[a]);
+      after.headings.push_back(window[t].headings[a]);
+    }
+  }
+  return find_pose_fault(graph, model, before, after).what;
+}
 
 TEST(WindowLns, FourHundredAgentsKeepEveryStepValidAndTheCostNeverGrows) {
   const LorrProblem problem = load_lorr_problem(kRandom + "random_400.json");
@@ -34,8 +55,10 @@ TEST(WindowLns, FourHundredAgentsKeepEveryStepValidAndTheCostNeverGrows) {
       EXPECT_GT(stats.improvements, 0);
       EXPECT_LT(stats.cost_after, stats.cost_before);
       EXPECT_EQ(window.front(), now);
-      for (size_t t = 1; t < window.size(); ++t) {
-        ASSERT_EQ(find_pose_fault(graph, model, window[t - 1], window[t]).what, "")
+      ASSERT_EQ(find_pose_fault(graph, model, window[0], window[1]).what, "")
+          << to_string(model) << ", " << to_string(guidance) << ", the first step";
+      for (size_t t = 2; t < window.size(); ++t) {
+        ASSERT_EQ(fault_among_travellers(graph, model, window, goals, t), "")
             << to_string(model) << ", " << to_string(guidance) << ", step " << t;
       }
       // The figure it reports is the window's cost as it stands: a second pass starts from it.
@@ -65,6 +88,30 @@ TEST(WindowLns, AnAgentLeftWaitingIsSentOnItsCheapestWay) {
         EXPECT_NE(window[arrival - 1].cells[0], 4);
         EXPECT_EQ(window.back().cells[0], 4);  // and waits there
       }
+    }
+  }
+}
+
+// In a corridor, agent 0 reaches its goal in the middle at the first step; agent 1, behind it,
+// heads for the far end. Were agent 0 to hold its goal for the rest of the window, agent 1 could
+// not pass it; its next errand takes it on, so agent 1 plans straight through.
+TEST(WindowLns, AnAgentThatHasReachedItsGoalHoldsNoCellAfter) {
+  const Graph graph(5, 1, {"....."});
+  for (ActionModel model : {ActionModel::kMove4, ActionModel::kRotate}) {
+    for (uint32_t seed = 0; seed < 10; ++seed) {
+      GuidedDistances distances(graph, Guidance::kNone, model);
+      WindowLns lns(graph, distances, model);
+      Poses now{{1, 0}, {}};
+      if (model == ActionModel::kRotate) now.headings = {0, 0};  // both facing east, along the corridor
+      std::vector<Poses> window = waiting_window(now, 8);
+      const Config goals{2, 4};
+      std::mt19937 rng(seed);
+      const WindowLnsStats stats = lns.improve(window, goals, Deadline::in_seconds(0.2), rng);
+      EXPECT_EQ(stats.cost_after, 1 + 4) << to_string(model) << ", seed " << seed;
+      EXPECT_EQ(window[1].cells, (Config{2, 1})) << to_string(model) << ", seed " << seed;
+      EXPECT_EQ(window[4].cells[1], 4) << to_string(model) << ", seed " << seed;
+      EXPECT_EQ(find_pose_fault(graph, model, window[0], window[1]).what, "");
+      for (size_t t = 2; t < window.size(); ++t) EXPECT_EQ(fault_among_travellers(graph, model, window, goals, t), "");
     }
   }
 }

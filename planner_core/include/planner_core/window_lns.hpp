@@ -7,8 +7,11 @@
 //
 // An agent's cost over the window: the cost of its actions until it first stands on its goal
 // (a move its guided cost, a turn or a wait 1), or, if it does not get there, that sum plus its
-// guided distance from where the window leaves it. Paths are kept free of shared cells and swaps
-// at every step of the window, in either action model.
+// guided distance from where the window leaves it. An agent holds cells only until it first
+// stands on its goal: there the league gives it its next errand, which takes it on, so the others
+// may plan through that cell later in the window (the window shows it standing there). Paths are
+// kept free of shared cells and swaps at every step among the agents yet to arrive, in either
+// action model; the first step, the one carried out, is valid for all.
 #pragma once
 
 #include <cstdint>
@@ -48,7 +51,8 @@ class WindowLns {
     int parent;  // index in nodes_, -1 for the start
   };
   int64_t path_cost(const std::vector<Poses>& window, int agent, Vertex goal);
-  void reserve(const std::vector<Poses>& window, int agent, int who);
+  // Marks `agent`'s cells in `window` as `who`'s (-1: free), up to the step it first stands on `goal`.
+  void reserve(const std::vector<Poses>& window, int agent, Vertex goal, int who);
   bool free_at(int t, Vertex cell) const { return occupied_[static_cast<size_t>(t) * cells_ + cell] == -1; }
   int occupant(int t, Vertex cell) const { return occupied_[static_cast<size_t>(t) * cells_ + cell]; }
   // Space-time A* for `agent` from window[0] through the reserved cells; writes its path into
