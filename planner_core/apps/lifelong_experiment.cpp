@@ -69,6 +69,10 @@ int run_lifelong_experiment(const LifelongExperimentSettings& settings) {
       "%u)\n",
       settings.steps, settings.step_time_s, settings.actions.c_str(), turning.c_str(), settings.guidance.c_str(),
       settings.rollouts, settings.rollout_steps, settings.seed);
+  if (settings.lns_rounds > 0) {
+    std::printf("work counted, not timed: every step %d rollouts and %lld LNS rounds, and taken however long it took\n",
+                settings.rollouts, static_cast<long long>(settings.lns_rounds));
+  }
   std::printf("%-28s %6s %9s %8s %9s %9s %9s %6s %7s %8s %9s\n", "problem", "agents", "errands", "per step",
               "p50 ms", "p99 ms", "max ms", "over", "invalid", "peak MB", "prep ms");
   for (const std::string& path : problems) {
@@ -82,6 +86,8 @@ int run_lifelong_experiment(const LifelongExperimentSettings& settings) {
     pibt.rollouts = settings.rollouts;
     pibt.rollout_steps = settings.rollout_steps;
     pibt.lns = settings.lns;
+    pibt.keep_window = settings.keep_window;
+    pibt.lns_rounds = settings.lns_rounds;
     pibt.actions = actions;
     pibt.hold_plans =
         auto_holding ? planner_core::lifelong_plan_holding(*problem.graph, problem.starts.size()) : asked_holding;
@@ -99,6 +105,7 @@ int run_lifelong_experiment(const LifelongExperimentSettings& settings) {
     lifelong.steps = settings.steps;
     lifelong.step_time_s = settings.step_time_s;
     lifelong.interrupt = settings.interrupt;
+    lifelong.late_steps_taken = settings.lns_rounds > 0;
     lifelong.log = settings.league_output ? &log : nullptr;
     const planner_core::LifelongResult result = planner_core::run_lifelong(problem, planner, lifelong);
     if (result.interrupted) {
@@ -118,6 +125,11 @@ int run_lifelong_experiment(const LifelongExperimentSettings& settings) {
       std::printf("  window LNS: %lld iterations, %lld improvements, window cost %lld -> %lld\n",
                   static_cast<long long>(lns.iterations), static_cast<long long>(lns.improvements),
                   static_cast<long long>(lns.cost_before), static_cast<long long>(lns.cost_after));
+      if (settings.keep_window) {
+        std::printf("  last window carried on at %lld of %lld steps, and taken at %lld\n",
+                    static_cast<long long>(planner.windows_carried_on()), static_cast<long long>(settings.steps),
+                    static_cast<long long>(planner.windows_kept()));
+      }
     }
     const char* chosen = settings.guidance == "auto" ? " (auto)" : "";
     if (pibt.guidance == planner_core::Guidance::kLanes) {

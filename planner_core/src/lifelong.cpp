@@ -156,6 +156,7 @@ Poses PibtLifelong::next_step(const Poses& now, const Config& errands, const Dea
     return one_step(now, goals, previous_goals);
   }
   const auto started = std::chrono::steady_clock::now();
+  const bool counted = settings_.lns_rounds > 0;  // the work, not the clock, decides
   const double budget_s = settings_.rollout_share * deadline.seconds_left();
   const double share_s = settings_.lns ? budget_s / 2 : budget_s;
   const int n = static_cast<int>(positions.size());
@@ -197,15 +198,24 @@ Poses PibtLifelong::next_step(const Poses& now, const Config& errands, const Dea
       best_window = std::move(window);
       after_best = after_first;
     }
-    // Another run only if it fits in the share, at the pace so far.
+    // Another run only if it fits in the share, at the pace so far (work counted: every run).
     const double spent = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-    if (spent * (run + 2) / (run + 1) > share_s) break;
+    if (!counted && spent * (run + 2) / (run + 1) > share_s) break;
   }
   restore(after_best);
   if (settings_.lns) {
+    if (settings_.keep_window) {
+      std::vector<Poses> kept = kept_window(now, goals);
+      if (!kept.empty() && lns_.cost(kept, goals) < lns_.cost(best_window, goals)) {
+        best_window = std::move(kept);
+        ++windows_kept_;
+      }
+    }
     const double spent = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-    const WindowLnsStats stats =
-        lns_.improve(best_window, goals, Deadline::in_seconds(std::max(0.0, budget_s - spent)), rng_);
+    Deadline lns_deadline = Deadline::in_seconds(counted ? 1e18 : std::max(0.0, budget_s - spent));
+    lns_deadline.interrupt = deadline.interrupt;
+    const WindowLnsStats stats = counted ? lns_.improve(best_window, goals, lns_deadline, rng_, settings_.lns_rounds)
+                                         : lns_.improve(best_window, goals, lns_deadline, rng_);
     lns_totals_.iterations += stats.iterations;
     lns_totals_.improvements += stats.improvements;
     lns_totals_.cost_before += stats.cost_before;
@@ -222,9 +232,54 @@ Poses PibtLifelong::next_step(const Poses& now, const Config& errands, const Dea
         targets_[a] = best_window[1].cells[a];
       }
     }
+    last_window_ = best_window;
+    last_window_goals_ = goals;
     return best_window[1];
   }
   return best_first;
+}
+
+std::vector<Poses> PibtLifelong::kept_window(const Poses& now, const Config& goals) {
+  std::vector<Poses> window;
+  if (last_window_.size() < 2 || last_window_goals_.size() != goals.size()) return window;
+  const Poses& planned = last_window_[1];
+  const bool rotate = settings_.actions == ActionModel::kRotate;
+  if (planned.cells != now.cells || (rotate && planned.headings != now.headings)) return window;  // not carried out
+  std::vector<Poses> shifted(last_window_.begin() + 1, last_window_.end());
+  shifted.push_back(shifted.back());  // the last step: everyone waits
+  // Agents with a new errand (arrived at the step just taken, or parked or let go) go elsewhere.
+  std::vector<int> again;
+  std::vector<char> listed(goals.size(), 0);
+  for (size_t a = 0; a < goals.size(); ++a) {
+    if (goals[a] == last_window_goals_[a]) continue;
+    again.push_back(static_cast<int>(a));
+    listed[a] = 1;
+  }
+  // Others may have planned to drive through where such an agent stands. When one finds no way,
+  // it goes first and the agents about to pass next to it are planned again too, after it.
+  for (int round = 0; round < kReplanRounds; ++round) {
+    window = shifted;
+    int blocked = -1;
+    if (lns_.replan(window, goals, again, &blocked)) {
+      ++windows_carried_on_;
+      return window;
+    }
+    const auto first = std::find(again.begin(), again.end(), blocked);
+    std::rotate(again.begin(), first, first + 1);
+    const Vertex there = shifted[0].cells[blocked];
+    for (size_t a = 0; a < goals.size(); ++a) {
+      if (listed[a]) continue;
+      for (size_t t = 1; t <= 2 && t < shifted.size(); ++t) {
+        const Vertex cell = shifted[t].cells[a];
+        if (cell == there || graph_.adjacent(cell, there)) {
+          again.push_back(static_cast<int>(a));
+          listed[a] = 1;
+          break;
+        }
+      }
+    }
+  }
+  return {};
 }
 
 void PibtLifelong::restore(const StepState& state) {
@@ -669,12 +724,13 @@ LifelongResult run_lifelong(const LorrProblem& problem, LifelongPlanner& planner
     if (log != nullptr) {
       for (int a = 0; a < team; ++a) {
         if (step > 0) log->planned[a] += ',';
-        log->planned[a] += late || next.cells.size() != positions.size() ? 'T' : action_letter(graph, model, now, next, a);
+        const bool dropped = (late && !settings.late_steps_taken) || next.cells.size() != positions.size();
+        log->planned[a] += dropped ? 'T' : action_letter(graph, model, now, next, a);
         if (board.goal(a) != kNoVertex) ++log->cost[a];
       }
     }
-    if (late) {
-      ++result.steps_over_budget;
+    if (late) ++result.steps_over_budget;
+    if (late && !settings.late_steps_taken) {
       next = now;
     } else if (const StepFault fault = find_pose_fault(graph, model, now, next); !fault.what.empty()) {
       if (result.invalid_steps++ == 0) result.first_invalid = "step " + std::to_string(step) + ": " + fault.what;

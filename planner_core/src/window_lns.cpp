@@ -109,20 +109,51 @@ std::vector<int> WindowLns::neighbourhood(const std::vector<Poses>& window, int 
   return group;
 }
 
-WindowLnsStats WindowLns::improve(std::vector<Poses>& window, const Config& goals, const Deadline& deadline,
-                                  std::mt19937& rng) {
-  WindowLnsStats stats;
+void WindowLns::clear_reservations(const std::vector<Poses>& window) {
   steps_ = static_cast<int>(window.size()) - 1;
-  if (steps_ < 1) return stats;
-  const int n = static_cast<int>(goals.size());
-  const bool rotate = actions_ == ActionModel::kRotate;
-  const size_t states = static_cast<size_t>(steps_ + 1) * cells_ * (rotate ? kHeadings : 1);
+  const size_t states = static_cast<size_t>(steps_ + 1) * cells_ * (actions_ == ActionModel::kRotate ? kHeadings : 1);
   occupied_.assign(static_cast<size_t>(steps_ + 1) * cells_, -1);
   if (seen_.size() != states) {
     seen_.assign(states, 0);
     best_g_.assign(states, 0);
     stamp_ = 0;
   }
+}
+
+int64_t WindowLns::cost(const std::vector<Poses>& window, const Config& goals) {
+  steps_ = static_cast<int>(window.size()) - 1;
+  int64_t total = 0;
+  for (size_t a = 0; a < goals.size(); ++a) total += path_cost(window, static_cast<int>(a), goals[a]);
+  return total;
+}
+
+bool WindowLns::replan(std::vector<Poses>& window, const Config& goals, const std::vector<int>& agents, int* blocked) {
+  if (window.size() < 2) return agents.empty();
+  clear_reservations(window);
+  // The agents to plan again may stand in the others' way (their old paths lead elsewhere), so
+  // only the others' cells are marked.
+  std::vector<char> again(goals.size(), 0);
+  for (int a : agents) again[a] = 1;
+  for (size_t a = 0; a < goals.size(); ++a) {
+    if (!again[a]) reserve(window, static_cast<int>(a), goals[a], static_cast<int>(a));
+  }
+  for (int a : agents) {
+    if (!plan_agent(window, a, goals[a])) {
+      if (blocked != nullptr) *blocked = a;
+      return false;
+    }
+    reserve(window, a, goals[a], a);
+  }
+  return true;
+}
+
+WindowLnsStats WindowLns::improve(std::vector<Poses>& window, const Config& goals, const Deadline& deadline,
+                                  std::mt19937& rng, int64_t rounds) {
+  WindowLnsStats stats;
+  if (window.size() < 2) return stats;
+  const int n = static_cast<int>(goals.size());
+  const bool rotate = actions_ == ActionModel::kRotate;
+  clear_reservations(window);
   for (int a = 0; a < n; ++a) reserve(window, a, goals[a], a);
   std::vector<int64_t> cost(n);
   std::vector<int> late;
@@ -132,7 +163,7 @@ WindowLnsStats WindowLns::improve(std::vector<Poses>& window, const Config& goal
     const int heading = rotate ? window[0].headings[a] : 0;
     if (cost[a] > heuristic(goals[a], window[0].cells[a], heading)) late.push_back(a);
   }
-  while (!late.empty() && !deadline.expired()) {
+  while (!late.empty() && stats.iterations < rounds && !deadline.expired()) {
     ++stats.iterations;
     const int chosen = late[std::uniform_int_distribution<size_t>(0, late.size() - 1)(rng)];
     std::vector<int> group = neighbourhood(window, chosen, rng);

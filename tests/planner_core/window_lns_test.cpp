@@ -1,8 +1,10 @@
 // Window LNS (planner_core/window_lns.hpp): whatever it changes, every step of the window stays
 // valid among the agents yet to reach their goals (the first step for all), the window starts
 // where the agents stand, and the window's cost never grows; an agent left waiting is sent on its
-// cheapest way; one that has reached its goal holds no cell after; the lifelong run with it steps
-// validly.
+// cheapest way; one that has reached its goal holds no cell after; agents planned again keep out
+// of the others' way; the lifelong run with it steps validly, also carrying its window on from
+// step to step, but only from where the agents stand; with its work counted, a run is the same
+// whatever the clock.
 #include <gtest/gtest.h>
 
 #include <numeric>
@@ -116,6 +118,40 @@ TEST(WindowLns, AnAgentThatHasReachedItsGoalHoldsNoCellAfter) {
   }
 }
 
+// A corridor's window where agent 1 drives east from cell 0 to cell 4 through cell 2, where agent
+// 0 stood once it had arrived: it now has a new errand and is planned again.
+std::vector<Poses> corridor_window_through(int agent0_at, ActionModel model) {
+  std::vector<Poses> window;
+  for (int t = 0; t <= 8; ++t) {
+    Poses at{{agent0_at, std::min(t, 4)}, {}};
+    if (model == ActionModel::kRotate) at.headings = {0, 0};  // both face east
+    window.push_back(at);
+  }
+  return window;
+}
+
+TEST(WindowLns, AnAgentPlannedAgainKeepsOutOfTheOthersWay) {
+  const Graph graph(5, 1, {"....."});
+  for (ActionModel model : {ActionModel::kMove4, ActionModel::kRotate}) {
+    GuidedDistances distances(graph, Guidance::kNone, model);
+    WindowLns lns(graph, distances, model);
+    // Ahead of agent 1 and heading the same way: it goes first and arrives at step 2.
+    std::vector<Poses> window = corridor_window_through(2, model);
+    const Config goals{4, 4};
+    ASSERT_TRUE(lns.replan(window, goals, {0})) << to_string(model);
+    EXPECT_EQ(window[1].cells, (Config{3, 1})) << to_string(model);
+    EXPECT_EQ(window[2].cells, (Config{4, 2})) << to_string(model);
+    EXPECT_EQ(window[4].cells[1], 4) << "agent 1's path stays as it was";
+    EXPECT_EQ(find_pose_fault(graph, model, window[0], window[1]).what, "");
+    for (size_t t = 2; t < window.size(); ++t) EXPECT_EQ(fault_among_travellers(graph, model, window, goals, t), "");
+    EXPECT_EQ(lns.cost(window, goals), 2 + 4);
+    // Its new errand behind agent 1: in a corridor it cannot get past, and it cannot wait where
+    // agent 1 will drive, so no way is found.
+    std::vector<Poses> blocked = corridor_window_through(2, model);
+    EXPECT_FALSE(lns.replan(blocked, {0, 4}, {0})) << to_string(model);
+  }
+}
+
 TEST(WindowLns, TheLifelongRunWithItStepsValidly) {
   const LorrProblem problem = load_lorr_problem(kRandom + "random_100.json");
   for (ActionModel model : {ActionModel::kMove4, ActionModel::kRotate}) {
@@ -128,6 +164,77 @@ TEST(WindowLns, TheLifelongRunWithItStepsValidly) {
     EXPECT_GT(result.errands_finished, 0);
     EXPECT_GT(planner.lns_totals().iterations, 0);
   }
+}
+
+TEST(WindowLns, TheLifelongRunKeepingItsWindowStepsValidly) {
+  for (const std::string name : {"random_100.json", "random_400.json"}) {
+    const LorrProblem problem = load_lorr_problem(kRandom + name);
+    for (ActionModel model : {ActionModel::kMove4, ActionModel::kRotate}) {
+      LifelongSettings settings{.steps = 30, .step_time_s = 0.3};
+      settings.actions = model;
+      const Guidance guidance = lifelong_guidance(*problem.graph, problem.starts.size(), true, model);
+      PibtLifelong planner(*problem.graph, 2,
+                           {.guidance = guidance,
+                            .stay_cost = lifelong_stay_cost(guidance, true, model),
+                            .actions = model,
+                            .rollouts = 4,
+                            .rollout_steps = 8,
+                            .lns = true,
+                            .keep_window = true});
+      const LifelongResult result = run_lifelong(problem, planner, settings);
+      EXPECT_EQ(result.invalid_steps, 0) << name << ", " << to_string(model) << ": " << result.first_invalid;
+      EXPECT_GT(result.errands_finished, 0);
+      EXPECT_GT(planner.windows_kept(), 0) << name << ", " << to_string(model);
+      EXPECT_LE(planner.windows_kept(), planner.windows_carried_on());
+    }
+  }
+}
+
+// With the work counted (LNS rounds and rollouts per step), a run does not depend on the clock:
+// with a step budget far too short (every step late, and taken all the same) or ample, the same
+// seed gives the same steps.
+TEST(WindowLns, ARunWithItsWorkCountedIsTheSameWhateverTheClock) {
+  const LorrProblem problem = load_lorr_problem(kRandom + "random_100.json");
+  for (ActionModel model : {ActionModel::kMove4, ActionModel::kRotate}) {
+    std::vector<LifelongLog> logs;
+    logs.reserve(2);  // each run writes through a pointer into it
+    std::vector<LifelongResult> results;
+    for (const double step_time_s : {1e-6, 5.0}) {
+      LifelongSettings settings{.steps = 25, .step_time_s = step_time_s};
+      settings.actions = model;
+      settings.late_steps_taken = true;
+      logs.emplace_back();
+      settings.log = &logs.back();
+      PibtLifelong planner(
+          *problem.graph, 3,
+          {.actions = model, .rollouts = 6, .rollout_steps = 8, .lns = true, .keep_window = true, .lns_rounds = 300});
+      results.push_back(run_lifelong(problem, planner, settings));
+      EXPECT_EQ(results.back().invalid_steps, 0) << results.back().first_invalid;
+    }
+    EXPECT_EQ(results[0].steps_over_budget, 25) << "every step late";
+    EXPECT_EQ(results[1].steps_over_budget, 0);
+    EXPECT_GT(results[0].errands_finished, 0);
+    EXPECT_EQ(results[0].errands_per_step, results[1].errands_per_step) << to_string(model);
+    EXPECT_TRUE(logs[0].actual == logs[1].actual) << to_string(model) << ": the agents' actions differ";
+  }
+}
+
+// A step the run did not carry out (refused, or the robots did otherwise): the window it came
+// from no longer starts where the agents stand, so the next step does not carry it on.
+TEST(WindowLns, AWindowIsNotCarriedOnFromWhereTheAgentsDoNotStand) {
+  const LorrProblem problem = load_lorr_problem(kRandom + "random_100.json");
+  Poses now{problem.starts, Headings(problem.starts.size(), 0)};
+  Config goals(problem.starts.size());
+  for (size_t a = 0; a < goals.size(); ++a) goals[a] = problem.tasks[a].front();
+  PibtLifelong planner(*problem.graph, 1,
+                       {.actions = ActionModel::kRotate, .rollouts = 2, .rollout_steps = 8, .lns = true, .keep_window = true});
+  planner.prepare(now, goals, Deadline::in_seconds(10));
+  const Poses next = planner.next_step(now, goals, Deadline::in_seconds(0.2));
+  ASSERT_NE(next.cells, now.cells);
+  const Poses again = planner.next_step(now, goals, Deadline::in_seconds(0.2));  // as if `next` were not taken
+  EXPECT_EQ(planner.windows_carried_on(), 0);
+  planner.next_step(again, goals, Deadline::in_seconds(0.2));
+  EXPECT_EQ(planner.windows_carried_on(), 1);
 }
 
 }  // namespace

@@ -125,6 +125,15 @@ struct PibtLifelongSettings {
   // Window LNS (window_lns.hpp): the best rollout's rollout_steps steps are improved by Large
   // Neighbourhood Search; rollouts then take half of rollout_share, LNS the rest.
   bool lns = false;
+  // Window LNS: the window improved at the last step, one step on and with the agents that have a
+  // new errand planned again, is improved instead of the best rollout when it costs less (the
+  // 2023 winner keeps its plan from step to step likewise).
+  bool keep_window = false;
+  // Window LNS: 0, the rollouts and LNS rounds that fit in the step's budget. Set, every step runs
+  // all `rollouts` rollouts and exactly this many LNS rounds (fewer only once no agent is late),
+  // whatever the clock: a run is then the same on every run and machine (with
+  // LifelongSettings::late_steps_taken), however long its steps take.
+  int64_t lns_rounds = 0;
   // Rotation model: an agent short of the cell PIBT chose for it goes first and tries it first.
   // Off by default: it slows two agents meeting head on in a corridor (tested).
   bool keep_targets = false;
@@ -182,6 +191,9 @@ class PibtLifelong : public LifelongPlanner {
   // Agents parked at the last step (park_dead_end_errands).
   int parked_agents() const { return static_cast<int>(std::count(parked_agent_.begin(), parked_agent_.end(), 1)); }
   const WindowLnsStats& lns_totals() const { return lns_totals_; }
+  // keep_window: steps at which the last window could be carried on, and those it was taken at.
+  int64_t windows_carried_on() const { return windows_carried_on_; }
+  int64_t windows_kept() const { return windows_kept_; }
   const GuidedDistances& distances() const { return distances_; }
 
  private:
@@ -243,8 +255,17 @@ class PibtLifelong : public LifelongPlanner {
   Config targets_;        // per agent, the cell PIBT last chose for it (rotation model)
   int held_steps_ = 0;    // steps the current targets have been carried out for
   bool holding_ = false;  // this run (rollout) holds plans
+  // keep_window: the last step's window one step on, its new errands planned again; empty when
+  // the last window was not carried out or an agent with a new errand finds no way.
+  std::vector<Poses> kept_window(const Poses& now, const Config& goals);
+
+  static constexpr int kReplanRounds = 4;  // kept_window: tries, each planning more agents again
   WindowLns lns_;
   WindowLnsStats lns_totals_;
+  std::vector<Poses> last_window_;  // window LNS: the window the last step was taken from
+  Config last_window_goals_;
+  int64_t windows_carried_on_ = 0;
+  int64_t windows_kept_ = 0;
 };
 
 // What the league's output file records of a run (docs/FORMATS.md, "League of Robot Runners
@@ -279,6 +300,9 @@ struct LifelongSettings {
   LifelongLog* log = nullptr;     // set: the run is recorded there
   const std::atomic<bool>* interrupt = nullptr;  // set (Ctrl-C): the run ends after the step under way
   ActionModel actions = ActionModel::kMove4;     // the planner must plan in the same one
+  // A step decided after its budget is still taken (and counted in steps_over_budget), not
+  // replaced by waiting: for planners whose work is counted, not timed (lns_rounds).
+  bool late_steps_taken = false;
 };
 
 struct LifelongResult {
@@ -287,7 +311,8 @@ struct LifelongResult {
   std::vector<int> errands_per_step;  // finished at each step
   std::vector<double> step_ms;        // time the planner took to decide each step
   double preprocess_ms = 0;           // time the planner took to prepare
-  int steps_over_budget = 0;          // replaced by waiting: the planner took longer than its budget
+  int steps_over_budget = 0;          // the planner took longer than its budget: replaced by waiting
+                                      // (unless LifelongSettings::late_steps_taken)
   int invalid_steps = 0;              // replaced by waiting: not a valid step
   std::string first_invalid;          // what the first invalid step did
   int64_t moves = 0;                  // agent-steps spent off their current cell

@@ -15,6 +15,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <random>
 #include <vector>
 
@@ -38,8 +39,17 @@ class WindowLns {
   WindowLns(const Graph& graph, GuidedDistances& distances, ActionModel actions);
 
   // Improves `window` (window[0]: the poses now; window[t]: after t steps; every step valid) for
-  // agents heading for `goals`, until the deadline.
-  WindowLnsStats improve(std::vector<Poses>& window, const Config& goals, const Deadline& deadline, std::mt19937& rng);
+  // agents heading for `goals`, until the deadline or after `rounds` rounds.
+  WindowLnsStats improve(std::vector<Poses>& window, const Config& goals, const Deadline& deadline, std::mt19937& rng,
+                         int64_t rounds = std::numeric_limits<int64_t>::max());
+
+  // Plans `agents` again by space-time A* through the others' cells in `window` (valid among the
+  // others), in the order given; false when one finds every way blocked (then named in `blocked`;
+  // the window is partly planned).
+  bool replan(std::vector<Poses>& window, const Config& goals, const std::vector<int>& agents, int* blocked = nullptr);
+
+  // The window's cost: the sum of its agents' costs, as improve counts them.
+  int64_t cost(const std::vector<Poses>& window, const Config& goals);
 
  private:
   struct Node {
@@ -51,6 +61,8 @@ class WindowLns {
     int parent;  // index in nodes_, -1 for the start
   };
   int64_t path_cost(const std::vector<Poses>& window, int agent, Vertex goal);
+  // Sizes the tables for `window`, every cell free.
+  void clear_reservations(const std::vector<Poses>& window);
   // Marks `agent`'s cells in `window` as `who`'s (-1: free), up to the step it first stands on `goal`.
   void reserve(const std::vector<Poses>& window, int agent, Vertex goal, int who);
   bool free_at(int t, Vertex cell) const { return occupied_[static_cast<size_t>(t) * cells_ + cell] == -1; }
