@@ -137,6 +137,31 @@ grep -q "guidance ring: lanes turning every 1 rows and every 1 columns, and chea
   "$work/lifelong-ring.out"
 grep -q "^random_50,50,40,0.2,pibt-rotate-ring-stay3-r128-lns-hold-half-keep," "$work/lifelong-ring/lifelong.csv"
 "$python" "$(dirname "$0")/lorr_replay.py" "$work/lifelong-ring/random_50.lorr.json" "$map"
+# Work counted instead of timed: two runs, one with a step far too short (every step late, taken
+# all the same), move the agents alike, and replay validly.
+for run in short ample; do
+  step_time=0.000001
+  [ "$run" = ample ] && step_time=5
+  "$bin/ctsfleet-bench" --experiment lifelong --problem "$lorr" --steps 30 --step-time "$step_time" --league-output \
+    --actions rotate --rollouts 8 --rollout-steps 8 --lns --lns-rounds 400 --keep-window --out-dir "$work/lifelong-counted-$run" \
+    > "$work/lifelong-counted-$run.out"
+  grep -q "work counted, not timed: every step 8 rollouts and 400 LNS rounds" "$work/lifelong-counted-$run.out"
+  grep -q "^random_50,50,30,.*,pibt-rotate-none-r8-lns-window-kept-hold-half-keep," "$work/lifelong-counted-$run/lifelong.csv"
+  "$python" "$(dirname "$0")/lorr_replay.py" "$work/lifelong-counted-$run/random_50.lorr.json" "$map"
+done
+"$python" - "$work/lifelong-counted-short/random_50.lorr.json" "$work/lifelong-counted-ample/random_50.lorr.json" <<'PY'
+import json, sys
+short, ample = (json.load(open(path)) for path in sys.argv[1:])
+assert short["actualPaths"] == ample["actualPaths"], "the counted runs moved the agents differently"
+assert short["numTaskFinished"] == ample["numTaskFinished"] > 0
+PY
+cmp "$work/lifelong-counted-short/lifelong_steps.csv" "$work/lifelong-counted-ample/lifelong_steps.csv"
+set +e
+"$bin/ctsfleet-bench" --experiment lifelong --problem "$lorr" --lns-rounds 100 > /dev/null 2> "$work/err"
+code=$?
+set -e
+[ "$code" -eq 2 ] || { echo "--lns-rounds without --lns: expected exit 2, got $code"; exit 1; }
+grep -q -- "--lns-rounds" "$work/err"
 set +e
 "$bin/ctsfleet-bench" --experiment lifelong --problem "$lorr" --actions diagonal > /dev/null 2> "$work/err"
 code=$?

@@ -25,7 +25,7 @@ struct LifelongExperimentSettings {
   int rollouts = 128;                 // PibtLifelongSettings::rollouts
   int rollout_steps = 3;              // PibtLifelongSettings::rollout_steps
   bool lns = false;                   // PibtLifelongSettings::lns
-  bool keep_window = false;           // PibtLifelongSettings::keep_window
+  bool keep_window = false;           // PibtLifelongSettings::keep_window (with --lns)
   int64_t lns_rounds = 0;             // PibtLifelongSettings::lns_rounds; set, late steps are taken too
   std::string hold_plans = "auto";    // PibtLifelongSettings::hold_plans (rotation model); auto: lifelong_plan_holding
   bool keep_targets = true;           // PibtLifelongSettings::keep_targets (rotation model)

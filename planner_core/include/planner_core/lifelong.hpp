@@ -127,7 +127,9 @@ struct PibtLifelongSettings {
   bool lns = false;
   // Window LNS: the window improved at the last step, one step on and with the agents that have a
   // new errand planned again, is improved instead of the best rollout when it costs less (the
-  // 2023 winner keeps its plan from step to step likewise).
+  // 2023 winner keeps its plan from step to step likewise). Off: with the work counted
+  // (lns_rounds) it gained at random_100-600 on every seed tried (random_400 +1.5% over 4), but
+  // timed runs at random_400 lost 2-7% (docs/RESULTS.md), so whether it pays is still open.
   bool keep_window = false;
   // Window LNS: 0, the rollouts and LNS rounds that fit in the step's budget. Set, every step runs
   // all `rollouts` rollouts and exactly this many LNS rounds (fewer only once no agent is late),
