@@ -214,8 +214,8 @@ Poses PibtLifelong::next_step(const Poses& now, const Config& errands, const Dea
     const double spent = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     Deadline lns_deadline = Deadline::in_seconds(counted ? 1e18 : std::max(0.0, budget_s - spent));
     lns_deadline.interrupt = deadline.interrupt;
-    const WindowLnsStats stats = counted ? lns_.improve(best_window, goals, lns_deadline, rng_, settings_.lns_rounds)
-                                         : lns_.improve(best_window, goals, lns_deadline, rng_);
+    const int64_t rounds = counted ? settings_.lns_rounds : std::numeric_limits<int64_t>::max();
+    const WindowLnsStats stats = lns_.improve(best_window, goals, lns_deadline, rng_, rounds);
     lns_totals_.iterations += stats.iterations;
     lns_totals_.improvements += stats.improvements;
     lns_totals_.cost_before += stats.cost_before;
