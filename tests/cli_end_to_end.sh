@@ -106,7 +106,8 @@ grep -Eq "^  parked: [0-9]+ agents at the last step" "$work/lifelong-hold.out"
 if grep -q "parked" "$work/lifelong.out"; then echo "50 agents on 819 cells parked under auto"; exit 1; fi
 grep -q "^random_50,50,120,1,pibt-rotate-lanes-r4-hold-always-keep-park," "$work/lifelong-hold/lifelong.csv"
 "$python" "$(dirname "$0")/lorr_replay.py" "$work/lifelong-hold/random_50.lorr.json" "$map"
-for bad in "--hold-plans sometimes" "--park-dead-ends yes"; do
+for bad in "--hold-plans sometimes" "--park-dead-ends yes" "--keep-window sometimes --lns" "--keep-window on" \
+  "--rollout-steps -1"; do
   set +e
   # shellcheck disable=SC2086  # the option and its value are two words
   "$bin/ctsfleet-bench" --experiment lifelong --problem "$lorr" --actions rotate $bad > /dev/null 2> "$work/err"
@@ -115,10 +116,13 @@ for bad in "--hold-plans sometimes" "--park-dead-ends yes"; do
   [ "$code" -eq 2 ] || { echo "$bad: expected exit 2, got $code"; exit 1; }
   grep -q -- "${bad%% *}" "$work/err"
 done
-# And with window LNS: its steps replay as validly.
+# And with window LNS: its steps replay as validly. With 50 agents on 819 free cells the window
+# (auto) is 16 steps, kept from step to step.
 "$bin/ctsfleet-bench" --experiment lifelong --problem "$lorr" --steps 60 --step-time 0.2 --league-output \
-  --actions rotate --rollout-steps 8 --lns --out-dir "$work/lifelong-lns" > "$work/lifelong-lns.out"
+  --actions rotate --lns --out-dir "$work/lifelong-lns" > "$work/lifelong-lns.out"
 grep -q "window LNS: [1-9]" "$work/lifelong-lns.out"
+grep -q "^  windows of 16 steps (auto), kept from step to step (auto)" "$work/lifelong-lns.out"
+grep -Eq "^  last window carried on at [1-9][0-9]* of 60 steps" "$work/lifelong-lns.out"
 # With LNS and 50 agents on 819 free cells, "auto" guidance (the default) takes shortest paths.
 grep -q "guidance none (auto): shortest paths; a wait or turn costs 1" "$work/lifelong-lns.out"
 set +e
@@ -127,12 +131,14 @@ code=$?
 set -e
 [ "$code" -eq 2 ] || { echo "--stay-cost 9: expected exit 2, got $code"; exit 1; }
 grep -q -- "--stay-cost" "$work/err"
-grep -q "^random_50,50,60,0.2,pibt-rotate-none-r128-lns-hold-half-keep," "$work/lifelong-lns/lifelong.csv"
+grep -q "^random_50,50,60,0.2,pibt-rotate-none-r128-lns-window-kept-hold-half-keep," "$work/lifelong-lns/lifelong.csv"
 "$python" "$(dirname "$0")/lorr_replay.py" "$work/lifelong-lns/random_50.lorr.json" "$map"
 # The ring road (auto only when agents are more, asked for here): costs in tenths, waits at 3;
 # its steps replay as validly.
 "$bin/ctsfleet-bench" --experiment lifelong --problem "$lorr" --steps 40 --step-time 0.2 --league-output \
-  --actions rotate --rollout-steps 8 --lns --guidance ring --out-dir "$work/lifelong-ring" > "$work/lifelong-ring.out"
+  --actions rotate --rollout-steps 8 --lns --keep-window off --guidance ring --out-dir "$work/lifelong-ring" \
+  > "$work/lifelong-ring.out"
+grep -q "^  windows of 8 steps, planned afresh each step$" "$work/lifelong-ring.out"
 grep -q "guidance ring: lanes turning every 1 rows and every 1 columns, and cheaper within 12 cells of the edge; a wait or turn costs 3" \
   "$work/lifelong-ring.out"
 grep -q "^random_50,50,40,0.2,pibt-rotate-ring-stay3-r128-lns-hold-half-keep," "$work/lifelong-ring/lifelong.csv"
@@ -143,7 +149,7 @@ for run in short ample; do
   step_time=0.000001
   [ "$run" = ample ] && step_time=5
   "$bin/ctsfleet-bench" --experiment lifelong --problem "$lorr" --steps 30 --step-time "$step_time" --league-output \
-    --actions rotate --rollouts 8 --rollout-steps 8 --lns --lns-rounds 400 --keep-window --out-dir "$work/lifelong-counted-$run" \
+    --actions rotate --rollouts 8 --rollout-steps 8 --lns --lns-rounds 400 --keep-window on --out-dir "$work/lifelong-counted-$run" \
     > "$work/lifelong-counted-$run.out"
   grep -q "work counted, not timed: every step 8 rollouts and 400 LNS rounds" "$work/lifelong-counted-$run.out"
   grep -q "^random_50,50,30,.*,pibt-rotate-none-r8-lns-window-kept-hold-half-keep," "$work/lifelong-counted-$run/lifelong.csv"

@@ -108,12 +108,15 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"both", "planned", "added"}))
       ->capture_default_str();
   app.add_option("--rollouts", lifelong.rollouts,
-                 "experiment lifelong: PIBT runs tried 3 steps ahead each step, the best first step taken (1: plain "
-                 "PIBT); they stop at half the step's budget")
+                 "experiment lifelong: PIBT runs tried --rollout-steps ahead each step, the best first step taken "
+                 "(1: plain PIBT); they stop at half the step's budget")
       ->check(ctsfleet::count_in(1, 1'000'000))
       ->capture_default_str();
-  app.add_option("--rollout-steps", lifelong.rollout_steps, "experiment lifelong: how far ahead each rollout runs, in steps")
-      ->check(ctsfleet::count_in(1, 1000))
+  app.add_option("--rollout-steps", lifelong.rollout_steps,
+                 "experiment lifelong: how far ahead each rollout runs, in steps, and with --lns the window LNS "
+                 "improves; 0: 3 without --lns, with it 8, or 16 in the rotation model while agents are at most a "
+                 "quarter of the free cells and at most 4,000")
+      ->check(ctsfleet::count_in(0, 1000))
       ->capture_default_str();
   CLI::Option* lns_flag =
       app.add_flag("--lns", lifelong.lns,
@@ -125,10 +128,14 @@ int main(int argc, char** argv) {
                  "the same run on every run and machine (timed steps of 1 s do about 24,000 rounds here at 400 agents)")
       ->check(ctsfleet::count_in(1, 1'000'000'000))
       ->needs(lns_flag);
-  app.add_flag("--keep-window,!--no-keep-window", lifelong.keep_window,
-               "experiment lifelong, with --lns: start each step's LNS from the last step's improved window, one "
-               "step on (agents with a new errand planned again), when it costs less than the best rollout")
-      ->capture_default_str();
+  app.add_option("--keep-window", lifelong.keep_window,
+                 "experiment lifelong, with --lns: start each step's LNS from the last step's improved window, one "
+                 "step on (agents with a new errand planned again), when it costs less than the best rollout; on, "
+                 "off or auto (on in the rotation model while agents are at most a quarter of the free cells and at "
+                 "most 4,000)")
+      ->check(CLI::IsMember({"auto", "on", "off"}))
+      ->capture_default_str()
+      ->needs(lns_flag);
   app.add_option("--hold-plans", lifelong.hold_plans,
                  "experiment lifelong, rotation model: when the cells PIBT chose are carried out as a plan, turning "
                  "and moving agents while the others wait, until every agent stands on its own: never, half (in "

@@ -64,11 +64,12 @@ int run_lifelong_experiment(const LifelongExperimentSettings& settings) {
       actions == planner_core::ActionModel::kRotate
           ? ", plans held " + settings.hold_plans + (settings.keep_targets ? ", targets kept" : ", targets not kept")
           : "";
+  const std::string rollout_steps = settings.rollout_steps > 0 ? std::to_string(settings.rollout_steps) : "auto";
   std::printf(
-      "lifelong: %d steps, %.3f s per step, actions %s%s, planner pibt, guidance %s, %d rollouts of %d steps (seed "
+      "lifelong: %d steps, %.3f s per step, actions %s%s, planner pibt, guidance %s, %d rollouts of %s steps (seed "
       "%u)\n",
       settings.steps, settings.step_time_s, settings.actions.c_str(), turning.c_str(), settings.guidance.c_str(),
-      settings.rollouts, settings.rollout_steps, settings.seed);
+      settings.rollouts, rollout_steps.c_str(), settings.seed);
   if (settings.lns_rounds > 0) {
     std::printf("work counted, not timed: every step %d rollouts and %lld LNS rounds, and taken however long it took\n",
                 settings.rollouts, static_cast<long long>(settings.lns_rounds));
@@ -84,9 +85,11 @@ int run_lifelong_experiment(const LifelongExperimentSettings& settings) {
     pibt.stay_cost =
         settings.stay_cost > 0 ? settings.stay_cost : planner_core::lifelong_stay_cost(pibt.guidance, settings.lns, actions);
     pibt.rollouts = settings.rollouts;
-    pibt.rollout_steps = settings.rollout_steps;
+    const planner_core::LifelongWindow window =
+        planner_core::lifelong_window(*problem.graph, problem.starts.size(), actions);
+    pibt.rollout_steps = settings.rollout_steps > 0 ? settings.rollout_steps : settings.lns ? window.steps : 3;
     pibt.lns = settings.lns;
-    pibt.keep_window = settings.keep_window;
+    pibt.keep_window = settings.lns && (settings.keep_window == "auto" ? window.kept : settings.keep_window == "on");
     pibt.lns_rounds = settings.lns_rounds;
     pibt.actions = actions;
     pibt.hold_plans =
@@ -125,7 +128,10 @@ int run_lifelong_experiment(const LifelongExperimentSettings& settings) {
       std::printf("  window LNS: %lld iterations, %lld improvements, window cost %lld -> %lld\n",
                   static_cast<long long>(lns.iterations), static_cast<long long>(lns.improvements),
                   static_cast<long long>(lns.cost_before), static_cast<long long>(lns.cost_after));
-      if (settings.keep_window) {
+      std::printf("  windows of %d steps%s, %s%s\n", pibt.rollout_steps, settings.rollout_steps > 0 ? "" : " (auto)",
+                  pibt.keep_window ? "kept from step to step" : "planned afresh each step",
+                  settings.keep_window == "auto" ? " (auto)" : "");
+      if (pibt.keep_window) {
         std::printf("  last window carried on at %lld of %lld steps, and taken at %lld\n",
                     static_cast<long long>(planner.windows_carried_on()), static_cast<long long>(settings.steps),
                     static_cast<long long>(planner.windows_kept()));
@@ -156,7 +162,7 @@ int run_lifelong_experiment(const LifelongExperimentSettings& settings) {
       planner_core::write_lorr_output(output.string(), problem, result, log);
       std::printf("  wrote %s\n", output.c_str());
     }
-    table << name << "," << problem.starts.size() << "," << settings.steps << "," << settings.step_time_s << ",pibt-" << (actions == planner_core::ActionModel::kRotate ? "rotate-" : "") << planner_core::to_string(pibt.guidance) << (pibt.stay_cost != 1 ? "-stay" + std::to_string(pibt.stay_cost) : "") << "-r" << settings.rollouts << (settings.lns ? "-lns" : "") << (settings.lns && settings.keep_window ? "-window-kept" : "") << turning_name << (pibt.park_dead_end_errands ? "-park" : "") << ","
+    table << name << "," << problem.starts.size() << "," << settings.steps << "," << settings.step_time_s << ",pibt-" << (actions == planner_core::ActionModel::kRotate ? "rotate-" : "") << planner_core::to_string(pibt.guidance) << (pibt.stay_cost != 1 ? "-stay" + std::to_string(pibt.stay_cost) : "") << "-r" << settings.rollouts << (settings.lns ? "-lns" : "") << (pibt.keep_window ? "-window-kept" : "") << turning_name << (pibt.park_dead_end_errands ? "-park" : "") << ","
           << result.errands_finished << "," << result.tasks_finished << "," << per << ","
           << quantile(result.step_ms, 0.5) << "," << quantile(result.step_ms, 0.99) << ","
           << quantile(result.step_ms, 1.0) << "," << result.steps_over_budget << "," << result.invalid_steps << ","

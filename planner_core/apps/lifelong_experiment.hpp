@@ -23,9 +23,9 @@ struct LifelongExperimentSettings {
   int stay_cost = 0;                  // PibtLifelongSettings::stay_cost; 0: lifelong_stay_cost
   std::string actions = "move4";      // planner_core/action_model.hpp
   int rollouts = 128;                 // PibtLifelongSettings::rollouts
-  int rollout_steps = 3;              // PibtLifelongSettings::rollout_steps
+  int rollout_steps = 0;              // PibtLifelongSettings::rollout_steps; 0: 3, or lifelong_window with lns
   bool lns = false;                   // PibtLifelongSettings::lns
-  bool keep_window = false;           // PibtLifelongSettings::keep_window (with --lns)
+  std::string keep_window = "auto";   // PibtLifelongSettings::keep_window (with lns): on, off or auto (lifelong_window)
   int64_t lns_rounds = 0;             // PibtLifelongSettings::lns_rounds; set, late steps are taken too
   std::string hold_plans = "auto";    // PibtLifelongSettings::hold_plans (rotation model); auto: lifelong_plan_holding
   bool keep_targets = true;           // PibtLifelongSettings::keep_targets (rotation model)

@@ -32,11 +32,24 @@ std::string to_string(PlanHolding holding) {
   return "?";
 }
 
+namespace {
+// At most a quarter of the free cells: shortest paths and long kept windows pay.
+bool agents_are_few(const Graph& graph, size_t agents) {
+  return agents * 4 <= static_cast<size_t>(graph.vertex_count());
+}
+}  // namespace
+
 Guidance lifelong_guidance(const Graph& graph, size_t agents, bool lns, ActionModel actions) {
-  const bool few = agents * 4 <= static_cast<size_t>(graph.vertex_count());
-  if (lns && few) return Guidance::kNone;
+  if (lns && agents_are_few(graph, agents)) return Guidance::kNone;
   const bool ring_covers_the_map = std::min(graph.width(), graph.height()) <= 3 * GuidedDistances::kRingDepth;
   return lns && actions == ActionModel::kRotate && ring_covers_the_map ? Guidance::kRing : Guidance::kLanes;
+}
+
+LifelongWindow lifelong_window(const Graph& graph, size_t agents, ActionModel actions) {
+  const bool long_windows_pay =
+      actions == ActionModel::kRotate && agents_are_few(graph, agents) && agents <= kMostAgentsForLongWindows;
+  if (long_windows_pay) return {.steps = 16, .kept = true};
+  return {.steps = 8, .kept = false};
 }
 
 bool lifelong_parks_dead_ends(const Graph& graph, size_t agents) {

@@ -355,6 +355,35 @@ TEST(Lifelong, WithLanesEightHundredAgentsStepValidlyAndTheSameSeedRunsTheSame) 
   EXPECT_EQ(a.errands_per_step, b.errands_per_step);
 }
 
+// "auto" window for window LNS: 16 steps kept from step to step in the rotation model while agents
+// number at most a quarter of the free cells (random-32-32-20 has 819), else 8 planned afresh.
+TEST(Lifelong, AutoWindowIsLongAndKeptOnlyWhileTurningAgentsAreFew) {
+  const LorrProblem problem = load_lorr_problem(kRandom + "random_100.json");
+  const Graph& graph = *problem.graph;
+  ASSERT_EQ(graph.vertex_count(), 819);
+  for (size_t agents : {1, 100, 204}) {
+    const LifelongWindow turning = lifelong_window(graph, agents, ActionModel::kRotate);
+    EXPECT_EQ(turning.steps, 16) << agents;
+    EXPECT_TRUE(turning.kept) << agents;
+    const LifelongWindow four_way = lifelong_window(graph, agents, ActionModel::kMove4);
+    EXPECT_EQ(four_way.steps, 8) << agents;
+    EXPECT_FALSE(four_way.kept) << agents;
+  }
+  for (size_t agents : {205, 400, 800}) {
+    for (ActionModel actions : {ActionModel::kMove4, ActionModel::kRotate}) {
+      EXPECT_EQ(lifelong_window(graph, agents, actions).steps, 8) << agents;
+      EXPECT_FALSE(lifelong_window(graph, agents, actions).kept) << agents;
+    }
+  }
+  // On a large map, few but too many for LNS to reach in a step: 8 steps planned afresh.
+  const LorrProblem large = load_lorr_problem(std::string(CTSFLEET_BENCHMARKS_DIR) +
+                                              "/lorr-2023/warehouse.domain/warehouse_large_8000.json");
+  ASSERT_EQ(large.graph->vertex_count(), 38'586);
+  EXPECT_TRUE(lifelong_window(*large.graph, kMostAgentsForLongWindows, ActionModel::kRotate).kept);
+  EXPECT_EQ(lifelong_window(*large.graph, kMostAgentsForLongWindows + 1, ActionModel::kRotate).steps, 8);
+  EXPECT_FALSE(lifelong_window(*large.graph, 8000, ActionModel::kRotate).kept);
+}
+
 // "auto" guidance: shortest paths only with window LNS while agents number at most a quarter of
 // the free cells (random-32-32-20 has 819), else lanes, with a ring road in the rotation model
 // with LNS on small maps.

@@ -127,9 +127,7 @@ struct PibtLifelongSettings {
   bool lns = false;
   // Window LNS: the window improved at the last step, one step on and with the agents that have a
   // new errand planned again, is improved instead of the best rollout when it costs less (the
-  // 2023 winner keeps its plan from step to step likewise). Off: with the work counted
-  // (lns_rounds) it gained at random_100-600 on every seed tried (random_400 +1.5% over 4), but
-  // timed runs at random_400 lost 2-7% (docs/RESULTS.md), so whether it pays is still open.
+  // 2023 winner keeps its plan from step to step likewise). lifelong_window says where it pays.
   bool keep_window = false;
   // Window LNS: 0, the rollouts and LNS rounds that fit in the step's budget. Set, every step runs
   // all `rollouts` rollouts and exactly this many LNS rounds (fewer only once no agent is late),
@@ -182,6 +180,20 @@ bool lifelong_parks_dead_ends(const Graph& graph, size_t agents);
 // 4,453 against 4,337. Less crowded, holding always costs (random_400 1,139 against 1,454).
 PlanHolding lifelong_plan_holding(const Graph& graph, size_t agents);
 int lifelong_stay_cost(Guidance guidance, bool lns, ActionModel actions);
+// Window LNS's window when asked for "auto" (PibtLifelongSettings::rollout_steps and keep_window,
+// with lns): in the rotation model where agents are few (at most a quarter of the free cells, where
+// lifelong_guidance takes shortest paths, and at most kMostAgentsForLongWindows), 16 steps, carried
+// on from step to step; elsewhere 8 steps, planned afresh each step. Rotation model, 1 s steps
+// (docs/RESULTS.md): random_100 1,583 errands on the mean of seeds 0-3 against 1,557 (+1.7%, every
+// seed), random_200 2,734 against 2,636 (+3.7%, seeds 0-1, 500 steps); warehouse_large 2,000 and
+// 4,000 agents +2.6% and +3.8% (200 steps), but 8,000 -2.6%: there LNS reached a third of the agents
+// a step, and at random_400 longer or kept windows lost in timed runs.
+constexpr size_t kMostAgentsForLongWindows = 4000;
+struct LifelongWindow {
+  int steps;
+  bool kept;
+};
+LifelongWindow lifelong_window(const Graph& graph, size_t agents, ActionModel actions);
 
 class PibtLifelong : public LifelongPlanner {
  public:
