@@ -131,8 +131,8 @@ int main(int argc, char** argv) {
   app.add_option("--keep-window", lifelong.keep_window,
                  "experiment lifelong, with --lns: start each step's LNS from the last step's improved window, one "
                  "step on (agents with a new errand planned again), when it costs less than the best rollout; on, "
-                 "off or auto (on in the rotation model while agents are at most a quarter of the free cells and at "
-                 "most 4,000)")
+                 "off or auto (on in the rotation model, unless agents are at most a quarter of the free cells but "
+                 "more than 4,000)")
       ->check(CLI::IsMember({"auto", "on", "off"}))
       ->capture_default_str()
       ->needs(lns_flag);

@@ -46,9 +46,9 @@ Guidance lifelong_guidance(const Graph& graph, size_t agents, bool lns, ActionMo
 }
 
 LifelongWindow lifelong_window(const Graph& graph, size_t agents, ActionModel actions) {
-  const bool long_windows_pay =
-      actions == ActionModel::kRotate && agents_are_few(graph, agents) && agents <= kMostAgentsForLongWindows;
-  if (long_windows_pay) return {.steps = 16, .kept = true};
+  if (actions != ActionModel::kRotate) return {.steps = 8, .kept = false};
+  if (!agents_are_few(graph, agents)) return {.steps = 8, .kept = true};
+  if (agents <= kMostAgentsForLongWindows) return {.steps = 16, .kept = true};
   return {.steps = 8, .kept = false};
 }
 

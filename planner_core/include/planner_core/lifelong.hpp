@@ -181,13 +181,14 @@ bool lifelong_parks_dead_ends(const Graph& graph, size_t agents);
 PlanHolding lifelong_plan_holding(const Graph& graph, size_t agents);
 int lifelong_stay_cost(Guidance guidance, bool lns, ActionModel actions);
 // Window LNS's window when asked for "auto" (PibtLifelongSettings::rollout_steps and keep_window,
-// with lns): in the rotation model where agents are few (at most a quarter of the free cells, where
-// lifelong_guidance takes shortest paths, and at most kMostAgentsForLongWindows), 16 steps, carried
-// on from step to step; elsewhere 8 steps, planned afresh each step. Rotation model, 1 s steps
-// (docs/RESULTS.md): random_100 1,583 errands on the mean of seeds 0-3 against 1,557 (+1.7%, every
-// seed), random_200 2,734 against 2,636 (+3.7%, seeds 0-1, 500 steps); warehouse_large 2,000 and
-// 4,000 agents +2.6% and +3.8% (200 steps), but 8,000 -2.6%: there LNS reached a third of the agents
-// a step, and at random_400 longer or kept windows lost in timed runs.
+// with lns). In the rotation model: where agents are few (at most a quarter of the free cells, where
+// lifelong_guidance takes shortest paths) 16 steps, else 8, carried on from step to step; but 8
+// planned afresh each step for more than kMostAgentsForLongWindows few agents. In four moves 8
+// afresh (not measured kept). Rotation model, 1 s steps (docs/RESULTS.md): 16 kept against 8
+// afresh, random_100 1,583 errands on the mean of seeds 0-3 against 1,557 (+1.7%, every seed),
+// random_200 +3.7% (seeds 0-1), warehouse_small_200 +10.6%; warehouse_large 2,000 and 4,000
+// agents +2.6% and +3.8% (200 steps), but 8,000 -2.6%: there LNS reached a third of the agents a
+// step. 8 kept against 8 afresh, random_400 2,882 against 2,826 (+2.0%, seeds 0-3, 3 of 4 gain).
 constexpr size_t kMostAgentsForLongWindows = 4000;
 struct LifelongWindow {
   int steps;
