@@ -6,6 +6,15 @@ bin="$1"; data="$2"; python="${3:-python3}"
 work="$(mktemp -d)"; trap 'rm -rf "$work"' EXIT
 ctsval="$data/../../../shared/tools/ctsval.py"; [ -f "$ctsval" ] || ctsval="$data/ctsval.py"
 
+# expect_input_error NAMED COMMAND...: COMMAND exits 2 and its error names NAMED (an option).
+expect_input_error() {
+  local named="$1" code=0
+  shift
+  "$@" > /dev/null 2> "$work/err" || code=$?
+  [ "$code" -eq 2 ] || { echo "$*: expected exit 2, got $code"; exit 1; }
+  grep -q -- "$named" "$work/err"
+}
+
 "$bin/ctsfleet-gen" --map "$data/maps/random-32-32-20.map" -N 8 -M 16 --seed 5 -o "$work/gen.yaml"
 "$bin/ctsfleet-solve" -i "$work/gen.yaml" -t 5 -o "$work/sol.txt" --svg "$work/sol.svg" | tee "$work/summary"
 grep -q "solved=1" "$work/summary"
@@ -54,12 +63,8 @@ for args in "-t -1" "-t nan" "--experiment mapf-scale -t inf" "--solver bogus"; 
   set -e
   [ "$code" -eq 2 ] || { echo "ctsfleet-bench $args: expected exit 2, got $code"; exit 1; }
 done
-set +e
-"$bin/ctsfleet-solve" -i "$work/gen.yaml" --lns-neighbourhood 0 -o "$work/never.txt" 2> "$work/err"
-code=$?
-set -e
-[ "$code" -eq 2 ] || { echo "--lns-neighbourhood 0: expected exit 2, got $code"; exit 1; }
-grep -q -- "--lns-neighbourhood" "$work/err"
+expect_input_error --lns-neighbourhood \
+  "$bin/ctsfleet-solve" -i "$work/gen.yaml" --lns-neighbourhood 0 -o "$work/never.txt"
 
 # The scale experiment on a one-instance suite (200 agents: far from optimal, so the solve runs
 # to its 120 s limit unless stopped): SIGTERM while ctsfleet-solve runs stops both and
@@ -108,13 +113,8 @@ grep -q "^random_50,50,120,1,pibt-rotate-lanes-r4-hold-always-keep-park," "$work
 "$python" "$(dirname "$0")/lorr_replay.py" "$work/lifelong-hold/random_50.lorr.json" "$map"
 for bad in "--hold-plans sometimes" "--park-dead-ends yes" "--keep-window sometimes --lns" "--keep-window on" \
   "--rollout-steps -1"; do
-  set +e
   # shellcheck disable=SC2086  # the option and its value are two words
-  "$bin/ctsfleet-bench" --experiment lifelong --problem "$lorr" --actions rotate $bad > /dev/null 2> "$work/err"
-  code=$?
-  set -e
-  [ "$code" -eq 2 ] || { echo "$bad: expected exit 2, got $code"; exit 1; }
-  grep -q -- "${bad%% *}" "$work/err"
+  expect_input_error "${bad%% *}" "$bin/ctsfleet-bench" --experiment lifelong --problem "$lorr" --actions rotate $bad
 done
 # And with window LNS: its steps replay as validly. With 50 agents on 819 free cells the window
 # (auto) is 16 steps, kept from step to step.
@@ -125,12 +125,7 @@ grep -q "^  windows of 16 steps (auto), kept from step to step (auto)" "$work/li
 grep -Eq "^  last window carried on at [1-9][0-9]* of 60 steps" "$work/lifelong-lns.out"
 # With LNS and 50 agents on 819 free cells, "auto" guidance (the default) takes shortest paths.
 grep -q "guidance none (auto): shortest paths; a wait or turn costs 1" "$work/lifelong-lns.out"
-set +e
-"$bin/ctsfleet-bench" --experiment lifelong --problem "$lorr" --stay-cost 9 > /dev/null 2> "$work/err"
-code=$?
-set -e
-[ "$code" -eq 2 ] || { echo "--stay-cost 9: expected exit 2, got $code"; exit 1; }
-grep -q -- "--stay-cost" "$work/err"
+expect_input_error --stay-cost "$bin/ctsfleet-bench" --experiment lifelong --problem "$lorr" --stay-cost 9
 grep -q "^random_50,50,60,0.2,pibt-rotate-none-r128-lns-window-kept-hold-half-keep," "$work/lifelong-lns/lifelong.csv"
 "$python" "$(dirname "$0")/lorr_replay.py" "$work/lifelong-lns/random_50.lorr.json" "$map"
 # The ring road (auto only when agents are more, asked for here): costs in tenths, waits at 3;
@@ -162,23 +157,8 @@ assert short["actualPaths"] == ample["actualPaths"], "the counted runs moved the
 assert short["numTaskFinished"] == ample["numTaskFinished"] > 0
 PY
 cmp "$work/lifelong-counted-short/lifelong_steps.csv" "$work/lifelong-counted-ample/lifelong_steps.csv"
-set +e
-"$bin/ctsfleet-bench" --experiment lifelong --problem "$lorr" --lns-rounds 100 > /dev/null 2> "$work/err"
-code=$?
-set -e
-[ "$code" -eq 2 ] || { echo "--lns-rounds without --lns: expected exit 2, got $code"; exit 1; }
-grep -q -- "--lns-rounds" "$work/err"
-set +e
-"$bin/ctsfleet-bench" --experiment lifelong --problem "$lorr" --actions diagonal > /dev/null 2> "$work/err"
-code=$?
-set -e
-[ "$code" -eq 2 ] || { echo "--actions diagonal: expected exit 2, got $code"; exit 1; }
-grep -q -- "--actions" "$work/err"
-set +e
-"$bin/ctsfleet-bench" --experiment lifelong --problem "$lorr" --guidance highway > /dev/null 2> "$work/err"
-code=$?
-set -e
-[ "$code" -eq 2 ] || { echo "--guidance highway: expected exit 2, got $code"; exit 1; }
-grep -q -- "--guidance" "$work/err"
+expect_input_error --lns-rounds "$bin/ctsfleet-bench" --experiment lifelong --problem "$lorr" --lns-rounds 100
+expect_input_error --actions "$bin/ctsfleet-bench" --experiment lifelong --problem "$lorr" --actions diagonal
+expect_input_error --guidance "$bin/ctsfleet-bench" --experiment lifelong --problem "$lorr" --guidance highway
 
 echo "cli end-to-end: all checks passed"
