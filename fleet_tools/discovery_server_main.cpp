@@ -84,7 +84,12 @@ int main(int argc, char** argv) {
     }
     coordinator::DiscoveryStateKeeper state(std::filesystem::current_path());  // one server per state
     spdlog::info("state kept in {}", std::filesystem::current_path().string());
-    state.restore_cut_short_files();  // a previous ctsfleet-discovery may have died with its server
+    // A previous ctsfleet-discovery may have died with its server.
+    const auto prepare_state = [&] {
+      state.restore_cut_short_files();
+      state.forget_what_the_server_received();
+    };
+    prepare_state();
     spdlog::warn("a discovery server is open (Fast DDS 2.9.1 cannot secure one): use it for open fleets only");
     config.on_event = [](const std::string& event) { spdlog::info("{}", event); };
     // Fast DDS 2.9.1's server can abort on an assertion of its own when many programs join at
@@ -92,7 +97,7 @@ int main(int argc, char** argv) {
     // the file short), and the programs find it again.
     coordinator::SupervisorHooks hooks;
     hooks.every_second = [&] { state.keep_complete_copies(); };
-    hooks.before_restart = [&] { state.restore_cut_short_files(); };
+    hooks.before_restart = prepare_state;
     return coordinator::run_restarting_on_crash("the discovery server", [&] { return serve(config); }, restarts,
                                                 hooks);
   });

@@ -51,6 +51,21 @@ bool copy_if_complete(const fs::path& from, const fs::path& to) {
   return !error;
 }
 
+// What the server's readers recorded as received: server-<prefix>_reader.db (Fast DDS's SQLite
+// persistence of its builtin readers).
+std::vector<fs::path> reader_records(const fs::path& dir) {
+  std::vector<fs::path> files;
+  std::error_code error;
+  for (const auto& entry : fs::directory_iterator(dir, error)) {
+    const std::string name = entry.path().filename().string();
+    const std::string suffix = "_reader.db";
+    const bool record = name.rfind("server-", 0) == 0 && name.size() > suffix.size() &&
+                        name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0;
+    if (record && entry.is_regular_file(error)) files.push_back(entry.path());
+  }
+  return files;
+}
+
 }  // namespace
 
 fs::path complete_copy_of(const fs::path& state_file) { return state_file.string() + ".complete"; }
@@ -107,6 +122,20 @@ int DiscoveryStateKeeper::restore_cut_short_files() {
                  file.string());
   }
   return restored;
+}
+
+int DiscoveryStateKeeper::forget_what_the_server_received() {
+  int deleted = 0;
+  for (const fs::path& file : reader_records(dir_)) {
+    std::error_code error;
+    if (fs::remove(file, error)) {
+      ++deleted;
+    } else if (error) {
+      spdlog::warn("cannot delete {} ({}): the server may miss discovery data its state file lacks", file.string(),
+                   error.message());
+    }
+  }
+  return deleted;
 }
 
 }  // namespace coordinator

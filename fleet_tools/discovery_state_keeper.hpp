@@ -6,6 +6,13 @@
 // seen its sequence numbers already): a robot that starts afterwards is never found. The keeper
 // copies every complete version of the file aside and puts the last complete one back before the
 // server is started again.
+//
+// That copy can be a second old, and the server also keeps, in server-<prefix>_reader.db, which
+// discovery data of each program it has received. Started on both, it would never ask again for
+// what arrived after the copy was taken (a coordinator that joined, a robot's command writer): a
+// robot restarted later could not match it. So before every start the keeper deletes that file;
+// the server then asks every program it hears for all it has, and learns the last second again.
+// Its writers' file (_writer.db) stays: their sequence numbers must go on from where they were.
 #pragma once
 
 #include <filesystem>
@@ -31,6 +38,11 @@ class DiscoveryStateKeeper {
   // Before a (re)start: a state file that is not complete JSON is replaced by its last complete
   // copy, and that is logged. Returns how many files were restored.
   int restore_cut_short_files();
+
+  // Before a (re)start: deletes what the server's readers recorded as received (see above), so
+  // that it learns from every program again whatever its state file lacks. Returns how many
+  // files were deleted.
+  int forget_what_the_server_received();
 
  private:
   struct Seen {

@@ -2,6 +2,7 @@
 """Fast DDS fleets that discover through a discovery server (ctsfleet-discovery): a mission, the
 server killed and restarted mid-mission while a robot restarts, and every way of giving the
 options wrong. Real processes on loopback, each test on its own domain (160-169)."""
+import json
 import os
 import re
 import signal
@@ -69,6 +70,15 @@ def children_of(pid):
         if entry.isdigit() and int(fields[1]) == pid:
             children.append(int(entry))
     return children
+
+
+def participants_in(state_file):
+    """How many participants a discovery server's state file holds (0 while it is not complete JSON)."""
+    try:
+        with open(state_file) as f:
+            return len(json.load(f)["participants"])
+    except (OSError, ValueError, KeyError):
+        return 0
 
 
 def run(args, timeout=60, cwd=None):
@@ -149,22 +159,32 @@ class DiscoveryTest(unittest.TestCase):
 
     def test_a_server_that_crashes_starts_again_and_robots_find_it(self):
         """The server process aborts mid-mission (as Fast DDS 2.9.1's does on an assertion of its
-        own) at the worst moment: while it rewrites its state file, which it does in place. The file
-        is cut short; ctsfleet-discovery puts its last complete copy back and starts the server
-        again, a robot restarted afterwards is found through it, and the mission completes with no
-        collision. Stopping ctsfleet-discovery leaves no server."""
+        own) at the worst moment: while it rewrites its state file, which it does in place, and
+        after the coordinator joined, which the last complete copy of the file does not hold. The
+        file is cut short; ctsfleet-discovery puts its last complete copy back and starts the server
+        again, which learns the coordinator again; a robot restarted afterwards is found through it,
+        and the mission completes with no collision. Stopping ctsfleet-discovery leaves no server."""
         supervisor = self.fleet.discovery_server()
         self.fleet.monitor()
         self.agents()
-        self.fleet.coordinator()
         log, server_log = self.fleet.log("coordinator"), self.fleet.log("discovery")
-        wait_for(lambda: "plan epoch 1" in read(log), 120, "the first plan")
         state_dir = os.path.join(self.fleet.dir, "discovery-state")
+        wait_for(lambda: read(server_log).count("participant joined") >= 9, 60, "the robots and the monitor joined")
         state_file = [os.path.join(state_dir, name) for name in os.listdir(state_dir)
                       if name.startswith("server-") and name.endswith(".json") and "_queue" not in name]
         self.assertEqual(len(state_file), 1, os.listdir(state_dir))
         state_file = state_file[0]
-        wait_for(lambda: os.path.exists(state_file + ".complete"), 30, "a complete copy of the server's state kept")
+        joined = read(server_log).count("participant joined")
+        wait_for(lambda: participants_in(state_file + ".complete") >= joined, 30,
+                 "a complete copy of the server's state with the robots and the monitor kept")
+        # The copy is a second old at worst; here, much older: ctsfleet-discovery is stopped (its
+        # server goes on) while the coordinator joins, so the copy the server restarts on lacks
+        # the coordinator and every endpoint it made.
+        os.kill(supervisor.pid, signal.SIGSTOP)
+        copied = participants_in(state_file + ".complete")
+        self.fleet.coordinator()
+        wait_for(lambda: "plan epoch 1" in read(log), 120, "the first plan")
+        self.assertEqual(participants_in(state_file + ".complete"), copied, "the copy should lack the coordinator")
         first_server = children_of(supervisor.pid)
         self.assertEqual(len(first_server), 1, f"one server process expected under ctsfleet-discovery: {first_server}")
         # Caught between truncating its state file and writing it again.
@@ -173,6 +193,7 @@ class DiscoveryTest(unittest.TestCase):
         os.truncate(state_file, size // 2)
         os.kill(first_server[0], signal.SIGABRT)
         os.kill(first_server[0], signal.SIGCONT)
+        os.kill(supervisor.pid, signal.SIGCONT)
         wait_for(lambda: read(server_log).count("listening on") == 2, 30, "the server started again")
         self.assertIn("the discovery server crashed (Aborted, signal 6): starting it again", read(server_log))
         self.assertIn("was cut short (the server died while writing it): its last complete copy is back", read(server_log))

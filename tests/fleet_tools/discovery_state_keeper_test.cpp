@@ -71,6 +71,20 @@ TEST_F(DiscoveryStateKeeperTest, WithoutACompleteCopyTheFileCutShortStays) {
   EXPECT_EQ(read(state_file()), "{\"participants\": {");
 }
 
+TEST_F(DiscoveryStateKeeperTest, WhatTheServerReceivedIsForgottenWhatItSentIsKept) {
+  coordinator::DiscoveryStateKeeper keeper(dir_);
+  write(kSecond);
+  std::ofstream(dir_ / "server-44-53-00-5f_reader.db") << "acknowledged up to 42";
+  std::ofstream(dir_ / "server-44-53-00-5f_writer.db") << "sent up to 17";
+  std::ofstream(dir_ / "notes_reader.db") << "not the server's";
+  EXPECT_EQ(keeper.forget_what_the_server_received(), 1);
+  EXPECT_FALSE(fs::exists(dir_ / "server-44-53-00-5f_reader.db"));
+  EXPECT_EQ(read(dir_ / "server-44-53-00-5f_writer.db"), "sent up to 17");
+  EXPECT_EQ(read(dir_ / "notes_reader.db"), "not the server's");
+  EXPECT_EQ(read(state_file()), kSecond);
+  EXPECT_EQ(keeper.forget_what_the_server_received(), 0);  // nothing left to forget: no error
+}
+
 TEST_F(DiscoveryStateKeeperTest, OneStateDirectoryServesOneServerAtATime) {
   auto first = std::make_unique<coordinator::DiscoveryStateKeeper>(dir_);
   try {
