@@ -181,19 +181,21 @@ class DiscoveryTest(unittest.TestCase):
         # server goes on) while the coordinator joins, so the copy the server restarts on lacks
         # the coordinator and every endpoint it made.
         os.kill(supervisor.pid, signal.SIGSTOP)
-        copied = participants_in(state_file + ".complete")
-        self.fleet.coordinator()
-        wait_for(lambda: "plan epoch 1" in read(log), 120, "the first plan")
-        self.assertEqual(participants_in(state_file + ".complete"), copied, "the copy should lack the coordinator")
-        first_server = children_of(supervisor.pid)
-        self.assertEqual(len(first_server), 1, f"one server process expected under ctsfleet-discovery: {first_server}")
-        # Caught between truncating its state file and writing it again.
-        os.kill(first_server[0], signal.SIGSTOP)
-        size = os.path.getsize(state_file)
-        os.truncate(state_file, size // 2)
-        os.kill(first_server[0], signal.SIGABRT)
-        os.kill(first_server[0], signal.SIGCONT)
-        os.kill(supervisor.pid, signal.SIGCONT)
+        try:  # continued whatever happens: stopped, it could not stop its server when the test ends
+            copied = participants_in(state_file + ".complete")
+            self.fleet.coordinator()
+            wait_for(lambda: "plan epoch 1" in read(log), 120, "the first plan")
+            self.assertEqual(participants_in(state_file + ".complete"), copied, "the copy should lack the coordinator")
+            first_server = children_of(supervisor.pid)
+            self.assertEqual(len(first_server), 1, f"one server process expected under ctsfleet-discovery: {first_server}")
+            # Caught between truncating its state file and writing it again.
+            os.kill(first_server[0], signal.SIGSTOP)
+            size = os.path.getsize(state_file)
+            os.truncate(state_file, size // 2)
+            os.kill(first_server[0], signal.SIGABRT)
+            os.kill(first_server[0], signal.SIGCONT)
+        finally:
+            os.kill(supervisor.pid, signal.SIGCONT)
         wait_for(lambda: read(server_log).count("listening on") == 2, 30, "the server started again")
         self.assertIn("the discovery server crashed (Aborted, signal 6): starting it again", read(server_log))
         self.assertIn("was cut short (the server died while writing it): its last complete copy is back", read(server_log))
