@@ -19,16 +19,23 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// The server's state files: server-<prefix>.json, not its (unused) queue file nor our copies.
-std::vector<fs::path> state_files(const fs::path& dir) {
+// The server's files in `dir` (server-<prefix>...) whose names end with `suffix`.
+std::vector<fs::path> server_files_ending(const fs::path& dir, const std::string& suffix) {
   std::vector<fs::path> files;
   std::error_code error;
   for (const auto& entry : fs::directory_iterator(dir, error)) {
     const std::string name = entry.path().filename().string();
-    const bool state = name.rfind("server-", 0) == 0 && entry.path().extension() == ".json" &&
-                       name.find("_queue") == std::string::npos;
-    if (state && entry.is_regular_file(error)) files.push_back(entry.path());
+    if (name.starts_with("server-") && name.ends_with(suffix) && entry.is_regular_file(error)) {
+      files.push_back(entry.path());
+    }
   }
+  return files;
+}
+
+// The server's state files: server-<prefix>.json, not its (unused) queue file nor our copies.
+std::vector<fs::path> state_files(const fs::path& dir) {
+  std::vector<fs::path> files = server_files_ending(dir, ".json");
+  std::erase_if(files, [](const fs::path& file) { return file.filename().string().ends_with("_queue.json"); });
   return files;
 }
 
@@ -49,21 +56,6 @@ bool copy_if_complete(const fs::path& from, const fs::path& to) {
   fs::rename(partial, to, error);
   if (error) spdlog::warn("cannot write {}: {}", to.string(), error.message());
   return !error;
-}
-
-// What the server's readers recorded as received: server-<prefix>_reader.db (Fast DDS's SQLite
-// persistence of its builtin readers).
-std::vector<fs::path> reader_records(const fs::path& dir) {
-  std::vector<fs::path> files;
-  std::error_code error;
-  for (const auto& entry : fs::directory_iterator(dir, error)) {
-    const std::string name = entry.path().filename().string();
-    const std::string suffix = "_reader.db";
-    const bool record = name.rfind("server-", 0) == 0 && name.size() > suffix.size() &&
-                        name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0;
-    if (record && entry.is_regular_file(error)) files.push_back(entry.path());
-  }
-  return files;
 }
 
 }  // namespace
@@ -126,7 +118,8 @@ int DiscoveryStateKeeper::restore_cut_short_files() {
 
 int DiscoveryStateKeeper::forget_what_the_server_received() {
   int deleted = 0;
-  for (const fs::path& file : reader_records(dir_)) {
+  // server-<prefix>_reader.db: Fast DDS's SQLite persistence of the server's builtin readers.
+  for (const fs::path& file : server_files_ending(dir_, "_reader.db")) {
     std::error_code error;
     if (fs::remove(file, error)) {
       ++deleted;
