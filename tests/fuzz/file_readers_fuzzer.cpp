@@ -26,6 +26,7 @@
 #include <iostream>
 #include <map>
 #include <string>
+#include <system_error>
 
 #include "coordinator/fleet_config.hpp"
 #include "coordinator/mission_journal.hpp"
@@ -83,6 +84,12 @@ const Reader* chosen = nullptr;
 
 extern "C" int LLVMFuzzerInitialize(int*, char***) {
   fs::create_directories(work_dir() / "default");
+  // A run that ends (libFuzzer exits when its runs or time are done) leaves no directory in /tmp; a
+  // crash skips this, and the directory stays beside the input libFuzzer saved.
+  std::atexit([] {
+    std::error_code ignored;
+    fs::remove_all(work_dir(), ignored);
+  });
   for (const char* name : {"maze-32-32-2.map", "mission-8.yaml"}) {
     fs::copy_file(fs::path(CTSFLEET_SOURCE_DIR) / "config/default" / name, work_dir() / "default" / name,
                   fs::copy_options::overwrite_existing);
