@@ -13,6 +13,7 @@ import shutil
 import signal
 import subprocess
 import sys
+import tempfile
 import time
 import unittest
 import urllib.error
@@ -198,10 +199,9 @@ class OperationsTest(unittest.TestCase):
     def test_hostile_ids_and_texts_run_no_script_in_the_dashboard(self):
         # Whatever reaches the dashboard (a forged state, an event) is shown as text: a replayed
         # history carries markup in robot ids, an event's kind, robot and text.
-        browser = chromium_driver()
+        browser = chromium_driver(self)
         if browser is None:
             return
-        self.addCleanup(browser.quit)
         history = os.path.join(self.fleet.dir, "hostile.jsonl")
         with open(history, "w") as f:
             f.write(json.dumps({"format": "ctsfleet-history-1"}) + "\n")
@@ -319,10 +319,9 @@ class OperationsTest(unittest.TestCase):
         print(f"stopped {time.monotonic() - started:.2f} s after SIGINT")
 
     def test_dashboard_in_a_real_browser(self):
-        browser = chromium_driver()
+        browser = chromium_driver(self)
         if browser is None:
             return
-        self.addCleanup(browser.quit)
         self.start_fleet(lifelong=True)
         dashboard = self.fleet.start("dashboard", [f"{BIN}/ctsfleet-dashboard", "--domain", str(self.fleet.domain),
                                                    "--dds-config-dir", DDS_DIR, "--port", "0"])
@@ -470,9 +469,10 @@ def percentile(values, p):
     return values[min(len(values) - 1, int(len(values) * p))] if values else None
 
 
-def chromium_driver():
-    """Debian's chromium, headless, through chromedriver; None (after a loud message) when it cannot
-    be had on this machine."""
+def chromium_driver(test):
+    """Debian's chromium, headless, through chromedriver, quit when `test` ends; None (after a loud
+    message) when it cannot be had on this machine. Its temporary files (chromium leaves a folder
+    with its singleton socket behind in TMPDIR) go into a folder of their own, removed after."""
     missing = [path for path in ("/usr/bin/chromium", "/usr/bin/chromedriver") if not os.path.exists(path)]
     try:
         from selenium import webdriver
@@ -488,7 +488,12 @@ def chromium_driver():
     for argument in ("--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage",
                      "--window-size=1400,1000"):
         options.add_argument(argument)
-    return webdriver.Chrome(service=Service("/usr/bin/chromedriver"), options=options)
+    scratch = tempfile.mkdtemp(prefix="ctsfleet-chromium-")
+    test.addCleanup(shutil.rmtree, scratch, ignore_errors=True)
+    service = Service("/usr/bin/chromedriver", env=dict(os.environ, TMPDIR=scratch))
+    browser = webdriver.Chrome(service=service, options=options)
+    test.addCleanup(browser.quit)  # cleanups run last first: the browser quits, then its folder goes
+    return browser
 
 
 if __name__ == "__main__":
