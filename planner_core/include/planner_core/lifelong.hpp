@@ -184,7 +184,7 @@ int lifelong_stay_cost(Guidance guidance, bool lns, ActionModel actions);
 // with lns). In the rotation model: where agents are few (at most a quarter of the free cells, where
 // lifelong_guidance takes shortest paths) 16 steps, else 8, carried on from step to step; but 8
 // planned afresh each step for more than kMostAgentsForLongWindows few agents. In four moves 8
-// afresh (not measured kept). Rotation model, 1 s steps (docs/RESULTS.md): 16 kept against 8
+// afresh (kept: random_400 4,874 errands against 4,867, seeds 0-3, work counted). Rotation model, 1 s steps (docs/RESULTS.md): 16 kept against 8
 // afresh, random_100 1,583 errands on the mean of seeds 0-3 against 1,557 (+1.7%, every seed),
 // random_200 +3.7% (seeds 0-1), warehouse_small_200 +10.6%; warehouse_large 2,000 and 4,000
 // agents +2.6% and +3.8% (200 steps), but 8,000 -2.6%: there LNS reached a third of the agents a
