@@ -23,5 +23,8 @@ grep -q "usr/lib/$multiarch/libplanner_core.a" "$work/contents.txt" ||
 for page in ctsfleet-ca ctsfleet-plot ctsfleet-solve; do
   grep -q "usr/share/man/man1/$page.1.gz" "$work/contents.txt" || { echo "FAIL: no man page for $page" >&2; exit 1; }
 done
-lintian --fail-on error --no-tag-display-limit "$deb" | tee "$work/lintian.log" || { echo "FAIL: lintian reports errors" >&2; exit 1; }
+# lintian leaves its ELF caches (mldbm-elf-*) in TMPDIR: give it one that goes with $work.
+mkdir -p "$work/tmp"
+TMPDIR="$work/tmp" lintian --fail-on error --no-tag-display-limit "$deb" | tee "$work/lintian.log" ||
+  { echo "FAIL: lintian reports errors" >&2; exit 1; }
 echo "lintian: $(grep -c '^E:' "$work/lintian.log" || true) errors, $(grep -c '^W:' "$work/lintian.log" || true) warnings"
