@@ -153,6 +153,12 @@ int main(int argc, char** argv) {
                  "90% of the free cells)")
       ->check(CLI::IsMember({"auto", "on", "off"}))
       ->capture_default_str();
+  app.add_option("--traffic-costs", lifelong.traffic_costs,
+                 "experiment lifelong: cells crowded lately cost more in the guidance (taken more than 60% of the "
+                 "last 50 steps or so: 0.6 of a move more per 10% above, at most 2 moves; counted every 10 steps); "
+                 "on, off or auto (on with the ring road)")
+      ->check(CLI::IsMember({"auto", "on", "off"}))
+      ->capture_default_str();
   app.add_flag("--league-output", lifelong.league_output,
                "experiment lifelong: also write each run as the league's output file, <out-dir>/<problem>.lorr.json "
                "(for PlanViz; about 4 bytes per agent and step)");

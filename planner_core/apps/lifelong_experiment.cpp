@@ -98,6 +98,8 @@ int run_lifelong_experiment(const LifelongExperimentSettings& settings) {
     pibt.park_dead_end_errands = settings.park_dead_ends == "auto"
                                      ? planner_core::lifelong_parks_dead_ends(*problem.graph, problem.starts.size())
                                      : settings.park_dead_ends == "on";
+    pibt.traffic.on = settings.traffic_costs == "auto" ? planner_core::lifelong_traffic_costs(pibt.guidance)
+                                                       : settings.traffic_costs == "on";
     const std::string turning_name = actions == planner_core::ActionModel::kRotate
                                          ? "-hold-" + planner_core::to_string(pibt.hold_plans) + (settings.keep_targets ? "-keep" : "")
                                          : "";
@@ -157,12 +159,17 @@ int run_lifelong_experiment(const LifelongExperimentSettings& settings) {
       std::printf("  parked%s: %d agents at the last step, whose errand is a dead end (given up)\n",
                   settings.park_dead_ends == "auto" ? " (auto)" : "", planner.parked_agents());
     }
+    if (pibt.traffic.on) {
+      std::printf("  traffic costs%s: cells taken more than %.0f%% of the time cost up to %d moves more\n",
+                  settings.traffic_costs == "auto" ? " (auto)" : "", 100 * pibt.traffic.threshold,
+                  pibt.traffic.max_moves);
+    }
     if (settings.league_output) {
       const fs::path output = fs::path(settings.out_dir) / (name + ".lorr.json");
       planner_core::write_lorr_output(output.string(), problem, result, log);
       std::printf("  wrote %s\n", output.c_str());
     }
-    table << name << "," << problem.starts.size() << "," << settings.steps << "," << settings.step_time_s << ",pibt-" << (actions == planner_core::ActionModel::kRotate ? "rotate-" : "") << planner_core::to_string(pibt.guidance) << (pibt.stay_cost != 1 ? "-stay" + std::to_string(pibt.stay_cost) : "") << "-r" << settings.rollouts << (settings.lns ? "-lns" : "") << (pibt.keep_window ? "-window-kept" : "") << turning_name << (pibt.park_dead_end_errands ? "-park" : "") << ","
+    table << name << "," << problem.starts.size() << "," << settings.steps << "," << settings.step_time_s << ",pibt-" << (actions == planner_core::ActionModel::kRotate ? "rotate-" : "") << planner_core::to_string(pibt.guidance) << (pibt.stay_cost != 1 ? "-stay" + std::to_string(pibt.stay_cost) : "") << "-r" << settings.rollouts << (settings.lns ? "-lns" : "") << (pibt.keep_window ? "-window-kept" : "") << turning_name << (pibt.park_dead_end_errands ? "-park" : "") << (pibt.traffic.on ? "-traffic" : "") << ","
           << result.errands_finished << "," << result.tasks_finished << "," << per << ","
           << quantile(result.step_ms, 0.5) << "," << quantile(result.step_ms, 0.99) << ","
           << quantile(result.step_ms, 1.0) << "," << result.steps_over_budget << "," << result.invalid_steps << ","

@@ -65,6 +65,14 @@ std::vector<uint8_t> ring_discounts(const Graph& graph) {
   return discount;
 }
 
+int checked_traffic_moves(int moves) {
+  if (moves < 0 || moves > GuidedDistances::kMaxTrafficMoves) {
+    throw std::invalid_argument("GuidedDistances: traffic costs of at most 0.." +
+                                std::to_string(GuidedDistances::kMaxTrafficMoves) + " moves, not " + std::to_string(moves));
+  }
+  return moves;
+}
+
 int checked_stay_cost(int stay_cost) {
   if (stay_cost < 1 || stay_cost > GuidedDistances::kMaxStayCost) {
     throw std::invalid_argument("GuidedDistances: a wait's cost must be 1.." +
@@ -75,7 +83,8 @@ int checked_stay_cost(int stay_cost) {
 
 }  // namespace
 
-GuidedDistances::GuidedDistances(const Graph& graph, Guidance guidance, ActionModel actions, int stay_cost)
+GuidedDistances::GuidedDistances(const Graph& graph, Guidance guidance, ActionModel actions, int stay_cost,
+                                 int max_traffic_moves)
     : graph_(graph),
       guidance_(guidance),
       actions_(actions),
@@ -85,9 +94,25 @@ GuidedDistances::GuidedDistances(const Graph& graph, Guidance guidance, ActionMo
       stay_cost_(checked_stay_cost(stay_cost)),
       unit_(guidance == Guidance::kRing ? kRingUnit : 1),
       discount_(guidance == Guidance::kRing ? ring_discounts(graph) : std::vector<uint8_t>{}),
+      max_traffic_cost_(checked_traffic_moves(max_traffic_moves) * unit_),
       // The dearest path costs at most the dearest action per state.
       narrow_(static_cast<int64_t>(graph.vertex_count()) * static_cast<int64_t>(headings_) * dearest_action() < 0xFFFF),
       by_target_(graph.vertex_count()) {}
+
+void GuidedDistances::set_traffic_costs(std::vector<int> costs) {
+  if (costs.size() != static_cast<size_t>(graph_.vertex_count())) {
+    throw std::invalid_argument("GuidedDistances: " + std::to_string(costs.size()) + " traffic costs for " +
+                                std::to_string(graph_.vertex_count()) + " cells");
+  }
+  for (int cost : costs) {
+    if (cost < 0 || cost > max_traffic_cost_) {
+      throw std::invalid_argument("GuidedDistances: a traffic cost of " + std::to_string(cost) + ", not within 0.." +
+                                  std::to_string(max_traffic_cost_));
+    }
+  }
+  traffic_ = std::move(costs);
+  for (auto& table : by_target_) table.reset();
+}
 
 namespace {
 

@@ -71,10 +71,14 @@ int lifelong_stay_cost(Guidance guidance, bool lns, ActionModel actions) {
   return lns && guidance != Guidance::kNone && actions == ActionModel::kRotate ? 3 : 1;
 }
 
+bool lifelong_traffic_costs(Guidance guidance) { return guidance == Guidance::kRing; }
+
 PibtLifelong::PibtLifelong(const Graph& graph, uint32_t seed, PibtLifelongSettings settings)
     : graph_(graph),
       settings_(settings),
-      distances_(graph, settings.guidance, settings.actions, settings.stay_cost),
+      distances_(graph, settings.guidance, settings.actions, settings.stay_cost,
+                 settings.traffic.on ? settings.traffic.max_moves : 0),
+      traffic_(static_cast<size_t>(graph.vertex_count()), settings.traffic, distances_.cost_unit()),
       bound_for_(graph.vertex_count(), 0),
       table_held_(graph.vertex_count(), 0),
       rng_(seed),
@@ -112,6 +116,22 @@ void PibtLifelong::follow_goals(const Config& goals, const Deadline& deadline) {
     }
   }
   distances_.prepare(new_goals, deadline, DistTable::default_threads());
+}
+
+void PibtLifelong::follow_traffic(const Config& positions, const Deadline& deadline) {
+  if (!settings_.traffic.on || !traffic_.observe(positions)) return;
+  distances_.set_traffic_costs(traffic_.costs());
+  std::vector<Vertex> needed;
+  for (Vertex v = 0; v < graph_.vertex_count(); ++v) {
+    if (bound_for_[v] > 0) {
+      needed.push_back(v);
+    } else if (table_held_[v]) {
+      table_held_[v] = 0;
+      --tables_held_;
+    }
+  }
+  unneeded_.clear();
+  distances_.prepare(needed, deadline, DistTable::default_threads());
 }
 
 int PibtLifelong::distance(Vertex goal, const Poses& poses, int agent) {
@@ -164,6 +184,7 @@ Poses PibtLifelong::next_step(const Poses& now, const Config& errands, const Dea
     boost_.assign(positions.size(), 0);
     stuck_steps_ = stuck_steps_for(graph_, positions.size());
   }
+  follow_traffic(positions, deadline);
   if (settings_.rollouts <= 1 && !settings_.lns) {
     holding_ = settings_.hold_plans == PlanHolding::kAlways;
     return one_step(now, goals, previous_goals);

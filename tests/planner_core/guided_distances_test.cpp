@@ -171,6 +171,52 @@ TEST(GuidedDistances, TurnsCostWhatAWaitCosts) {
   }
 }
 
+// A crowded cell (traffic_costs.hpp) costs more to enter and to wait or turn on: distances are
+// searched again over the new costs, and a way round it is taken once that is cheaper.
+TEST(GuidedDistances, TrafficCostsMakeACrowdedCellDearerAndWaysGoRoundIt) {
+  const Graph graph(3, 3, {"...", "...", "..."});
+  const Vertex west = graph.vertex_at({0, 1}), middle = graph.vertex_at({1, 1}), east = graph.vertex_at({2, 1});
+  GuidedDistances guided(graph, Guidance::kNone, ActionModel::kMove4, 1, GuidedDistances::kMaxTrafficMoves);
+  EXPECT_EQ(guided.get(east, west), 2);  // through the middle
+  std::vector<int> costs(graph.vertex_count(), 0);
+  costs[middle] = 1;
+  guided.set_traffic_costs(costs);
+  EXPECT_EQ(guided.move_cost(west, middle), 2);
+  EXPECT_EQ(guided.stay_cost(middle), 2);
+  EXPECT_EQ(guided.stay_cost(west), 1);
+  EXPECT_EQ(guided.get(east, west), 3) << "still through the middle, 1 dearer";
+  costs[middle] = GuidedDistances::kMaxTrafficMoves;
+  guided.set_traffic_costs(costs);
+  EXPECT_EQ(guided.get(east, west), 4) << "round the middle: four moves";
+  EXPECT_EQ(guided.get(middle, west), 1 + GuidedDistances::kMaxTrafficMoves);
+  // In the rotation model turning on a crowded cell costs as much more as waiting there.
+  GuidedDistances turning(graph, Guidance::kNone, ActionModel::kRotate, 1, 2);
+  std::vector<int> crowded_west(graph.vertex_count(), 0);
+  crowded_west[west] = 2;
+  constexpr int kEast = 0, kWest = 2;
+  EXPECT_EQ(turning.get(east, west, kWest), 4);  // two turns and two moves
+  turning.set_traffic_costs(crowded_west);
+  EXPECT_EQ(turning.get(east, west, kWest), 8) << "each turn 2 dearer";
+  EXPECT_EQ(turning.get(east, west, kEast), 2) << "leaving costs nothing more";
+}
+
+TEST(GuidedDistances, TrafficCostsOutOfRangeAreRefused) {
+  const Graph graph(3, 1, {"..."});
+  GuidedDistances lanes(graph, Guidance::kLanes, ActionModel::kMove4, 1, 2);
+  EXPECT_EQ(lanes.max_traffic_cost(), 2);
+  EXPECT_THROW(lanes.set_traffic_costs({0, 0}), std::invalid_argument) << "one per cell";
+  EXPECT_THROW(lanes.set_traffic_costs({0, 3, 0}), std::invalid_argument) << "above the largest";
+  EXPECT_THROW(lanes.set_traffic_costs({0, -1, 0}), std::invalid_argument);
+  GuidedDistances ring(graph, Guidance::kRing, ActionModel::kMove4, 1, 2);
+  EXPECT_EQ(ring.max_traffic_cost(), 2 * GuidedDistances::kRingUnit) << "in tenths of a move";
+  GuidedDistances none(graph, Guidance::kLanes);
+  EXPECT_EQ(none.max_traffic_cost(), 0);
+  EXPECT_THROW(none.set_traffic_costs({0, 1, 0}), std::invalid_argument) << "none allowed";
+  for (int bad : {-1, GuidedDistances::kMaxTrafficMoves + 1}) {
+    EXPECT_THROW(GuidedDistances(graph, Guidance::kLanes, ActionModel::kMove4, 1, bad), std::invalid_argument) << bad;
+  }
+}
+
 TEST(GuidedDistances, AnUnknownGuidanceIsNamed) {
   EXPECT_EQ(parse_guidance("lanes", "--guidance"), Guidance::kLanes);
   EXPECT_EQ(parse_guidance("none", "--guidance"), Guidance::kNone);

@@ -56,21 +56,31 @@ class GuidedDistances {
   static constexpr int ring_discount_at(int depth) {
     return depth >= kRingDepth ? 0 : (kRingDiscountAtEdge * (kRingDepth - depth) + kRingDepth - 1) / kRingDepth;
   }
-  // Throws std::invalid_argument unless 1 <= stay_cost <= kMaxStayCost.
+  // Throws std::invalid_argument unless 1 <= stay_cost <= kMaxStayCost and 0 <= max_traffic_moves
+  // <= kMaxTrafficMoves.
   GuidedDistances(const Graph& graph, Guidance guidance, ActionModel actions = ActionModel::kMove4,
-                  int stay_cost = 1);
+                  int stay_cost = 1, int max_traffic_moves = 0);
 
   // The cost of the move from `from` to its neighbour `to`.
   int move_cost(Vertex from, Vertex to) const {
-    if (guidance_ == Guidance::kNone) return 1;
+    if (guidance_ == Guidance::kNone) return 1 + traffic_cost(to);
     const Cell a = graph_.cell_of(from);
     const Cell b = graph_.cell_of(to);
     const bool with_lane = a.y == b.y ? (b.x > a.x) == (a.y / row_period_ % 2 == 0)
                                       : (b.y > a.y) == (a.x / column_period_ % 2 == 0);
-    return (with_lane ? 1 : kAgainstLaneCost) * unit_ - ring_discount(from);
+    return (with_lane ? 1 : kAgainstLaneCost) * unit_ - ring_discount(from) + traffic_cost(to);
   }
   // The cost of a wait, and in the rotation model of a quarter turn, on `cell`.
-  int stay_cost(Vertex cell) const { return stay_cost_ * unit_ - ring_discount(cell); }
+  int stay_cost(Vertex cell) const { return stay_cost_ * unit_ - ring_discount(cell) + traffic_cost(cell); }
+
+  // Traffic costs (traffic_costs.hpp): per cell, what moving onto it or waiting or turning on it
+  // costs more, in cost units, at most max_traffic_cost(); 0 everywhere until set. Setting them
+  // drops every table held: each is searched again when next asked for (or prepared). Throws
+  // std::invalid_argument unless there is one per cell, each within 0..max_traffic_cost().
+  void set_traffic_costs(std::vector<int> costs);
+  int traffic_cost(Vertex cell) const { return traffic_.empty() ? 0 : traffic_[cell]; }
+  int max_traffic_cost() const { return max_traffic_cost_; }
+  static constexpr int kMaxTrafficMoves = 4;
   // ... away from the ring road: the stay cost asked for, in cost units.
   int stay_cost() const { return stay_cost_ * unit_; }
   // What a move along a lane costs away from the ring road: 1, or kRingUnit with a ring road
@@ -116,7 +126,7 @@ class GuidedDistances {
   int ring_discount(Vertex cell) const { return discount_.empty() ? 0 : discount_[cell]; }
   // The dearest single action, in cost units.
   int dearest_action() const {
-    return std::max(guidance_ == Guidance::kNone ? 1 : kAgainstLaneCost, stay_cost_) * unit_;
+    return std::max(guidance_ == Guidance::kNone ? 1 : kAgainstLaneCost, stay_cost_) * unit_ + max_traffic_cost_;
   }
   const Table& search(Vertex target);
 
@@ -129,6 +139,8 @@ class GuidedDistances {
   int stay_cost_ = 1;
   int unit_ = 1;
   std::vector<uint8_t> discount_;  // per vertex, Guidance::kRing only
+  int max_traffic_cost_ = 0;       // in cost units
+  std::vector<int> traffic_;       // per vertex, empty until set_traffic_costs
   bool narrow_;
   std::vector<std::unique_ptr<Table>> by_target_;
 };

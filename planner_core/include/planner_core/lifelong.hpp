@@ -26,6 +26,7 @@
 #include "planner_core/guided_distances.hpp"
 #include "planner_core/instance.hpp"
 #include "planner_core/lorr_problem.hpp"
+#include "planner_core/traffic_costs.hpp"
 #include "planner_core/window_lns.hpp"
 
 namespace planner_core {
@@ -142,6 +143,9 @@ struct PibtLifelongSettings {
   // An agent whose errand is a dead end is parked: it stays unless pushed, and gives that errand up
   // (above). For maps nearly full of agents (lifelong_parks_dead_ends).
   bool park_dead_end_errands = false;
+  // Traffic costs (traffic_costs.hpp): cells crowded lately cost more in the guidance, counted from
+  // the steps taken (not the rollouts). For crowded maps (lifelong_traffic_costs).
+  TrafficSettings traffic;
 };
 
 // Steps an agent stands still before it is drawn ahead of the others (above): kStuckSteps while
@@ -180,6 +184,10 @@ bool lifelong_parks_dead_ends(const Graph& graph, size_t agents);
 // 4,453 against 4,337. Less crowded, holding always costs (random_400 1,139 against 1,454).
 PlanHolding lifelong_plan_holding(const Graph& graph, size_t agents);
 int lifelong_stay_cost(Guidance guidance, bool lns, ActionModel actions);
+// Whether a lifelong run counts traffic costs when asked for "auto": with the ring road (rotation
+// model, window LNS, crowded small maps; lifelong_guidance), where a jam grew without them.
+// random_400, 500 steps, work counted (18,000 LNS rounds): figures in docs/RESULTS.md.
+bool lifelong_traffic_costs(Guidance guidance);
 // Window LNS's window when asked for "auto" (PibtLifelongSettings::rollout_steps and keep_window,
 // with lns). In the rotation model: where agents are few (at most a quarter of the free cells, where
 // lifelong_guidance takes shortest paths) 16 steps, else 8, carried on from step to step; but 8
@@ -243,10 +251,14 @@ class PibtLifelong : public LifelongPlanner {
   void restore(const StepState& state);
   // Searches the distances to goals not seen before, and frees tables of goals nobody needs.
   void follow_goals(const Config& goals, const Deadline& deadline);
+  // Traffic costs: counts the step's positions; when the costs change, the tables of goals
+  // nobody heads for are let go and the others searched again.
+  void follow_traffic(const Config& positions, const Deadline& deadline);
 
   const Graph& graph_;
   PibtLifelongSettings settings_;
   GuidedDistances distances_;
+  TrafficCosts traffic_;
   std::vector<int> bound_for_;      // vertex -> agents whose goal it is
   std::vector<char> table_held_;    // vertex -> its distance table is held
   int tables_held_ = 0;
