@@ -98,8 +98,8 @@ int run_lifelong_experiment(const LifelongExperimentSettings& settings) {
     pibt.park_dead_end_errands = settings.park_dead_ends == "auto"
                                      ? planner_core::lifelong_parks_dead_ends(*problem.graph, problem.starts.size())
                                      : settings.park_dead_ends == "on";
-    pibt.traffic.on = settings.traffic_costs == "auto" ? planner_core::lifelong_traffic_costs(pibt.guidance)
-                                                       : settings.traffic_costs == "on";
+    pibt.traffic = planner_core::lifelong_traffic(*problem.graph, problem.starts.size(), pibt.guidance);
+    if (settings.traffic_costs != "auto") pibt.traffic.on = settings.traffic_costs == "on";
     const std::string turning_name = actions == planner_core::ActionModel::kRotate
                                          ? "-hold-" + planner_core::to_string(pibt.hold_plans) + (settings.keep_targets ? "-keep" : "")
                                          : "";

@@ -71,7 +71,13 @@ int lifelong_stay_cost(Guidance guidance, bool lns, ActionModel actions) {
   return lns && guidance != Guidance::kNone && actions == ActionModel::kRotate ? 3 : 1;
 }
 
-bool lifelong_traffic_costs(Guidance guidance) { return guidance == Guidance::kRing; }
+TrafficSettings lifelong_traffic(const Graph& graph, size_t agents, Guidance guidance) {
+  TrafficSettings traffic;
+  traffic.on = guidance == Guidance::kRing;
+  const double fill = static_cast<double>(agents) / std::max(1, graph.vertex_count());
+  traffic.threshold = std::min(0.95, std::max(traffic.threshold, fill + 0.1));
+  return traffic;
+}
 
 PibtLifelong::PibtLifelong(const Graph& graph, uint32_t seed, PibtLifelongSettings settings)
     : graph_(graph),

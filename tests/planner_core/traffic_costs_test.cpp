@@ -43,6 +43,19 @@ TEST(TrafficCosts, OnlyOccupancyAboveTheThresholdCosts) {
   EXPECT_NEAR(traffic.costs()[1], 12, 1) << "0.2 above the threshold at 6 moves a unit: 1.2 moves";
 }
 
+// Auto: with the ring road only; from 60% of the time taken, or 10 points above the map's mean
+// fill where that is more.
+TEST(TrafficCosts, AutoTakesThemWithTheRingRoadFromAboveTheMapsMeanFill) {
+  const LorrProblem problem = load_lorr_problem(kRandom + "random_400.json");
+  const Graph& graph = *problem.graph;
+  EXPECT_TRUE(lifelong_traffic(graph, 400, Guidance::kRing).on);
+  EXPECT_FALSE(lifelong_traffic(graph, 400, Guidance::kLanes).on);
+  EXPECT_FALSE(lifelong_traffic(graph, 400, Guidance::kNone).on);
+  EXPECT_DOUBLE_EQ(lifelong_traffic(graph, 400, Guidance::kRing).threshold, 0.6) << "819 cells, 49% full";
+  EXPECT_NEAR(lifelong_traffic(graph, 600, Guidance::kRing).threshold, 600.0 / 819 + 0.1, 1e-9);
+  EXPECT_DOUBLE_EQ(lifelong_traffic(graph, 819, Guidance::kRing).threshold, 0.95) << "below 1, always";
+}
+
 TEST(TrafficCosts, SettingsOutOfRangeAreRefused) {
   EXPECT_THROW(TrafficCosts(1, {.threshold = 1.0}, 1), std::invalid_argument);
   EXPECT_THROW(TrafficCosts(1, {.threshold = -0.1}, 1), std::invalid_argument);
@@ -58,8 +71,6 @@ TEST(TrafficCosts, SettingsOutOfRangeAreRefused) {
 // errands, and with the work counted the same seed gives the same run.
 TEST(TrafficCosts, ALifelongRunCountingThemStepsValidlyAndTheSameSeedRunsTheSame) {
   const LorrProblem problem = load_lorr_problem(kRandom + "random_400.json");
-  ASSERT_TRUE(lifelong_traffic_costs(Guidance::kRing));
-  ASSERT_FALSE(lifelong_traffic_costs(Guidance::kLanes));
   const PibtLifelongSettings crowded{.guidance = Guidance::kRing,
                                      .stay_cost = 3,
                                      .actions = ActionModel::kRotate,

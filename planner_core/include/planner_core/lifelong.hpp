@@ -184,10 +184,12 @@ bool lifelong_parks_dead_ends(const Graph& graph, size_t agents);
 // 4,453 against 4,337. Less crowded, holding always costs (random_400 1,139 against 1,454).
 PlanHolding lifelong_plan_holding(const Graph& graph, size_t agents);
 int lifelong_stay_cost(Guidance guidance, bool lns, ActionModel actions);
-// Whether a lifelong run counts traffic costs when asked for "auto": with the ring road (rotation
-// model, window LNS, crowded small maps; lifelong_guidance), where a jam grew without them.
-// random_400, 500 steps, work counted (18,000 LNS rounds): figures in docs/RESULTS.md.
-bool lifelong_traffic_costs(Guidance guidance);
+// A lifelong run's traffic costs (traffic_costs.hpp): on, when asked for "auto", with the ring
+// road (rotation model, window LNS, crowded small maps; lifelong_guidance), where a jam grew
+// without them (random_400, 500 steps, 12 seeds, work counted: +9.3% errands). A cell costs more
+// once taken more than 60% of the time, or 10 points above the map's mean fill where that is more
+// (random_600 is 73% full: from 83%). Figures: docs/RESULTS.md.
+TrafficSettings lifelong_traffic(const Graph& graph, size_t agents, Guidance guidance);
 // Window LNS's window when asked for "auto" (PibtLifelongSettings::rollout_steps and keep_window,
 // with lns). In the rotation model: where agents are few (at most a quarter of the free cells, where
 // lifelong_guidance takes shortest paths) 16 steps, else 8, carried on from step to step; but 8
