@@ -112,7 +112,7 @@ if grep -q "parked" "$work/lifelong.out"; then echo "50 agents on 819 cells park
 grep -q "^random_50,50,120,1,pibt-rotate-lanes-r4-hold-always-keep-park," "$work/lifelong-hold/lifelong.csv"
 "$python" "$(dirname "$0")/lorr_replay.py" "$work/lifelong-hold/random_50.lorr.json" "$map"
 for bad in "--hold-plans sometimes" "--park-dead-ends yes" "--keep-window sometimes --lns" "--keep-window on" \
-  "--rollout-steps -1"; do
+  "--rollout-steps -1" "--traffic-costs sometimes"; do
   # shellcheck disable=SC2086  # the option and its value are two words
   expect_input_error "${bad%% *}" "$bin/ctsfleet-bench" --experiment lifelong --problem "$lorr" --actions rotate $bad
 done
@@ -136,7 +136,9 @@ grep -q "^random_50,50,60,0.2,pibt-rotate-none-r128-lns-window-kept-hold-half-ke
 grep -q "^  windows of 8 steps, planned afresh each step$" "$work/lifelong-ring.out"
 grep -q "guidance ring: lanes turning every 1 rows and every 1 columns, and cheaper within 12 cells of the edge; a wait or turn costs 3" \
   "$work/lifelong-ring.out"
-grep -q "^random_50,50,40,0.2,pibt-rotate-ring-stay3-r128-lns-hold-half-keep," "$work/lifelong-ring/lifelong.csv"
+# With the ring road auto counts traffic costs (from 60% of the time taken: 50 agents on 819 cells).
+grep -q "^  traffic costs (auto): cells taken more than 60% of the time cost up to 2 moves more" "$work/lifelong-ring.out"
+grep -q "^random_50,50,40,0.2,pibt-rotate-ring-stay3-r128-lns-hold-half-keep-traffic," "$work/lifelong-ring/lifelong.csv"
 "$python" "$(dirname "$0")/lorr_replay.py" "$work/lifelong-ring/random_50.lorr.json" "$map"
 # Work counted instead of timed: two runs, one with a step far too short (every step late, taken
 # all the same), move the agents alike, and replay validly.

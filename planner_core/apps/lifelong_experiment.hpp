@@ -30,7 +30,7 @@ struct LifelongExperimentSettings {
   std::string hold_plans = "auto";    // PibtLifelongSettings::hold_plans (rotation model); auto: lifelong_plan_holding
   bool keep_targets = true;           // PibtLifelongSettings::keep_targets (rotation model)
   std::string park_dead_ends = "auto";  // PibtLifelongSettings::park_dead_end_errands: on, off or auto (lifelong_parks_dead_ends)
-  std::string traffic_costs = "auto";  // PibtLifelongSettings::traffic: on, off or auto (lifelong_traffic_costs)
+  std::string traffic_costs = "auto";  // PibtLifelongSettings::traffic: on, off or auto (lifelong_traffic)
   bool league_output = false;         // also write <out-dir>/<problem>.lorr.json (planner_core/lorr_output.hpp)
   const std::atomic<bool>* interrupt = nullptr;  // Ctrl-C: the run under way ends, nothing more runs
 };

@@ -144,7 +144,7 @@ struct PibtLifelongSettings {
   // (above). For maps nearly full of agents (lifelong_parks_dead_ends).
   bool park_dead_end_errands = false;
   // Traffic costs (traffic_costs.hpp): cells crowded lately cost more in the guidance, counted from
-  // the steps taken (not the rollouts). For crowded maps (lifelong_traffic_costs).
+  // the steps taken (not the rollouts). For crowded maps (lifelong_traffic).
   TrafficSettings traffic;
 };
 
