@@ -99,7 +99,7 @@ GuidedDistances::GuidedDistances(const Graph& graph, Guidance guidance, ActionMo
       narrow_(static_cast<int64_t>(graph.vertex_count()) * static_cast<int64_t>(headings_) * dearest_action() < 0xFFFF),
       by_target_(graph.vertex_count()) {}
 
-void GuidedDistances::set_traffic_costs(std::vector<int> costs) {
+bool GuidedDistances::set_traffic_costs(std::vector<int> costs) {
   if (costs.size() != static_cast<size_t>(graph_.vertex_count())) {
     throw std::invalid_argument("GuidedDistances: " + std::to_string(costs.size()) + " traffic costs for " +
                                 std::to_string(graph_.vertex_count()) + " cells");
@@ -110,8 +110,11 @@ void GuidedDistances::set_traffic_costs(std::vector<int> costs) {
                                   std::to_string(max_traffic_cost_));
     }
   }
+  const bool none_before = traffic_.empty() && std::all_of(costs.begin(), costs.end(), [](int c) { return c == 0; });
+  if (none_before || costs == traffic_) return false;
   traffic_ = std::move(costs);
   for (auto& table : by_target_) table.reset();
+  return true;
 }
 
 namespace {

@@ -126,7 +126,7 @@ void PibtLifelong::follow_goals(const Config& goals, const Deadline& deadline) {
 
 void PibtLifelong::follow_traffic(const Config& positions, const Deadline& deadline) {
   if (!settings_.traffic.on || !traffic_.observe(positions)) return;
-  distances_.set_traffic_costs(traffic_.costs());
+  if (!distances_.set_traffic_costs(traffic_.costs())) return;  // the same costs: tables stand
   std::vector<Vertex> needed;
   for (Vertex v = 0; v < graph_.vertex_count(); ++v) {
     if (bound_for_[v] > 0) {

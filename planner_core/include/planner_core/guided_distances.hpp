@@ -74,10 +74,11 @@ class GuidedDistances {
   int stay_cost(Vertex cell) const { return stay_cost_ * unit_ - ring_discount(cell) + traffic_cost(cell); }
 
   // Traffic costs (traffic_costs.hpp): per cell, what moving onto it or waiting or turning on it
-  // costs more, in cost units, at most max_traffic_cost(); 0 everywhere until set. Setting them
-  // drops every table held: each is searched again when next asked for (or prepared). Throws
-  // std::invalid_argument unless there is one per cell, each within 0..max_traffic_cost().
-  void set_traffic_costs(std::vector<int> costs);
+  // costs more, in cost units, at most max_traffic_cost(); 0 everywhere until set. Setting other
+  // costs than those in force drops every table held (each is searched again when next asked for,
+  // or prepared) and returns true; the same costs change nothing. Throws std::invalid_argument
+  // unless there is one per cell, each within 0..max_traffic_cost().
+  bool set_traffic_costs(std::vector<int> costs);
   int traffic_cost(Vertex cell) const { return traffic_.empty() ? 0 : traffic_[cell]; }
   int max_traffic_cost() const { return max_traffic_cost_; }
   static constexpr int kMaxTrafficMoves = 4;
