@@ -121,7 +121,10 @@ struct PibtLifelongSettings {
   // step. Robots executing the plan one move at a time (an Action Dependency Graph) need this: a
   // cycle's moves each wait for the next, for ever. The league allows cycles.
   bool forbid_rotations = false;
-  // Rotation model: what a pushed agent counts against going on straight ahead of its pusher.
+  // Rotation model: what a pushed agent counts against going on straight ahead of its pusher, in
+  // cost units (GuidedDistances::cost_unit): 4 moves over lanes or shortest paths, 0.4 of a move
+  // with the ring road (10 units a move). Measured both ways with the ring road (random_400, 6
+  // seeds, docs/RESULTS.md): 4 moves finished 0.9% fewer errands, so the units stay as they are.
   int straight_push_cost = 4;
   // Window LNS (window_lns.hpp): the best rollout's rollout_steps steps are improved by Large
   // Neighbourhood Search; rollouts then take half of rollout_share, LNS the rest.
