@@ -288,10 +288,13 @@ std::vector<Poses> PibtLifelong::kept_window(const Poses& now, const Config& goa
   std::vector<Poses> shifted(last_window_.begin() + 1, last_window_.end());
   shifted.push_back(shifted.back());  // the last step: everyone waits
   // Agents with a new errand (arrived at the step just taken, or parked or let go) go elsewhere.
+  // So does an agent standing on its goal with the same errand (the next one is where it stands,
+  // and is done a step later): the window held its cell only until it arrived, so the others'
+  // paths may lead through it.
   std::vector<int> again;
   std::vector<char> listed(goals.size(), 0);
   for (size_t a = 0; a < goals.size(); ++a) {
-    if (goals[a] == last_window_goals_[a]) continue;
+    if (goals[a] == last_window_goals_[a] && now.cells[a] != goals[a]) continue;
     again.push_back(static_cast<int>(a));
     listed[a] = 1;
   }

@@ -8,10 +8,12 @@
 #include <gtest/gtest.h>
 
 #include <numeric>
+#include <random>
 
 #include "planner_core/lifelong.hpp"
 #include "planner_core/lorr_problem.hpp"
 #include "planner_core/window_lns.hpp"
+#include "tiny_lorr_problem.hpp"
 
 namespace planner_core {
 namespace {
@@ -235,6 +237,42 @@ TEST(WindowLns, AWindowIsNotCarriedOnFromWhereTheAgentsDoNotStand) {
   EXPECT_EQ(planner.windows_carried_on(), 0);
   planner.next_step(again, goals, Deadline::in_seconds(0.2));
   EXPECT_EQ(planner.windows_carried_on(), 1);
+}
+
+// An errand may follow one at the same cell (a task naming it twice, or the next task there): the
+// agent then stands on its goal with the same errand, one step more. The kept window held its cell
+// only until it arrived, so the others' kept paths may drive through it; it is planned again with
+// the agents given a new errand, or the first step would put two agents on one cell.
+TEST(WindowLns, AnAgentWhoseNextErrandIsWhereItStandsIsPlannedAgainInTheKeptWindow) {
+  const std::vector<std::string> rows(6, std::string(10, '.'));
+  std::vector<std::string> agents{"16"};
+  for (int a = 0; a < 16; ++a) agents.push_back(std::to_string(a * 3 + (a / 4) % 2));
+  std::vector<std::string> tasks{"200"};
+  std::mt19937 draw(7);
+  for (int k = 0; k < 200; ++k) {
+    const std::string cell = std::to_string(std::uniform_int_distribution<int>(0, 59)(draw));
+    tasks.push_back(cell + "," + cell);
+  }
+  TinyProblem tiny(rows, agents, tasks);
+  const LorrProblem problem = load_lorr_problem(tiny.path());
+  for (ActionModel model : {ActionModel::kMove4, ActionModel::kRotate}) {
+    for (uint32_t seed : {1u, 2u, 3u}) {
+      LifelongSettings settings{.steps = 60, .step_time_s = 1.0};
+      settings.actions = model;
+      settings.late_steps_taken = true;
+      PibtLifelong planner(*problem.graph, seed,
+                           {.actions = model,
+                            .rollouts = 4,
+                            .rollout_steps = 8,
+                            .lns = true,
+                            .keep_window = true,
+                            .lns_rounds = 100});
+      const LifelongResult result = run_lifelong(problem, planner, settings);
+      EXPECT_EQ(result.invalid_steps, 0) << to_string(model) << ", seed " << seed << ": " << result.first_invalid;
+      EXPECT_GT(result.errands_finished, 20) << to_string(model) << ", seed " << seed;
+      EXPECT_GT(planner.windows_carried_on(), 0) << to_string(model) << ", seed " << seed;
+    }
+  }
 }
 
 }  // namespace
