@@ -9,7 +9,8 @@
 // (a move its guided cost, a turn or a wait 1), or, if it does not get there, that sum plus its
 // guided distance from where the window leaves it. An agent holds cells only until it first
 // stands on its goal: there the league gives it its next errand, which takes it on, so the others
-// may plan through that cell later in the window (the window shows it standing there). Paths are
+// may plan through that cell later in the window (the window shows it standing there; when the
+// next errand is at the same cell, PibtLifelong::kept_window plans the agent again). Paths are
 // kept free of shared cells and swaps at every step among the agents yet to arrive, in either
 // action model; the first step, the one carried out, is valid for all.
 #pragma once
