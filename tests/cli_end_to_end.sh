@@ -93,6 +93,7 @@ lorr="$data/../../benchmarks/lorr-2023/random.domain/random_50.json"
   --out-dir "$work/lifelong" > "$work/lifelong.out"
 grep -q "^random_50 " "$work/lifelong.out"
 grep -q "^random_50,50,120,1,pibt-lanes-r128," "$work/lifelong/lifelong.csv"
+grep -q "^  rollouts of 3 steps (auto)" "$work/lifelong.out"
 map="$data/../../benchmarks/lorr-2023/random.domain/maps/random-32-32-20.map"
 "$python" "$(dirname "$0")/lorr_replay.py" "$work/lifelong/random_50.lorr.json" "$map"
 # The same in the league's rotation model: an independent replay of forward, turns and waits.
@@ -110,6 +111,13 @@ grep -q "plans held always, targets kept" "$work/lifelong-hold.out"
 grep -Eq "^  parked: [0-9]+ agents at the last step" "$work/lifelong-hold.out"
 if grep -q "parked" "$work/lifelong.out"; then echo "50 agents on 819 cells parked under auto"; exit 1; fi
 grep -q "^random_50,50,120,1,pibt-rotate-lanes-r4-hold-always-keep-park," "$work/lifelong-hold/lifelong.csv"
+# Rollouts look 8 steps ahead only where plans are held always by auto (more than 90% full).
+grep -q "^  rollouts of 3 steps (auto)" "$work/lifelong-hold.out"
+"$bin/ctsfleet-bench" --experiment lifelong --problem "${lorr%/*}/random_800.json" --steps 12 --step-time 1 \
+  --actions rotate --rollouts 4 --out-dir "$work/lifelong-crowded" > "$work/lifelong-crowded.out"
+grep -q "^  rollouts of 8 steps (auto)" "$work/lifelong-crowded.out"
+grep -q "^  plans held always (auto)" "$work/lifelong-crowded.out"
+grep -Eq "^random_800 +800 +[0-9]+ +[0-9.]+ +[0-9.]+ +[0-9.]+ +[0-9.]+ +[0-9]+ +0 " "$work/lifelong-crowded.out"  # no invalid step
 "$python" "$(dirname "$0")/lorr_replay.py" "$work/lifelong-hold/random_50.lorr.json" "$map"
 for bad in "--hold-plans sometimes" "--park-dead-ends yes" "--keep-window sometimes --lns" "--keep-window on" \
   "--rollout-steps -1" "--traffic-costs sometimes"; do

@@ -114,8 +114,9 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--rollout-steps", lifelong.rollout_steps,
                  "experiment lifelong: how far ahead each rollout runs, in steps, and with --lns the window LNS "
-                 "improves; 0: 3 without --lns, with it 8, or 16 in the rotation model while agents are at most a "
-                 "quarter of the free cells and at most 4,000")
+                 "improves; 0: without --lns 3, or 8 in the rotation model where agents fill more than 90% of the free "
+                 "cells; with it 8, or 16 in the rotation model while agents are at most a quarter of the free cells "
+                 "and at most 4,000")
       ->check(ctsfleet::count_in(0, 1000))
       ->capture_default_str();
   CLI::Option* lns_flag =

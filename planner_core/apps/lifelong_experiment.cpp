@@ -87,7 +87,10 @@ int run_lifelong_experiment(const LifelongExperimentSettings& settings) {
     pibt.rollouts = settings.rollouts;
     const planner_core::LifelongWindow window =
         planner_core::lifelong_window(*problem.graph, problem.starts.size(), actions);
-    pibt.rollout_steps = settings.rollout_steps > 0 ? settings.rollout_steps : settings.lns ? window.steps : 3;
+    pibt.rollout_steps = settings.rollout_steps > 0 ? settings.rollout_steps
+                         : settings.lns
+                             ? window.steps
+                             : planner_core::lifelong_rollout_steps(*problem.graph, problem.starts.size(), actions);
     pibt.lns = settings.lns;
     pibt.keep_window = settings.lns && (settings.keep_window == "auto" ? window.kept : settings.keep_window == "on");
     pibt.lns_rounds = settings.lns_rounds;
@@ -138,6 +141,8 @@ int run_lifelong_experiment(const LifelongExperimentSettings& settings) {
                     static_cast<long long>(planner.windows_carried_on()), static_cast<long long>(settings.steps),
                     static_cast<long long>(planner.windows_kept()));
       }
+    } else if (pibt.rollouts > 1) {
+      std::printf("  rollouts of %d steps%s\n", pibt.rollout_steps, settings.rollout_steps > 0 ? "" : " (auto)");
     }
     const char* chosen = settings.guidance == "auto" ? " (auto)" : "";
     if (pibt.guidance == planner_core::Guidance::kLanes) {

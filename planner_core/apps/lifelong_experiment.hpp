@@ -23,7 +23,7 @@ struct LifelongExperimentSettings {
   int stay_cost = 0;                  // PibtLifelongSettings::stay_cost; 0: lifelong_stay_cost
   std::string actions = "move4";      // planner_core/action_model.hpp
   int rollouts = 128;                 // PibtLifelongSettings::rollouts
-  int rollout_steps = 0;              // PibtLifelongSettings::rollout_steps; 0: 3, or lifelong_window with lns
+  int rollout_steps = 0;              // PibtLifelongSettings::rollout_steps; 0: lifelong_rollout_steps, or lifelong_window with lns
   bool lns = false;                   // PibtLifelongSettings::lns
   std::string keep_window = "auto";   // PibtLifelongSettings::keep_window (with lns): on, off or auto (lifelong_window)
   int64_t lns_rounds = 0;             // PibtLifelongSettings::lns_rounds; set, late steps are taken too

@@ -60,6 +60,11 @@ PlanHolding lifelong_plan_holding(const Graph& graph, size_t agents) {
   return lifelong_parks_dead_ends(graph, agents) ? PlanHolding::kAlways : PlanHolding::kInHalfTheRollouts;
 }
 
+int lifelong_rollout_steps(const Graph& graph, size_t agents, ActionModel actions) {
+  const bool held_always = actions == ActionModel::kRotate && lifelong_plan_holding(graph, agents) == PlanHolding::kAlways;
+  return held_always ? kRolloutStepsWhereHeld : kRolloutSteps;
+}
+
 int stuck_steps_for(const Graph& graph, size_t agents) {
   const int64_t cells = graph.vertex_count();
   const int64_t free = std::max<int64_t>(1, cells - static_cast<int64_t>(agents));

@@ -242,6 +242,11 @@ TEST(Lifelong, AgentsWaitLongerBeforeTheyAreDrawnAheadTheFewerCellsAreFree) {
   // And there plans are held always, elsewhere in half the rollouts.
   EXPECT_EQ(lifelong_plan_holding(graph, 737), PlanHolding::kInHalfTheRollouts);
   EXPECT_EQ(lifelong_plan_holding(graph, 738), PlanHolding::kAlways);
+  // Where plans are held always, rollouts without LNS look further ahead than one held plan; in
+  // four moves nothing is held.
+  EXPECT_EQ(lifelong_rollout_steps(graph, 737, ActionModel::kRotate), kRolloutSteps);
+  EXPECT_EQ(lifelong_rollout_steps(graph, 738, ActionModel::kRotate), kRolloutStepsWhereHeld);
+  EXPECT_EQ(lifelong_rollout_steps(graph, 800, ActionModel::kMove4), kRolloutSteps);
 }
 
 // An agent whose errand is a dead end (a cell with one neighbour) is parked: it stays where it

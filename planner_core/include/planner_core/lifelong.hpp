@@ -186,6 +186,16 @@ bool lifelong_parks_dead_ends(const Graph& graph, size_t agents);
 // 0 / 1 / 2): 950 / 972 / 993 errands held always against 958 / 942 / 950 in half; MR23-I-08
 // 4,453 against 4,337. Less crowded, holding always costs (random_400 1,139 against 1,454).
 PlanHolding lifelong_plan_holding(const Graph& graph, size_t agents);
+// How far ahead a lifelong run's rollouts look without window LNS when asked for "auto"
+// (PibtLifelongSettings::rollout_steps; with LNS, lifelong_window): 8 steps in the rotation model
+// where plans are held always (more than 90% full), else 3. Held plans take up to three steps to
+// carry out, and 3 steps ahead see only the first; random_800 (500 steps, seeds 0-11): 1,028
+// errands on the mean against 981 with 3 steps (+4.8%, every seed gains); 16 steps no better
+// (seeds 0-2) and dearer. Less crowded, rollouts only, and in four moves, 3 stays (measured:
+// docs/RESULTS.md).
+constexpr int kRolloutSteps = 3;
+constexpr int kRolloutStepsWhereHeld = 8;
+int lifelong_rollout_steps(const Graph& graph, size_t agents, ActionModel actions);
 int lifelong_stay_cost(Guidance guidance, bool lns, ActionModel actions);
 // A lifelong run's traffic costs (traffic_costs.hpp): on, when asked for "auto", with the ring
 // road (rotation model, window LNS, crowded small maps; lifelong_guidance), where a jam grew
