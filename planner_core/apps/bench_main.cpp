@@ -137,6 +137,13 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"auto", "on", "off"}))
       ->capture_default_str()
       ->needs(lns_flag);
+  app.add_option("--keep-equal-cost", lifelong.keep_equal_cost,
+                 "experiment lifelong, with --lns: an LNS round whose new paths cost the same as the old keeps them "
+                 "(the search wanders over plateaus); on, off or auto (on in the rotation model where the window is "
+                 "16 steps: agents at most a quarter of the free cells and at most 4,000)")
+      ->check(CLI::IsMember({"auto", "on", "off"}))
+      ->capture_default_str()
+      ->needs(lns_flag);
   app.add_option("--hold-plans", lifelong.hold_plans,
                  "experiment lifelong, rotation model: when the cells PIBT chose are carried out as a plan, turning "
                  "and moving agents while the others wait, until every agent stands on its own: never, half (in "

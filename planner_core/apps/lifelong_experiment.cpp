@@ -93,6 +93,8 @@ int run_lifelong_experiment(const LifelongExperimentSettings& settings) {
                              : planner_core::lifelong_rollout_steps(*problem.graph, problem.starts.size(), actions);
     pibt.lns = settings.lns;
     pibt.keep_window = settings.lns && (settings.keep_window == "auto" ? window.kept : settings.keep_window == "on");
+    pibt.lns_keeps_equal_cost =
+        settings.lns && (settings.keep_equal_cost == "auto" ? window.equal_cost_kept : settings.keep_equal_cost == "on");
     pibt.lns_rounds = settings.lns_rounds;
     pibt.actions = actions;
     pibt.hold_plans =
@@ -136,6 +138,8 @@ int run_lifelong_experiment(const LifelongExperimentSettings& settings) {
       std::printf("  windows of %d steps%s, %s%s\n", pibt.rollout_steps, settings.rollout_steps > 0 ? "" : " (auto)",
                   pibt.keep_window ? "kept from step to step" : "planned afresh each step",
                   settings.keep_window == "auto" ? " (auto)" : "");
+      std::printf("  paths of equal cost %s%s\n", pibt.lns_keeps_equal_cost ? "kept" : "not kept",
+                  settings.keep_equal_cost == "auto" ? " (auto)" : "");
       if (pibt.keep_window) {
         std::printf("  last window carried on at %lld of %lld steps, and taken at %lld\n",
                     static_cast<long long>(planner.windows_carried_on()), static_cast<long long>(settings.steps),
@@ -174,7 +178,7 @@ int run_lifelong_experiment(const LifelongExperimentSettings& settings) {
       planner_core::write_lorr_output(output.string(), problem, result, log);
       std::printf("  wrote %s\n", output.c_str());
     }
-    table << name << "," << problem.starts.size() << "," << settings.steps << "," << settings.step_time_s << ",pibt-" << (actions == planner_core::ActionModel::kRotate ? "rotate-" : "") << planner_core::to_string(pibt.guidance) << (pibt.stay_cost != 1 ? "-stay" + std::to_string(pibt.stay_cost) : "") << "-r" << settings.rollouts << (settings.lns ? "-lns" : "") << (pibt.keep_window ? "-window-kept" : "") << turning_name << (pibt.park_dead_end_errands ? "-park" : "") << (pibt.traffic.on ? "-traffic" : "") << ","
+    table << name << "," << problem.starts.size() << "," << settings.steps << "," << settings.step_time_s << ",pibt-" << (actions == planner_core::ActionModel::kRotate ? "rotate-" : "") << planner_core::to_string(pibt.guidance) << (pibt.stay_cost != 1 ? "-stay" + std::to_string(pibt.stay_cost) : "") << "-r" << settings.rollouts << (settings.lns ? "-lns" : "") << (pibt.keep_window ? "-window-kept" : "") << (pibt.lns_keeps_equal_cost ? "-equal-kept" : "") << turning_name << (pibt.park_dead_end_errands ? "-park" : "") << (pibt.traffic.on ? "-traffic" : "") << ","
           << result.errands_finished << "," << result.tasks_finished << "," << per << ","
           << quantile(result.step_ms, 0.5) << "," << quantile(result.step_ms, 0.99) << ","
           << quantile(result.step_ms, 1.0) << "," << result.steps_over_budget << "," << result.invalid_steps << ","

@@ -26,6 +26,7 @@ struct LifelongExperimentSettings {
   int rollout_steps = 0;              // PibtLifelongSettings::rollout_steps; 0: lifelong_rollout_steps, or lifelong_window with lns
   bool lns = false;                   // PibtLifelongSettings::lns
   std::string keep_window = "auto";   // PibtLifelongSettings::keep_window (with lns): on, off or auto (lifelong_window)
+  std::string keep_equal_cost = "auto";  // PibtLifelongSettings::lns_keeps_equal_cost (with lns): on, off or auto (lifelong_window)
   int64_t lns_rounds = 0;             // PibtLifelongSettings::lns_rounds; set, late steps are taken too
   std::string hold_plans = "auto";    // PibtLifelongSettings::hold_plans (rotation model); auto: lifelong_plan_holding
   bool keep_targets = true;           // PibtLifelongSettings::keep_targets (rotation model)

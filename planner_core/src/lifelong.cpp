@@ -48,7 +48,7 @@ Guidance lifelong_guidance(const Graph& graph, size_t agents, bool lns, ActionMo
 LifelongWindow lifelong_window(const Graph& graph, size_t agents, ActionModel actions) {
   if (actions != ActionModel::kRotate) return {.steps = 8, .kept = false};
   if (!agents_are_few(graph, agents)) return {.steps = 8, .kept = true};
-  if (agents <= kMostAgentsForLongWindows) return {.steps = 16, .kept = true};
+  if (agents <= kMostAgentsForLongWindows) return {.steps = 16, .kept = true, .equal_cost_kept = true};
   return {.steps = 8, .kept = false};
 }
 
@@ -95,7 +95,9 @@ PibtLifelong::PibtLifelong(const Graph& graph, uint32_t seed, PibtLifelongSettin
       rng_(seed),
       standing_on_(graph.vertex_count(), -1),
       entering_(graph.vertex_count(), -1),
-      lns_(graph, distances_, settings.actions) {}
+      lns_(graph, distances_, settings.actions) {
+  lns_.keep_equal_cost(settings.lns_keeps_equal_cost);
+}
 
 void PibtLifelong::prepare(const Poses&, const Config& goals, const Deadline& deadline) {
   follow_goals(goals, deadline);

@@ -194,8 +194,8 @@ WindowLnsStats WindowLns::improve(std::vector<Poses>& window, const Config& goal
     if (planned) {
       for (int a : group) new_cost += path_cost(window, a, goals[a]);
     }
-    if (planned && new_cost < old_cost) {
-      ++stats.improvements;
+    if (planned && (new_cost < old_cost || (keep_equal_cost_ && new_cost == old_cost))) {
+      if (new_cost < old_cost) ++stats.improvements;
       for (int a : group) cost[a] = path_cost(window, a, goals[a]);
       continue;
     }

@@ -133,6 +133,8 @@ struct PibtLifelongSettings {
   // new errand planned again, is improved instead of the best rollout when it costs less (the
   // 2023 winner keeps its plan from step to step likewise). lifelong_window says where it pays.
   bool keep_window = false;
+  // Window LNS: a round whose new paths cost the same as the old keeps them (WindowLns::keep_equal_cost).
+  bool lns_keeps_equal_cost = false;
   // Window LNS: 0, the rollouts and LNS rounds that fit in the step's budget. Set, every step runs
   // all `rollouts` rollouts and exactly this many LNS rounds (fewer only once no agent is late),
   // whatever the clock: a run is then the same on every run and machine (with
@@ -213,9 +215,15 @@ TrafficSettings lifelong_traffic(const Graph& graph, size_t agents, Guidance gui
 // agents +2.6% and +3.8% (200 steps), but 8,000 -2.6%: there LNS reached a third of the agents a
 // step. 8 kept against 8 afresh, random_400 2,882 against 2,826 (+2.0%, seeds 0-3, 3 of 4 gain).
 constexpr size_t kMostAgentsForLongWindows = 4000;
+// Where the window is 16 steps and kept, its LNS also keeps paths of equal cost
+// (PibtLifelongSettings::lns_keeps_equal_cost): there it finds all it can within a step, and
+// wandering over plateaus gained random_100 0.4% (seeds 0-5, every seed) and random_200 0.7%
+// (seed 0), work counted; at random_400, whose LNS has more to find than time, it cost 1% (seeds
+// 0-1). Figures: docs/RESULTS.md.
 struct LifelongWindow {
   int steps;
   bool kept;
+  bool equal_cost_kept = false;
 };
 LifelongWindow lifelong_window(const Graph& graph, size_t agents, ActionModel actions);
 

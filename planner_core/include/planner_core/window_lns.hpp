@@ -3,7 +3,8 @@
 // Settings", 2024): PIBT proposes the next `window` steps of every agent; then, while time is
 // left, a few agents around one that is late are taken out and each is planned again by
 // space-time A* through the others' reserved cells, and the new paths are kept if they cost less
-// together. Only the window's first step is carried out; the next step plans afresh.
+// together (or, with keep_equal_cost, no more). Only the window's first step is carried out; the
+// next step plans afresh.
 //
 // An agent's cost over the window: the cost of its actions until it first stands on its goal
 // (a move its guided cost, a turn or a wait 1), or, if it does not get there, that sum plus its
@@ -28,7 +29,7 @@ namespace planner_core {
 
 struct WindowLnsStats {
   int64_t iterations = 0;
-  int64_t improvements = 0;
+  int64_t improvements = 0;  // rounds whose new paths cost less
   int64_t cost_before = 0;
   int64_t cost_after = 0;
 };
@@ -51,6 +52,12 @@ class WindowLns {
 
   // The window's cost: the sum of its agents' costs, as improve counts them.
   int64_t cost(const std::vector<Poses>& window, const Config& goals);
+
+  // Whether a round whose new paths cost the same as the old ones keeps them: the search then
+  // wanders over plateaus of equal cost instead of staying on the first it reaches. Off by
+  // default. Where agents are few the window's LNS finds all it can within a step, and wandering
+  // gained a little (lifelong_window); where it has more to find than time, it cost.
+  void keep_equal_cost(bool keep) { keep_equal_cost_ = keep; }
 
  private:
   struct Node {
@@ -77,6 +84,7 @@ class WindowLns {
   const Graph& graph_;
   GuidedDistances& distances_;
   ActionModel actions_;
+  bool keep_equal_cost_ = false;
   size_t cells_;
   int steps_ = 0;
   std::vector<int> occupied_;      // (t, cell) -> agent there at step t, or -1
