@@ -139,8 +139,8 @@ int main(int argc, char** argv) {
       ->needs(lns_flag);
   app.add_option("--keep-equal-cost", lifelong.keep_equal_cost,
                  "experiment lifelong, with --lns: an LNS round whose new paths cost the same as the old keeps them "
-                 "(the search wanders over plateaus); on, off or auto (on in the rotation model where the window is "
-                 "16 steps: agents at most a quarter of the free cells and at most 4,000)")
+                 "(the search wanders over plateaus); on, off or auto (on in the rotation model while agents are at "
+                 "most a quarter of the free cells and at most 4,000, where the window is 16 steps by default)")
       ->check(CLI::IsMember({"auto", "on", "off"}))
       ->capture_default_str()
       ->needs(lns_flag);

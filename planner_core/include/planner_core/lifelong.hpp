@@ -215,7 +215,7 @@ TrafficSettings lifelong_traffic(const Graph& graph, size_t agents, Guidance gui
 // agents +2.6% and +3.8% (200 steps), but 8,000 -2.6%: there LNS reached a third of the agents a
 // step. 8 kept against 8 afresh, random_400 2,882 against 2,826 (+2.0%, seeds 0-3, 3 of 4 gain).
 constexpr size_t kMostAgentsForLongWindows = 4000;
-// Where the window is 16 steps and kept, its LNS also keeps paths of equal cost
+// Where the window is 16 steps and kept (agents few), its LNS also keeps paths of equal cost
 // (PibtLifelongSettings::lns_keeps_equal_cost): there it finds all it can within a step, and
 // wandering over plateaus gained random_100 0.4% (seeds 0-5, every seed) and random_200 0.7%
 // (seed 0), work counted; at random_400, whose LNS has more to find than time, it cost 1% (seeds
