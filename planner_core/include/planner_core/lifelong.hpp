@@ -88,6 +88,9 @@ class LifelongPlanner {
 //
 inline constexpr int kStuckSteps = 8;
 
+// How far ahead rollouts look unless told otherwise (lifelong_rollout_steps says where more).
+inline constexpr int kRolloutSteps = 3;
+
 // Rotation model (above): when PIBT's cells are held as a plan until every agent stands on its own.
 enum class PlanHolding {
   kNever,               // PIBT decides every step afresh
@@ -113,7 +116,7 @@ struct PibtLifelongSettings {
   // cost left). Runs stop early once they would take more than `rollout_share` of the step's
   // budget, so on a slow machine fewer are tried. 1: plain PIBT.
   int rollouts = 1;
-  int rollout_steps = 3;
+  int rollout_steps = kRolloutSteps;
   double rollout_share = 0.5;
   size_t distance_bytes = size_t{1} << 30;  // 1 GiB of distance tables, beyond which unneeded ones go
   // No rotations: never move into the cell of an agent that is itself waiting (through priority
@@ -195,7 +198,6 @@ PlanHolding lifelong_plan_holding(const Graph& graph, size_t agents);
 // errands on the mean against 981 with 3 steps (+4.8%, every seed gains); 16 steps no better
 // (seeds 0-2) and dearer. Less crowded, rollouts only, and in four moves, 3 stays (measured:
 // docs/RESULTS.md).
-constexpr int kRolloutSteps = 3;
 constexpr int kRolloutStepsWhereHeld = 8;
 int lifelong_rollout_steps(const Graph& graph, size_t agents, ActionModel actions);
 int lifelong_stay_cost(Guidance guidance, bool lns, ActionModel actions);
