@@ -120,7 +120,8 @@ grep -q "^  plans held always (auto)" "$work/lifelong-crowded.out"
 grep -Eq "^random_800 +800 +[0-9]+ +[0-9.]+ +[0-9.]+ +[0-9.]+ +[0-9.]+ +[0-9]+ +0 " "$work/lifelong-crowded.out"  # no invalid step
 "$python" "$(dirname "$0")/lorr_replay.py" "$work/lifelong-hold/random_50.lorr.json" "$map"
 for bad in "--hold-plans sometimes" "--park-dead-ends yes" "--keep-window sometimes --lns" "--keep-window on" \
-  "--rollout-steps -1" "--traffic-costs sometimes" "--keep-equal-cost sometimes --lns" "--keep-equal-cost on"; do
+  "--rollout-steps -1" "--traffic-costs sometimes" "--keep-equal-cost sometimes --lns" "--keep-equal-cost on" \
+  "--neighbourhoods widest --lns" "--neighbourhoods adaptive"; do
   # shellcheck disable=SC2086  # the option and its value are two words
   expect_input_error "${bad%% *}" "$bin/ctsfleet-bench" --experiment lifelong --problem "$lorr" --actions rotate $bad
 done
@@ -131,17 +132,19 @@ done
 grep -q "window LNS: [1-9]" "$work/lifelong-lns.out"
 grep -q "^  windows of 16 steps (auto), kept from step to step (auto)" "$work/lifelong-lns.out"
 grep -q "^  paths of equal cost kept (auto)" "$work/lifelong-lns.out"
+grep -q "^  neighbourhoods adaptive (nearest, crossing, random) (auto)" "$work/lifelong-lns.out"
 grep -Eq "^  last window carried on at [1-9][0-9]* of 60 steps" "$work/lifelong-lns.out"
 # With LNS and 50 agents on 819 free cells, "auto" guidance (the default) takes shortest paths.
 grep -q "guidance none (auto): shortest paths; a wait or turn costs 1" "$work/lifelong-lns.out"
 expect_input_error --stay-cost "$bin/ctsfleet-bench" --experiment lifelong --problem "$lorr" --stay-cost 9
-grep -q "^random_50,50,60,0.2,pibt-rotate-none-r128-lns-window-kept-equal-kept-hold-half-keep," "$work/lifelong-lns/lifelong.csv"
+grep -q "^random_50,50,60,0.2,pibt-rotate-none-r128-lns-window-kept-equal-kept-adaptive-hold-half-keep," "$work/lifelong-lns/lifelong.csv"
 "$python" "$(dirname "$0")/lorr_replay.py" "$work/lifelong-lns/random_50.lorr.json" "$map"
 # The ring road (auto only when agents are more, asked for here): costs in tenths, waits at 3;
 # its steps replay as validly.
 "$bin/ctsfleet-bench" --experiment lifelong --problem "$lorr" --steps 40 --step-time 0.2 --league-output \
-  --actions rotate --rollout-steps 8 --lns --keep-window off --guidance ring --out-dir "$work/lifelong-ring" \
-  > "$work/lifelong-ring.out"
+  --actions rotate --rollout-steps 8 --lns --keep-window off --guidance ring --neighbourhoods nearest \
+  --out-dir "$work/lifelong-ring" > "$work/lifelong-ring.out"
+grep -q "^  neighbourhoods nearest$" "$work/lifelong-ring.out"
 grep -q "^  windows of 8 steps, planned afresh each step$" "$work/lifelong-ring.out"
 grep -q "guidance ring: lanes turning every 1 rows and every 1 columns, and cheaper within 12 cells of the edge; a wait or turn costs 3" \
   "$work/lifelong-ring.out"
@@ -158,7 +161,7 @@ for run in short ample; do
     --actions rotate --rollouts 8 --rollout-steps 8 --lns --lns-rounds 400 --keep-window on --out-dir "$work/lifelong-counted-$run" \
     > "$work/lifelong-counted-$run.out"
   grep -q "work counted, not timed: every step 8 rollouts and 400 LNS rounds" "$work/lifelong-counted-$run.out"
-  grep -q "^random_50,50,30,.*,pibt-rotate-none-r8-lns-window-kept-equal-kept-hold-half-keep," "$work/lifelong-counted-$run/lifelong.csv"
+  grep -q "^random_50,50,30,.*,pibt-rotate-none-r8-lns-window-kept-equal-kept-adaptive-hold-half-keep," "$work/lifelong-counted-$run/lifelong.csv"
   "$python" "$(dirname "$0")/lorr_replay.py" "$work/lifelong-counted-$run/random_50.lorr.json" "$map"
 done
 "$python" - "$work/lifelong-counted-short/random_50.lorr.json" "$work/lifelong-counted-ample/random_50.lorr.json" <<'PY'

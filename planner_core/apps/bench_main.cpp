@@ -144,6 +144,14 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"auto", "on", "off"}))
       ->capture_default_str()
       ->needs(lns_flag);
+  app.add_option("--neighbourhoods", lifelong.neighbourhoods,
+                 "experiment lifelong, with --lns: how an LNS round picks the 8 agents it plans again: nearest (a "
+                 "late agent and those standing nearest it), adaptive (each round one of nearest, those passing a "
+                 "crossing in the window, or any at random, weighted by their recent gains), or auto (adaptive in "
+                 "the rotation model wherever --keep-window auto keeps the window)")
+      ->check(CLI::IsMember({"auto", "nearest", "adaptive"}))
+      ->capture_default_str()
+      ->needs(lns_flag);
   app.add_option("--hold-plans", lifelong.hold_plans,
                  "experiment lifelong, rotation model: when the cells PIBT chose are carried out as a plan, turning "
                  "and moving agents while the others wait, until every agent stands on its own: never, half (in "

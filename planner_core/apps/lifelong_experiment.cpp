@@ -95,6 +95,10 @@ int run_lifelong_experiment(const LifelongExperimentSettings& settings) {
     pibt.keep_window = settings.lns && (settings.keep_window == "auto" ? window.kept : settings.keep_window == "on");
     pibt.lns_keeps_equal_cost =
         settings.lns && (settings.keep_equal_cost == "auto" ? window.equal_cost_kept : settings.keep_equal_cost == "on");
+    const bool adaptive = settings.lns && (settings.neighbourhoods == "auto" ? window.adaptive_neighbourhoods
+                                                                             : settings.neighbourhoods == "adaptive");
+    pibt.lns_neighbourhoods =
+        adaptive ? planner_core::WindowLns::Neighbourhoods::kAdaptive : planner_core::WindowLns::Neighbourhoods::kNearest;
     pibt.lns_rounds = settings.lns_rounds;
     pibt.actions = actions;
     pibt.hold_plans =
@@ -140,6 +144,14 @@ int run_lifelong_experiment(const LifelongExperimentSettings& settings) {
                   settings.keep_window == "auto" ? " (auto)" : "");
       std::printf("  paths of equal cost %s%s\n", pibt.lns_keeps_equal_cost ? "kept" : "not kept",
                   settings.keep_equal_cost == "auto" ? " (auto)" : "");
+      std::printf("  neighbourhoods %s%s\n", adaptive ? "adaptive (nearest, crossing, random)" : "nearest",
+                  settings.neighbourhoods == "auto" ? " (auto)" : "");
+      if (adaptive) {
+        std::printf("  rounds by neighbourhood: nearest %lld (%lld improved), crossing %lld (%lld), random %lld (%lld)\n",
+                    static_cast<long long>(lns.rounds_by_kind[0]), static_cast<long long>(lns.improvements_by_kind[0]),
+                    static_cast<long long>(lns.rounds_by_kind[1]), static_cast<long long>(lns.improvements_by_kind[1]),
+                    static_cast<long long>(lns.rounds_by_kind[2]), static_cast<long long>(lns.improvements_by_kind[2]));
+      }
       if (pibt.keep_window) {
         std::printf("  last window carried on at %lld of %lld steps, and taken at %lld\n",
                     static_cast<long long>(planner.windows_carried_on()), static_cast<long long>(settings.steps),
@@ -178,7 +190,7 @@ int run_lifelong_experiment(const LifelongExperimentSettings& settings) {
       planner_core::write_lorr_output(output.string(), problem, result, log);
       std::printf("  wrote %s\n", output.c_str());
     }
-    table << name << "," << problem.starts.size() << "," << settings.steps << "," << settings.step_time_s << ",pibt-" << (actions == planner_core::ActionModel::kRotate ? "rotate-" : "") << planner_core::to_string(pibt.guidance) << (pibt.stay_cost != 1 ? "-stay" + std::to_string(pibt.stay_cost) : "") << "-r" << settings.rollouts << (settings.lns ? "-lns" : "") << (pibt.keep_window ? "-window-kept" : "") << (pibt.lns_keeps_equal_cost ? "-equal-kept" : "") << turning_name << (pibt.park_dead_end_errands ? "-park" : "") << (pibt.traffic.on ? "-traffic" : "") << ","
+    table << name << "," << problem.starts.size() << "," << settings.steps << "," << settings.step_time_s << ",pibt-" << (actions == planner_core::ActionModel::kRotate ? "rotate-" : "") << planner_core::to_string(pibt.guidance) << (pibt.stay_cost != 1 ? "-stay" + std::to_string(pibt.stay_cost) : "") << "-r" << settings.rollouts << (settings.lns ? "-lns" : "") << (pibt.keep_window ? "-window-kept" : "") << (pibt.lns_keeps_equal_cost ? "-equal-kept" : "") << (adaptive ? "-adaptive" : "") << turning_name << (pibt.park_dead_end_errands ? "-park" : "") << (pibt.traffic.on ? "-traffic" : "") << ","
           << result.errands_finished << "," << result.tasks_finished << "," << per << ","
           << quantile(result.step_ms, 0.5) << "," << quantile(result.step_ms, 0.99) << ","
           << quantile(result.step_ms, 1.0) << "," << result.steps_over_budget << "," << result.invalid_steps << ","

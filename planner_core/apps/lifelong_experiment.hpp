@@ -27,6 +27,7 @@ struct LifelongExperimentSettings {
   bool lns = false;                   // PibtLifelongSettings::lns
   std::string keep_window = "auto";   // PibtLifelongSettings::keep_window (with lns): on, off or auto (lifelong_window)
   std::string keep_equal_cost = "auto";  // PibtLifelongSettings::lns_keeps_equal_cost (with lns): on, off or auto (lifelong_window)
+  std::string neighbourhoods = "auto";  // PibtLifelongSettings::lns_neighbourhoods (with lns): nearest, adaptive or auto (lifelong_window)
   int64_t lns_rounds = 0;             // PibtLifelongSettings::lns_rounds; set, late steps are taken too
   std::string hold_plans = "auto";    // PibtLifelongSettings::hold_plans (rotation model); auto: lifelong_plan_holding
   bool keep_targets = true;           // PibtLifelongSettings::keep_targets (rotation model)

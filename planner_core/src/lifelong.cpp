@@ -47,8 +47,10 @@ Guidance lifelong_guidance(const Graph& graph, size_t agents, bool lns, ActionMo
 
 LifelongWindow lifelong_window(const Graph& graph, size_t agents, ActionModel actions) {
   if (actions != ActionModel::kRotate) return {.steps = 8, .kept = false};
-  if (!agents_are_few(graph, agents)) return {.steps = 8, .kept = true};
-  if (agents <= kMostAgentsForLongWindows) return {.steps = 16, .kept = true, .equal_cost_kept = true};
+  if (!agents_are_few(graph, agents)) return {.steps = 8, .kept = true, .adaptive_neighbourhoods = true};
+  if (agents <= kMostAgentsForLongWindows) {
+    return {.steps = 16, .kept = true, .equal_cost_kept = true, .adaptive_neighbourhoods = true};
+  }
   return {.steps = 8, .kept = false};
 }
 
@@ -97,6 +99,7 @@ PibtLifelong::PibtLifelong(const Graph& graph, uint32_t seed, PibtLifelongSettin
       entering_(graph.vertex_count(), -1),
       lns_(graph, distances_, settings.actions) {
   lns_.keep_equal_cost(settings.lns_keeps_equal_cost);
+  lns_.neighbourhoods(settings.lns_neighbourhoods);
 }
 
 void PibtLifelong::prepare(const Poses&, const Config& goals, const Deadline& deadline) {
@@ -267,6 +270,10 @@ Poses PibtLifelong::next_step(const Poses& now, const Config& errands, const Dea
     lns_totals_.improvements += stats.improvements;
     lns_totals_.cost_before += stats.cost_before;
     lns_totals_.cost_after += stats.cost_after;
+    for (size_t k = 0; k < stats.rounds_by_kind.size(); ++k) {
+      lns_totals_.rounds_by_kind[k] += stats.rounds_by_kind[k];
+      lns_totals_.improvements_by_kind[k] += stats.improvements_by_kind[k];
+    }
     // The first step may have changed: agents that now stay count as standing still, and an
     // agent sent elsewhere is no longer short of its target.
     for (int a = 0; a < n; ++a) {

@@ -6,7 +6,11 @@
 namespace planner_core {
 
 WindowLns::WindowLns(const Graph& graph, GuidedDistances& distances, ActionModel actions)
-    : graph_(graph), distances_(distances), actions_(actions), cells_(static_cast<size_t>(graph.vertex_count())) {}
+    : graph_(graph), distances_(distances), actions_(actions), cells_(static_cast<size_t>(graph.vertex_count())) {
+  for (Vertex v = 0; v < graph.vertex_count(); ++v) {
+    if (graph.neighbours(v).size() > 2) crossings_.push_back(v);
+  }
+}
 
 int WindowLns::heuristic(Vertex goal, Vertex cell, int heading) {
   return actions_ == ActionModel::kRotate ? distances_.get(goal, cell, heading) : distances_.get(goal, cell);
@@ -89,7 +93,7 @@ bool WindowLns::plan_agent(std::vector<Poses>& window, int agent, Vertex goal) {
   return false;
 }
 
-std::vector<int> WindowLns::neighbourhood(const std::vector<Poses>& window, int late, std::mt19937& rng) {
+std::vector<int> WindowLns::nearest(const std::vector<Poses>& window, int late, std::mt19937& rng) {
   // The late agent and those standing nearest it now (breadth first from its cell).
   std::vector<int> group{late};
   std::vector<Vertex> frontier{window[0].cells[late]};
@@ -107,6 +111,67 @@ std::vector<int> WindowLns::neighbourhood(const std::vector<Poses>& window, int 
     if (reached.size() > 64) break;
   }
   return group;
+}
+
+void WindowLns::add_agents_through(Vertex cell, std::vector<int>& group) {
+  for (int t = 0; t <= steps_ && group.size() < static_cast<size_t>(kNeighbourhood); ++t) {
+    const int there = occupant(t, cell);
+    if (there != -1 && std::find(group.begin(), group.end(), there) == group.end()) group.push_back(there);
+  }
+}
+
+std::vector<int> WindowLns::through_crossing(std::mt19937& rng) {
+  // The agents passing a crossing in the window, then those passing the crossings nearest it
+  // (breadth first over the cells).
+  std::vector<int> group;
+  if (crossings_.empty()) return group;
+  const Vertex start = crossings_[std::uniform_int_distribution<size_t>(0, crossings_.size() - 1)(rng)];
+  add_agents_through(start, group);
+  std::vector<Vertex> frontier{start};
+  std::vector<Vertex> reached = frontier;
+  for (size_t k = 0; k < frontier.size() && group.size() < static_cast<size_t>(kNeighbourhood); ++k) {
+    for (Vertex v : graph_.neighbours(frontier[k])) {
+      if (std::find(reached.begin(), reached.end(), v) != reached.end()) continue;
+      reached.push_back(v);
+      frontier.push_back(v);
+      if (graph_.neighbours(v).size() > 2) add_agents_through(v, group);
+    }
+    if (reached.size() > 64) break;
+  }
+  return group;
+}
+
+std::vector<int> WindowLns::random_agents(int agents, std::mt19937& rng) {
+  std::vector<int> group;
+  const size_t size = std::min(static_cast<size_t>(kNeighbourhood), static_cast<size_t>(agents));
+  std::uniform_int_distribution<int> any(0, agents - 1);
+  while (group.size() < size) {
+    const int a = any(rng);
+    if (std::find(group.begin(), group.end(), a) == group.end()) group.push_back(a);
+  }
+  return group;
+}
+
+WindowLns::Kind WindowLns::pick_kind(std::mt19937& rng) {
+  if (neighbourhoods_ == Neighbourhoods::kNearest) return kNearestKind;
+  double sum = 0;
+  for (double w : kind_weights_) sum += w;
+  double r = std::uniform_real_distribution<double>(0, sum)(rng);
+  for (int k = 0; k < kKinds - 1; ++k) {
+    if (r < kind_weights_[k]) return static_cast<Kind>(k);
+    r -= kind_weights_[k];
+  }
+  return static_cast<Kind>(kKinds - 1);
+}
+
+void WindowLns::weigh(Kind kind, int64_t gain, size_t agents) {
+  double& weight = kind_weights_[kind];
+  if (gain > 0) {
+    weight = kKindReaction * std::max(static_cast<double>(gain) / static_cast<double>(agents), 1.0) +
+             (1 - kKindReaction) * weight;
+  } else {
+    weight = std::max(weight * (1 - kKindDecay), kLeastKindWeight);
+  }
 }
 
 void WindowLns::clear_reservations(const std::vector<Poses>& window) {
@@ -155,6 +220,7 @@ WindowLnsStats WindowLns::improve(std::vector<Poses>& window, const Config& goal
   const bool rotate = actions_ == ActionModel::kRotate;
   clear_reservations(window);
   for (int a = 0; a < n; ++a) reserve(window, a, goals[a], a);
+  kind_weights_.fill(1.0);
   std::vector<int64_t> cost(n);
   std::vector<int> late;
   for (int a = 0; a < n; ++a) {
@@ -165,8 +231,20 @@ WindowLnsStats WindowLns::improve(std::vector<Poses>& window, const Config& goal
   }
   while (!late.empty() && stats.iterations < rounds && !deadline.expired()) {
     ++stats.iterations;
-    const int chosen = late[std::uniform_int_distribution<size_t>(0, late.size() - 1)(rng)];
-    std::vector<int> group = neighbourhood(window, chosen, rng);
+    const Kind kind = pick_kind(rng);
+    std::vector<int> group;
+    if (kind == kCrossingKind) {
+      group = through_crossing(rng);
+    } else if (kind == kRandomKind) {
+      group = random_agents(n, rng);
+    } else {
+      group = nearest(window, late[std::uniform_int_distribution<size_t>(0, late.size() - 1)(rng)], rng);
+    }
+    ++stats.rounds_by_kind[kind];
+    if (group.empty()) {  // no agent passes the crossing in the window
+      weigh(kind, 0, 1);
+      continue;
+    }
     int64_t old_cost = 0;
     std::vector<Poses> old_paths(window.size(), Poses{Config(group.size()), Headings(rotate ? group.size() : 0)});
     for (size_t k = 0; k < group.size(); ++k) {
@@ -194,8 +272,12 @@ WindowLnsStats WindowLns::improve(std::vector<Poses>& window, const Config& goal
     if (planned) {
       for (int a : group) new_cost += path_cost(window, a, goals[a]);
     }
+    weigh(kind, planned ? old_cost - new_cost : 0, group.size());
     if (planned && (new_cost < old_cost || (keep_equal_cost_ && new_cost == old_cost))) {
-      if (new_cost < old_cost) ++stats.improvements;
+      if (new_cost < old_cost) {
+        ++stats.improvements;
+        ++stats.improvements_by_kind[kind];
+      }
       for (int a : group) cost[a] = path_cost(window, a, goals[a]);
       continue;
     }

@@ -363,7 +363,7 @@ TEST(Lifelong, WithLanesEightHundredAgentsStepValidlyAndTheSameSeedRunsTheSame) 
 // "auto" window for window LNS in the rotation model: 16 steps while agents number at most a
 // quarter of the free cells (random-32-32-20 has 819), else 8, kept from step to step, except
 // for more agents than LNS reaches in a step; in four moves 8 planned afresh. Paths of equal cost
-// are kept with the 16-step window only.
+// are kept with the 16-step window only; neighbourhoods are adaptive wherever the window is kept.
 TEST(Lifelong, AutoWindowIsLongWhileTurningAgentsAreFewAndKeptUnlessTooMany) {
   const LorrProblem problem = load_lorr_problem(kRandom + "random_100.json");
   const Graph& graph = *problem.graph;
@@ -373,10 +373,12 @@ TEST(Lifelong, AutoWindowIsLongWhileTurningAgentsAreFewAndKeptUnlessTooMany) {
     EXPECT_EQ(turning.steps, 16) << agents;
     EXPECT_TRUE(turning.kept) << agents;
     EXPECT_TRUE(turning.equal_cost_kept) << agents;
+    EXPECT_TRUE(turning.adaptive_neighbourhoods) << agents;
     const LifelongWindow four_way = lifelong_window(graph, agents, ActionModel::kMove4);
     EXPECT_EQ(four_way.steps, 8) << agents;
     EXPECT_FALSE(four_way.kept) << agents;
     EXPECT_FALSE(four_way.equal_cost_kept) << agents;
+    EXPECT_FALSE(four_way.adaptive_neighbourhoods) << agents;
   }
   for (size_t agents : {205, 400, 800}) {
     EXPECT_EQ(lifelong_window(graph, agents, ActionModel::kRotate).steps, 8) << agents;
@@ -384,6 +386,8 @@ TEST(Lifelong, AutoWindowIsLongWhileTurningAgentsAreFewAndKeptUnlessTooMany) {
     EXPECT_EQ(lifelong_window(graph, agents, ActionModel::kMove4).steps, 8) << agents;
     EXPECT_FALSE(lifelong_window(graph, agents, ActionModel::kMove4).kept) << agents;
     EXPECT_FALSE(lifelong_window(graph, agents, ActionModel::kRotate).equal_cost_kept) << agents;
+    EXPECT_TRUE(lifelong_window(graph, agents, ActionModel::kRotate).adaptive_neighbourhoods) << agents;
+    EXPECT_FALSE(lifelong_window(graph, agents, ActionModel::kMove4).adaptive_neighbourhoods) << agents;
   }
   // On a large map, few but too many for LNS to reach in a step: 8 steps planned afresh.
   const LorrProblem large = load_lorr_problem(std::string(CTSFLEET_BENCHMARKS_DIR) +
@@ -394,6 +398,8 @@ TEST(Lifelong, AutoWindowIsLongWhileTurningAgentsAreFewAndKeptUnlessTooMany) {
   EXPECT_FALSE(lifelong_window(*large.graph, 8000, ActionModel::kRotate).kept);
   EXPECT_TRUE(lifelong_window(*large.graph, kMostAgentsForLongWindows, ActionModel::kRotate).equal_cost_kept);
   EXPECT_FALSE(lifelong_window(*large.graph, 8000, ActionModel::kRotate).equal_cost_kept);
+  EXPECT_TRUE(lifelong_window(*large.graph, kMostAgentsForLongWindows, ActionModel::kRotate).adaptive_neighbourhoods);
+  EXPECT_FALSE(lifelong_window(*large.graph, 8000, ActionModel::kRotate).adaptive_neighbourhoods);
 }
 
 // "auto" guidance: shortest paths only with window LNS while agents number at most a quarter of

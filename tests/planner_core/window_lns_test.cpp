@@ -1,7 +1,7 @@
 // Window LNS (planner_core/window_lns.hpp): whatever it changes, every step of the window stays
 // valid among the agents yet to reach their goals (the first step for all), the window starts
-// where the agents stand, and the window's cost never grows; an agent left waiting is sent on its
-// cheapest way; one that has reached its goal holds no cell after; agents planned again keep out
+// where the agents stand, and the window's cost never grows, whichever neighbourhoods it picks; an
+// agent left waiting is sent on its cheapest way, also on a map without crossings; one that has reached its goal holds no cell after; agents planned again keep out
 // of the others' way; the lifelong run with it steps validly, also carrying its window on from
 // step to step, but only from where the agents stand; with its work counted, a run is the same
 // whatever the clock.
@@ -19,6 +19,9 @@ namespace planner_core {
 namespace {
 
 const std::string kRandom = std::string(CTSFLEET_BENCHMARKS_DIR) + "/lorr-2023/random.domain/";
+
+constexpr WindowLns::Neighbourhoods kBothNeighbourhoods[] = {WindowLns::Neighbourhoods::kNearest,
+                                                             WindowLns::Neighbourhoods::kAdaptive};
 
 // Every agent waits where it stands for `steps` steps.
 std::vector<Poses> waiting_window(const Poses& now, int steps) { return std::vector<Poses>(steps + 1, now); }
@@ -49,26 +52,30 @@ TEST(WindowLns, FourHundredAgentsKeepEveryStepValidAndTheCostNeverGrows) {
   for (size_t a = 0; a < goals.size(); ++a) goals[a] = problem.tasks[a][0];
   for (ActionModel model : {ActionModel::kMove4, ActionModel::kRotate}) {
     for (Guidance guidance : {Guidance::kNone, Guidance::kLanes, Guidance::kRing}) {
-      GuidedDistances distances(graph, guidance, model);
-      WindowLns lns(graph, distances, model);
-      Poses now{problem.starts, {}};
-      if (model == ActionModel::kRotate) now.headings.assign(now.cells.size(), 0);
-      std::vector<Poses> window = waiting_window(now, 8);
-      std::mt19937 rng(4);
-      const WindowLnsStats stats = lns.improve(window, goals, Deadline::in_seconds(0.3), rng);
-      EXPECT_GT(stats.improvements, 0);
-      EXPECT_LT(stats.cost_after, stats.cost_before);
-      EXPECT_EQ(window.front(), now);
-      ASSERT_EQ(find_pose_fault(graph, model, window[0], window[1]).what, "")
-          << to_string(model) << ", " << to_string(guidance) << ", the first step";
-      for (size_t t = 2; t < window.size(); ++t) {
-        ASSERT_EQ(fault_among_travellers(graph, model, window, goals, t), "")
-            << to_string(model) << ", " << to_string(guidance) << ", step " << t;
+      for (WindowLns::Neighbourhoods kind : kBothNeighbourhoods) {
+        SCOPED_TRACE(kind == WindowLns::Neighbourhoods::kNearest ? "nearest" : "adaptive neighbourhoods");
+        GuidedDistances distances(graph, guidance, model);
+        WindowLns lns(graph, distances, model);
+        lns.neighbourhoods(kind);
+        Poses now{problem.starts, {}};
+        if (model == ActionModel::kRotate) now.headings.assign(now.cells.size(), 0);
+        std::vector<Poses> window = waiting_window(now, 8);
+        std::mt19937 rng(4);
+        const WindowLnsStats stats = lns.improve(window, goals, Deadline::in_seconds(0.3), rng);
+        EXPECT_GT(stats.improvements, 0);
+        EXPECT_LT(stats.cost_after, stats.cost_before);
+        EXPECT_EQ(window.front(), now);
+        ASSERT_EQ(find_pose_fault(graph, model, window[0], window[1]).what, "")
+            << to_string(model) << ", " << to_string(guidance) << ", the first step";
+        for (size_t t = 2; t < window.size(); ++t) {
+          ASSERT_EQ(fault_among_travellers(graph, model, window, goals, t), "")
+              << to_string(model) << ", " << to_string(guidance) << ", step " << t;
+        }
+        // The figure it reports is the window's cost as it stands: a second pass starts from it.
+        const WindowLnsStats again = lns.improve(window, goals, Deadline::in_seconds(0.05), rng);
+        EXPECT_EQ(again.cost_before, stats.cost_after);
+        EXPECT_LE(again.cost_after, again.cost_before);
       }
-      // The figure it reports is the window's cost as it stands: a second pass starts from it.
-      const WindowLnsStats again = lns.improve(window, goals, Deadline::in_seconds(0.05), rng);
-      EXPECT_EQ(again.cost_before, stats.cost_after);
-      EXPECT_LE(again.cost_after, again.cost_before);
     }
   }
 }
@@ -78,19 +85,23 @@ TEST(WindowLns, AnAgentLeftWaitingIsSentOnItsCheapestWay) {
   for (const Guidance guidance : {Guidance::kNone, Guidance::kRing}) {  // the ring: every cell on the edge
     for (const int stay_cost : {1, 3}) {  // turns cost what a wait costs (guided_distances.hpp)
       for (const auto& [heading, arrival] : {std::pair{0, 4}, std::pair{2, 6}}) {  // facing the goal, or away
-        GuidedDistances distances(graph, guidance, ActionModel::kRotate, stay_cost);
-        const int unit = guidance == Guidance::kRing ? GuidedDistances::kRingUnit : 1;
-        const int discount = guidance == Guidance::kRing ? GuidedDistances::ring_discount_at(0) : 0;
-        const int wait = stay_cost * unit - discount, move = unit - discount;  // row 0 runs east
-        WindowLns lns(graph, distances, ActionModel::kRotate);
-        std::vector<Poses> window = waiting_window({{0}, {heading}}, 8);
-        std::mt19937 rng(1);
-        const WindowLnsStats stats = lns.improve(window, {4}, Deadline::in_seconds(0.2), rng);
-        EXPECT_EQ(stats.cost_before, 8 * wait + distances.get(4, 0, heading)) << "waiting, facing " << heading;
-        EXPECT_EQ(stats.cost_after, 4 * move + (arrival - 4) * wait) << "facing " << heading << ", " << to_string(guidance);
-        EXPECT_EQ(window[arrival].cells[0], 4);
-        EXPECT_NE(window[arrival - 1].cells[0], 4);
-        EXPECT_EQ(window.back().cells[0], 4);  // and waits there
+        // Adaptive neighbourhoods too, on a map without crossings (the crossing kind finds no one).
+        for (WindowLns::Neighbourhoods kind : kBothNeighbourhoods) {
+          GuidedDistances distances(graph, guidance, ActionModel::kRotate, stay_cost);
+          const int unit = guidance == Guidance::kRing ? GuidedDistances::kRingUnit : 1;
+          const int discount = guidance == Guidance::kRing ? GuidedDistances::ring_discount_at(0) : 0;
+          const int wait = stay_cost * unit - discount, move = unit - discount;  // row 0 runs east
+          WindowLns lns(graph, distances, ActionModel::kRotate);
+          lns.neighbourhoods(kind);
+          std::vector<Poses> window = waiting_window({{0}, {heading}}, 8);
+          std::mt19937 rng(1);
+          const WindowLnsStats stats = lns.improve(window, {4}, Deadline::in_seconds(0.2), rng);
+          EXPECT_EQ(stats.cost_before, 8 * wait + distances.get(4, 0, heading)) << "waiting, facing " << heading;
+          EXPECT_EQ(stats.cost_after, 4 * move + (arrival - 4) * wait) << "facing " << heading << ", " << to_string(guidance);
+          EXPECT_EQ(window[arrival].cells[0], 4);
+          EXPECT_NE(window[arrival - 1].cells[0], 4);
+          EXPECT_EQ(window.back().cells[0], 4);  // and waits there
+        }
       }
     }
   }
@@ -182,7 +193,11 @@ TEST(WindowLns, TheLifelongRunKeepingItsWindowStepsValidly) {
                             .rollouts = 4,
                             .rollout_steps = 8,
                             .lns = true,
-                            .keep_window = true});
+                            .keep_window = true,
+                            .lns_neighbourhoods = lifelong_window(*problem.graph, problem.starts.size(), model)
+                                                          .adaptive_neighbourhoods
+                                                      ? WindowLns::Neighbourhoods::kAdaptive
+                                                      : WindowLns::Neighbourhoods::kNearest});
       const LifelongResult result = run_lifelong(problem, planner, settings);
       EXPECT_EQ(result.invalid_steps, 0) << name << ", " << to_string(model) << ": " << result.first_invalid;
       EXPECT_GT(result.errands_finished, 0);
@@ -256,21 +271,25 @@ TEST(WindowLns, AnAgentWhoseNextErrandIsWhereItStandsIsPlannedAgainInTheKeptWind
   TinyProblem tiny(rows, agents, tasks);
   const LorrProblem problem = load_lorr_problem(tiny.path());
   for (ActionModel model : {ActionModel::kMove4, ActionModel::kRotate}) {
-    for (uint32_t seed : {1u, 2u, 3u}) {
-      LifelongSettings settings{.steps = 60, .step_time_s = 1.0};
-      settings.actions = model;
-      settings.late_steps_taken = true;
-      PibtLifelong planner(*problem.graph, seed,
-                           {.actions = model,
-                            .rollouts = 4,
-                            .rollout_steps = 8,
-                            .lns = true,
-                            .keep_window = true,
-                            .lns_rounds = 100});
-      const LifelongResult result = run_lifelong(problem, planner, settings);
-      EXPECT_EQ(result.invalid_steps, 0) << to_string(model) << ", seed " << seed << ": " << result.first_invalid;
-      EXPECT_GT(result.errands_finished, 20) << to_string(model) << ", seed " << seed;
-      EXPECT_GT(planner.windows_carried_on(), 0) << to_string(model) << ", seed " << seed;
+    for (WindowLns::Neighbourhoods kind : kBothNeighbourhoods) {
+      for (uint32_t seed : {1u, 2u, 3u}) {
+        SCOPED_TRACE(kind == WindowLns::Neighbourhoods::kNearest ? "nearest" : "adaptive neighbourhoods");
+        LifelongSettings settings{.steps = 60, .step_time_s = 1.0};
+        settings.actions = model;
+        settings.late_steps_taken = true;
+        PibtLifelong planner(*problem.graph, seed,
+                             {.actions = model,
+                              .rollouts = 4,
+                              .rollout_steps = 8,
+                              .lns = true,
+                              .keep_window = true,
+                              .lns_neighbourhoods = kind,
+                              .lns_rounds = 100});
+        const LifelongResult result = run_lifelong(problem, planner, settings);
+        EXPECT_EQ(result.invalid_steps, 0) << to_string(model) << ", seed " << seed << ": " << result.first_invalid;
+        EXPECT_GT(result.errands_finished, 20) << to_string(model) << ", seed " << seed;
+        EXPECT_GT(planner.windows_carried_on(), 0) << to_string(model) << ", seed " << seed;
+      }
     }
   }
 }

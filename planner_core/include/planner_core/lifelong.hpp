@@ -138,6 +138,8 @@ struct PibtLifelongSettings {
   bool keep_window = false;
   // Window LNS: a round whose new paths cost the same as the old keeps them (WindowLns::keep_equal_cost).
   bool lns_keeps_equal_cost = false;
+  // Window LNS: how a round picks the agents it plans again (WindowLns::neighbourhoods).
+  WindowLns::Neighbourhoods lns_neighbourhoods = WindowLns::Neighbourhoods::kNearest;
   // Window LNS: 0, the rollouts and LNS rounds that fit in the step's budget. Set, every step runs
   // all `rollouts` rollouts and exactly this many LNS rounds (fewer only once no agent is late),
   // whatever the clock: a run is then the same on every run and machine (with
@@ -221,11 +223,16 @@ constexpr size_t kMostAgentsForLongWindows = 4000;
 // (PibtLifelongSettings::lns_keeps_equal_cost): there it finds all it can within a step, and
 // wandering over plateaus gained random_100 0.4% (seeds 0-5, every seed) and random_200 0.7%
 // (seed 0), work counted; at random_400, whose LNS has more to find than time, it cost 1% (seeds
-// 0-1). Figures: docs/RESULTS.md.
+// 0-1). Wherever the window is kept, LNS rounds pick their agents by adaptive neighbourhoods
+// (PibtLifelongSettings::lns_neighbourhoods; work counted: random_100 +1.0% on six seeds, every
+// seed; random_400 +2.1% on three, every seed; random_200 +4.8% on one; warehouse_small_800 even
+// over 200 steps); elsewhere (four moves, and more than kMostAgentsForLongWindows few agents) they
+// were not measured. Figures: docs/RESULTS.md.
 struct LifelongWindow {
   int steps;
   bool kept;
   bool equal_cost_kept = false;
+  bool adaptive_neighbourhoods = false;
 };
 LifelongWindow lifelong_window(const Graph& graph, size_t agents, ActionModel actions);
 

@@ -1,10 +1,10 @@
 // Large Neighbourhood Search over a window of the lifelong plan (the idea of the League of Robot
 // Runners' 2023 winner, Jiang et al., "Scaling Lifelong Multi-Agent Path Finding to More Realistic
 // Settings", 2024): PIBT proposes the next `window` steps of every agent; then, while time is
-// left, a few agents around one that is late are taken out and each is planned again by
-// space-time A* through the others' reserved cells, and the new paths are kept if they cost less
-// together (or, with keep_equal_cost, no more). Only the window's first step is carried out; the
-// next step plans afresh.
+// left, a few agents (around one that is late, or as `neighbourhoods` picks) are taken out and
+// each is planned again by space-time A* through the others' reserved cells, and the new paths are
+// kept if they cost less together (or, with keep_equal_cost, no more). Only the window's first
+// step is carried out; the next step plans afresh.
 //
 // An agent's cost over the window: the cost of its actions until it first stands on its goal
 // (a move its guided cost, a turn or a wait 1), or, if it does not get there, that sum plus its
@@ -16,6 +16,7 @@
 // action model; the first step, the one carried out, is valid for all.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <limits>
 #include <random>
@@ -32,11 +33,18 @@ struct WindowLnsStats {
   int64_t improvements = 0;  // rounds whose new paths cost less
   int64_t cost_before = 0;
   int64_t cost_after = 0;
+  // Adaptive neighbourhoods: rounds and improvements by kind (nearest, crossing, random).
+  std::array<int64_t, 3> rounds_by_kind{};
+  std::array<int64_t, 3> improvements_by_kind{};
 };
 
 class WindowLns {
  public:
   static constexpr int kNeighbourhood = 8;  // agents planned again together
+  // Adaptive neighbourhoods: how far a gain pulls a kind's weight, and how much a failure shrinks it.
+  static constexpr double kKindReaction = 0.01;
+  static constexpr double kKindDecay = 0.01;
+  static constexpr double kLeastKindWeight = 1e-12;  // weights stay above 0 through long runs of failures
 
   WindowLns(const Graph& graph, GuidedDistances& distances, ActionModel actions);
 
@@ -59,6 +67,14 @@ class WindowLns {
   // gained a little (lifelong_window); where it has more to find than time, it cost.
   void keep_equal_cost(bool keep) { keep_equal_cost_ = keep; }
 
+  // How a round picks the agents it plans again. kNearest: a late agent and those standing nearest
+  // it now. kAdaptive: one of three kinds, each round, by weights that grow with the kind's recent
+  // gains and shrink when it fails (adaptive LNS, as the 2023 winner picks): the nearest as above;
+  // those whose paths in the window pass a crossing (a cell with more than two neighbours) or the
+  // crossings nearest it; any agents at random.
+  enum class Neighbourhoods { kNearest, kAdaptive };
+  void neighbourhoods(Neighbourhoods kind) { neighbourhoods_ = kind; }
+
  private:
   struct Node {
     int64_t f;
@@ -79,12 +95,23 @@ class WindowLns {
   // `window`. False when every way is blocked.
   bool plan_agent(std::vector<Poses>& window, int agent, Vertex goal);
   int heuristic(Vertex goal, Vertex cell, int heading);
-  std::vector<int> neighbourhood(const std::vector<Poses>& window, int late, std::mt19937& rng);
+  enum Kind { kNearestKind, kCrossingKind, kRandomKind, kKinds };  // as WindowLnsStats counts them
+  std::vector<int> nearest(const std::vector<Poses>& window, int late, std::mt19937& rng);
+  std::vector<int> through_crossing(std::mt19937& rng);
+  std::vector<int> random_agents(int agents, std::mt19937& rng);
+  // Adds to `group` the agents whose reserved cells include `cell` at some step, up to kNeighbourhood.
+  void add_agents_through(Vertex cell, std::vector<int>& group);
+  Kind pick_kind(std::mt19937& rng);
+  // A round of `kind` over `agents` agents cut the cost by `gain` (0 or less: it failed).
+  void weigh(Kind kind, int64_t gain, size_t agents);
 
   const Graph& graph_;
   GuidedDistances& distances_;
   ActionModel actions_;
   bool keep_equal_cost_ = false;
+  Neighbourhoods neighbourhoods_ = Neighbourhoods::kNearest;
+  std::vector<Vertex> crossings_;   // cells with more than two neighbours
+  std::array<double, kKinds> kind_weights_{1.0, 1.0, 1.0};  // reset every improve
   size_t cells_;
   int steps_ = 0;
   std::vector<int> occupied_;      // (t, cell) -> agent there at step t, or -1
