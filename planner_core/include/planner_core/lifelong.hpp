@@ -224,7 +224,7 @@ constexpr size_t kMostAgentsForLongWindows = 4000;
 // wandering over plateaus gained random_100 0.4% (seeds 0-5, every seed) and random_200 0.7%
 // (seed 0), work counted; at random_400, whose LNS has more to find than time, it cost 1% (seeds
 // 0-1). Wherever the window is kept, LNS rounds pick their agents by adaptive neighbourhoods
-// (PibtLifelongSettings::lns_neighbourhoods; work counted: random_100 +1.0% on six seeds, every
+// (PibtLifelongSettings::lns_neighbourhoods; work counted: random_100 +0.8% on six seeds, every
 // seed; random_400 +2.1% on three, every seed; random_200 +4.8% on one; warehouse_small_800 even
 // over 200 steps); elsewhere (four moves, and more than kMostAgentsForLongWindows few agents) they
 // were not measured. Figures: docs/RESULTS.md.
