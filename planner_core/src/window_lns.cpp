@@ -93,23 +93,30 @@ bool WindowLns::plan_agent(std::vector<Poses>& window, int agent, Vertex goal) {
   return false;
 }
 
-std::vector<int> WindowLns::nearest(const std::vector<Poses>& window, int late, std::mt19937& rng) {
-  // The late agent and those standing nearest it now (breadth first from its cell).
-  std::vector<int> group{late};
-  std::vector<Vertex> frontier{window[0].cells[late]};
+template <typename Visit>
+void WindowLns::walk_until_full(Vertex start, const std::vector<int>& group, std::mt19937* order, Visit visit) {
+  std::vector<Vertex> frontier{start};
   std::vector<Vertex> reached = frontier;
   for (size_t k = 0; k < frontier.size() && group.size() < static_cast<size_t>(kNeighbourhood); ++k) {
     std::vector<Vertex> next(graph_.neighbours(frontier[k]).begin(), graph_.neighbours(frontier[k]).end());
-    std::shuffle(next.begin(), next.end(), rng);
+    if (order != nullptr) std::shuffle(next.begin(), next.end(), *order);
     for (Vertex v : next) {
       if (std::find(reached.begin(), reached.end(), v) != reached.end()) continue;
       reached.push_back(v);
       frontier.push_back(v);
-      const int there = occupant(0, v);
-      if (there != -1 && group.size() < static_cast<size_t>(kNeighbourhood)) group.push_back(there);
+      visit(v);
     }
-    if (reached.size() > 64) break;
+    if (reached.size() > kMostCellsWalked) break;
   }
+}
+
+std::vector<int> WindowLns::nearest(const std::vector<Poses>& window, int late, std::mt19937& rng) {
+  // The late agent and those standing nearest it now.
+  std::vector<int> group{late};
+  walk_until_full(window[0].cells[late], group, &rng, [&](Vertex cell) {
+    const int there = occupant(0, cell);
+    if (there != -1 && group.size() < static_cast<size_t>(kNeighbourhood)) group.push_back(there);
+  });
   return group;
 }
 
@@ -121,23 +128,14 @@ void WindowLns::add_agents_through(Vertex cell, std::vector<int>& group) {
 }
 
 std::vector<int> WindowLns::through_crossing(std::mt19937& rng) {
-  // The agents passing a crossing in the window, then those passing the crossings nearest it
-  // (breadth first over the cells).
+  // The agents passing a crossing in the window, then those passing the crossings nearest it.
   std::vector<int> group;
   if (crossings_.empty()) return group;
   const Vertex start = crossings_[std::uniform_int_distribution<size_t>(0, crossings_.size() - 1)(rng)];
   add_agents_through(start, group);
-  std::vector<Vertex> frontier{start};
-  std::vector<Vertex> reached = frontier;
-  for (size_t k = 0; k < frontier.size() && group.size() < static_cast<size_t>(kNeighbourhood); ++k) {
-    for (Vertex v : graph_.neighbours(frontier[k])) {
-      if (std::find(reached.begin(), reached.end(), v) != reached.end()) continue;
-      reached.push_back(v);
-      frontier.push_back(v);
-      if (graph_.neighbours(v).size() > 2) add_agents_through(v, group);
-    }
-    if (reached.size() > 64) break;
-  }
+  walk_until_full(start, group, nullptr, [&](Vertex cell) {
+    if (graph_.neighbours(cell).size() > 2) add_agents_through(cell, group);
+  });
   return group;
 }
 

@@ -96,6 +96,11 @@ class WindowLns {
   bool plan_agent(std::vector<Poses>& window, int agent, Vertex goal);
   int heuristic(Vertex goal, Vertex cell, int heading);
   enum Kind { kNearestKind, kCrossingKind, kRandomKind, kKinds };  // as WindowLnsStats counts them
+  static constexpr size_t kMostCellsWalked = 64;
+  // Visits the cells breadth first from `start` (each cell's neighbours in a random order when
+  // `order` is given) while `group` is short of kNeighbourhood, up to about kMostCellsWalked cells.
+  template <typename Visit>
+  void walk_until_full(Vertex start, const std::vector<int>& group, std::mt19937* order, Visit visit);
   std::vector<int> nearest(const std::vector<Poses>& window, int late, std::mt19937& rng);
   std::vector<int> through_crossing(std::mt19937& rng);
   std::vector<int> random_agents(int agents, std::mt19937& rng);
