@@ -98,13 +98,13 @@ map="$data/../../benchmarks/lorr-2023/random.domain/maps/random-32-32-20.map"
 "$python" "$(dirname "$0")/lorr_replay.py" "$work/lifelong/random_50.lorr.json" "$map"
 # The same in the league's rotation model: an independent replay of forward, turns and waits.
 "$bin/ctsfleet-bench" --experiment lifelong --problem "$lorr" --steps 120 --step-time 1 --league-output \
-  --actions rotate --rollouts 1 --out-dir "$work/lifelong-rotate" > "$work/lifelong-rotate.out"
+  --actions rotate --rollouts 1 --no-lns --out-dir "$work/lifelong-rotate" > "$work/lifelong-rotate.out"
 grep -q "^random_50,50,120,1,pibt-rotate-lanes-r1-hold-half-keep," "$work/lifelong-rotate/lifelong.csv"
 grep -q "^  plans held half (auto)" "$work/lifelong-rotate.out"
 "$python" "$(dirname "$0")/lorr_replay.py" "$work/lifelong-rotate/random_50.lorr.json" "$map"
 # Plans held until every agent stands on its cell, in every rollout: its steps replay as validly.
 "$bin/ctsfleet-bench" --experiment lifelong --problem "$lorr" --steps 120 --step-time 1 --league-output \
-  --actions rotate --rollouts 4 --hold-plans always --park-dead-ends on --out-dir "$work/lifelong-hold" \
+  --actions rotate --no-lns --rollouts 4 --hold-plans always --park-dead-ends on --out-dir "$work/lifelong-hold" \
   > "$work/lifelong-hold.out"
 grep -q "plans held always, targets kept" "$work/lifelong-hold.out"
 # Parking asked for (auto parks only on maps more than 90% full: not in the run above).
@@ -117,18 +117,19 @@ grep -q "^  rollouts of 3 steps (auto)" "$work/lifelong-hold.out"
   --actions rotate --rollouts 4 --out-dir "$work/lifelong-crowded" > "$work/lifelong-crowded.out"
 grep -q "^  rollouts of 8 steps (auto)" "$work/lifelong-crowded.out"
 grep -q "^  plans held always (auto)" "$work/lifelong-crowded.out"
+# More than 90% full: window LNS stays off by default (auto), even in the rotation model.
+if grep -q "window LNS" "$work/lifelong-crowded.out"; then echo "LNS on at random_800 under auto"; exit 1; fi
 grep -Eq "^random_800 +800 +[0-9]+ +[0-9.]+ +[0-9.]+ +[0-9.]+ +[0-9.]+ +[0-9]+ +0 " "$work/lifelong-crowded.out"  # no invalid step
 "$python" "$(dirname "$0")/lorr_replay.py" "$work/lifelong-hold/random_50.lorr.json" "$map"
-for bad in "--hold-plans sometimes" "--park-dead-ends yes" "--keep-window sometimes --lns" "--keep-window on" \
-  "--rollout-steps -1" "--traffic-costs sometimes" "--keep-equal-cost sometimes --lns" "--keep-equal-cost on" \
-  "--neighbourhoods widest --lns" "--neighbourhoods adaptive"; do
+for bad in "--hold-plans sometimes" "--park-dead-ends yes" "--keep-window sometimes" \
+  "--rollout-steps -1" "--traffic-costs sometimes" "--keep-equal-cost sometimes" "--neighbourhoods widest"; do
   # shellcheck disable=SC2086  # the option and its value are two words
   expect_input_error "${bad%% *}" "$bin/ctsfleet-bench" --experiment lifelong --problem "$lorr" --actions rotate $bad
 done
-# And with window LNS: its steps replay as validly. With 50 agents on 819 free cells the window
-# (auto) is 16 steps, kept from step to step.
+# And with window LNS, the default in the rotation model (no --lns needed): its steps replay as
+# validly. With 50 agents on 819 free cells the window (auto) is 16 steps, kept from step to step.
 "$bin/ctsfleet-bench" --experiment lifelong --problem "$lorr" --steps 60 --step-time 0.2 --league-output \
-  --actions rotate --lns --out-dir "$work/lifelong-lns" > "$work/lifelong-lns.out"
+  --actions rotate --out-dir "$work/lifelong-lns" > "$work/lifelong-lns.out"
 grep -q "window LNS: [1-9]" "$work/lifelong-lns.out"
 grep -q "^  windows of 16 steps (auto), kept from step to step (auto)" "$work/lifelong-lns.out"
 grep -q "^  paths of equal cost kept (auto)" "$work/lifelong-lns.out"
@@ -160,7 +161,7 @@ for run in short ample; do
   "$bin/ctsfleet-bench" --experiment lifelong --problem "$lorr" --steps 30 --step-time "$step_time" --league-output \
     --actions rotate --rollouts 8 --rollout-steps 8 --lns --lns-rounds 400 --keep-window on --out-dir "$work/lifelong-counted-$run" \
     > "$work/lifelong-counted-$run.out"
-  grep -q "work counted, not timed: every step 8 rollouts and 400 LNS rounds" "$work/lifelong-counted-$run.out"
+  grep -q "work counted, not timed: every step 8 rollouts and, with LNS, 400 LNS rounds" "$work/lifelong-counted-$run.out"
   grep -q "^random_50,50,30,.*,pibt-rotate-none-r8-lns-window-kept-equal-kept-adaptive-hold-half-keep," "$work/lifelong-counted-$run/lifelong.csv"
   "$python" "$(dirname "$0")/lorr_replay.py" "$work/lifelong-counted-$run/random_50.lorr.json" "$map"
 done
@@ -171,7 +172,22 @@ assert short["actualPaths"] == ample["actualPaths"], "the counted runs moved the
 assert short["numTaskFinished"] == ample["numTaskFinished"] > 0
 PY
 cmp "$work/lifelong-counted-short/lifelong_steps.csv" "$work/lifelong-counted-ample/lifelong_steps.csv"
-expect_input_error --lns-rounds "$bin/ctsfleet-bench" --experiment lifelong --problem "$lorr" --lns-rounds 100
+expect_input_error --lns-rounds "$bin/ctsfleet-bench" --experiment lifelong --problem "$lorr" --lns-rounds 0
+# The settings file (config/lifelong.yaml): read whole; a command-line option overrides its key;
+# a bad value names the file, its line and the key, and nothing is written.
+"$bin/ctsfleet-bench" --experiment lifelong --problem "$lorr" --steps 10 --step-time 0.2 --actions rotate \
+  --lifelong-config "$(dirname "$0")/../config/lifelong.yaml" --out-dir "$work/lifelong-shipped" > "$work/lifelong-shipped.out"
+grep -q "^random_50,50,10,0.2,pibt-rotate-none-r128-lns-window-kept-equal-kept-adaptive-hold-half-keep," \
+  "$work/lifelong-shipped/lifelong.csv"
+printf 'lns: off\nrollouts: 2\nguidance: lanes\n' > "$work/cheap.yaml"
+"$bin/ctsfleet-bench" --experiment lifelong --problem "$lorr" --steps 10 --step-time 0.2 --actions rotate \
+  --lifelong-config "$work/cheap.yaml" --rollouts 3 --out-dir "$work/lifelong-cheap" > "$work/lifelong-cheap.out"
+grep -q "^random_50,50,10,0.2,pibt-rotate-lanes-r3-hold-half-keep," "$work/lifelong-cheap/lifelong.csv"
+printf 'rollouts: 4\nhold_plans: sometimes\n' > "$work/bad-lifelong.yaml"
+expect_input_error "bad-lifelong.yaml:2" "$bin/ctsfleet-bench" --experiment lifelong --problem "$lorr" \
+  --lifelong-config "$work/bad-lifelong.yaml" --out-dir "$work/lifelong-bad"
+grep -q "hold_plans" "$work/err"
+[ ! -e "$work/lifelong-bad/lifelong.csv" ] || { echo "a bad settings file still wrote a table"; exit 1; }
 expect_input_error --actions "$bin/ctsfleet-bench" --experiment lifelong --problem "$lorr" --actions diagonal
 expect_input_error --guidance "$bin/ctsfleet-bench" --experiment lifelong --problem "$lorr" --guidance highway
 

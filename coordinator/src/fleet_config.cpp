@@ -174,13 +174,19 @@ FleetConfig load_fleet_config(const std::string& path) {
   const planner_core::YamlContext r(path);
   FleetConfig config;
   config.source = path;
-  r.only_keys(root, {"mission", "lifelong", "robots", "planner", "dds", "timing", "security"}, "top level");
+  r.only_keys(root, {"mission", "lifelong", "lifelong_planner", "robots", "planner", "dds", "timing", "security"}, "top level");
   if (const YAML::Node lifelong = root["lifelong"]) {
     try {
       config.lifelong = lifelong.as<bool>();
     } catch (const YAML::Exception&) {
       r.fail(lifelong, "lifelong", "must be true or false");
     }
+  }
+  if (const YAML::Node planner = root["lifelong_planner"]) {
+    if (!planner.IsScalar() || planner.Scalar().empty()) r.fail(planner, "lifelong_planner", "must be a file name");
+    fs::path settings = planner.Scalar();
+    if (settings.is_relative()) settings = fs::path(path).parent_path() / settings;
+    config.lifelong_planner = planner_core::load_lifelong_config(settings.lexically_normal().string());
   }
   if (!root["mission"] || !root["mission"].IsScalar()) r.fail(root, "mission", "missing or not a file name");
   fs::path mission = root["mission"].Scalar();

@@ -93,6 +93,7 @@ void FleetCoordinator::start_planning() {
   // Lifelong: the plan starts with a window and grows by more (fleet_coordinator_windows.cpp);
   // after a window stalled, the complete solver makes it.
   request.lifelong_window = config_.lifelong && !plan_retry_.complete_solver;
+  request.lifelong_planner = config_.lifelong_planner;
   plan_under_way_.first_plan = first_plan;
   plan_under_way_.lifelong_window = request.lifelong_window;
   planning_.start(std::move(request));
@@ -163,7 +164,8 @@ void FleetCoordinator::take_plan(const PlanningOutcome& outcome) {
   for (int a = 0; a < plan_->agent_count(); ++a) summary_.steps_planned += plan_->move_count(a);
   if (config_.lifelong) {  // the plan will grow by windows, which take up what it does not do
     windows_ = std::make_unique<WindowPlanner>(
-        instance.graph, static_cast<uint32_t>(config_.seed) + static_cast<uint32_t>(epoch_), instance.actions);
+        instance.graph, static_cast<uint32_t>(config_.seed) + static_cast<uint32_t>(epoch_), instance.actions,
+        window_settings(config_.lifelong_planner, *instance.graph, instance.agent_count(), instance.actions));
     planned_visits_.clear();
     first_plan_steps_ = plan_->plan_steps();
     plan_retry_.complete_solver = false;

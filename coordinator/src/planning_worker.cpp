@@ -53,7 +53,8 @@ planner_core::SolveResult PlanningWorker::first_window(const PlanningRequest& re
   for (const planner_core::Task& task : instance.tasks) {
     for (int a : task.agents) agents[a].errands.push_back(task.at);
   }
-  WindowPlanner windows(instance.graph, request.solver.seed, instance.actions);
+  WindowPlanner windows(instance.graph, request.solver.seed, instance.actions,
+                        window_settings(request.lifelong_planner, *instance.graph, instance.agent_count(), instance.actions));
   planner_core::Headings headings;
   if (instance.actions == planner_core::ActionModel::kRotate) {
     for (int a = 0; a < instance.agent_count(); ++a) headings.push_back(instance.start_heading(a));

@@ -9,18 +9,27 @@ using planner_core::Vertex;
 
 namespace {
 
-planner_core::PibtLifelongSettings window_settings(planner_core::ActionModel actions) {
-  planner_core::PibtLifelongSettings settings;
-  settings.forbid_rotations = true;
+planner_core::PibtLifelongSettings for_robots(planner_core::PibtLifelongSettings settings, planner_core::ActionModel actions) {
   settings.actions = actions;
+  settings.forbid_rotations = true;
+  settings.lns = false;
   return settings;
 }
 
 }  // namespace
 
+planner_core::PibtLifelongSettings window_settings(const std::optional<planner_core::LifelongConfig>& settings,
+                                                   const planner_core::Graph& graph, size_t robots,
+                                                   planner_core::ActionModel actions) {
+  if (!settings) return for_robots({}, actions);
+  planner_core::LifelongConfig without_lns = *settings;
+  without_lns.lns = "off";  // and so the auto rules settle the rest as for rollouts alone
+  return for_robots(planner_core::settle_lifelong_config(without_lns, graph, robots, actions), actions);
+}
+
 WindowPlanner::WindowPlanner(std::shared_ptr<const planner_core::Graph> graph, uint32_t seed,
-                             planner_core::ActionModel actions)
-    : graph_(std::move(graph)), actions_(actions), pibt_(*graph_, seed, window_settings(actions)), distances_(*graph_) {}
+                             planner_core::ActionModel actions, planner_core::PibtLifelongSettings pibt)
+    : graph_(std::move(graph)), actions_(actions), pibt_(*graph_, seed, for_robots(pibt, actions)), distances_(*graph_) {}
 
 PlanWindow WindowPlanner::plan(const planner_core::Poses& start, const std::vector<WindowAgent>& agents, int steps,
                                const planner_core::Deadline& deadline) {

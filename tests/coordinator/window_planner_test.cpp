@@ -165,3 +165,56 @@ TEST(WindowPlanner, WithTurnsEveryWindowIsValidAndContinuesTheHeadingsOfTheLast)
 
 }  // namespace
 }  // namespace coordinator
+
+namespace coordinator {
+namespace {
+
+TEST(WindowPlanner, SettingsFromALifelongFileNeverBringLnsOrCyclesAndWindowsStayValid) {
+  // The shipped settings (128 rollouts, lanes or shortest paths, held plans...) with LNS asked for:
+  // the window planner takes them without LNS and without rotations, in both models.
+  auto graph = std::make_shared<const Graph>(
+      6, 5, std::vector<std::string>{"......", ".@..@.", "......", ".@..@.", "......"});
+  const auto at = [&](int x, int y) { return graph->vertex_at({x, y}); };
+  planner_core::LifelongConfig asked;
+  asked.lns = "on";
+  for (planner_core::ActionModel model : {planner_core::ActionModel::kMove4, planner_core::ActionModel::kRotate}) {
+    const planner_core::PibtLifelongSettings pibt = window_settings(asked, *graph, 4, model);
+    EXPECT_FALSE(pibt.lns);
+    EXPECT_TRUE(pibt.forbid_rotations);
+    EXPECT_EQ(pibt.rollouts, 128);
+    WindowPlanner windows(graph, 5, model, pibt);
+    const bool turning = model == planner_core::ActionModel::kRotate;
+    planner_core::Poses poses{{at(0, 0), at(5, 0), at(0, 4), at(5, 4)}, {}};
+    if (turning) poses.headings = {0, 1, 2, 3};
+    std::vector<WindowAgent> agents{{{at(5, 4), at(2, 2)}, at(0, 0)}, {{at(0, 4), at(3, 2)}, at(5, 0)},
+                                    {{at(5, 0)}, at(0, 4)}, {{at(0, 0)}, at(5, 4)}};
+    int errands_left = 6;
+    for (int window = 0; window < 60 && errands_left > 0; ++window) {
+      const PlanWindow next = windows.plan(poses, agents, 5, planner_core::Deadline::in_seconds(5));
+      planner_core::Instance stretch;
+      stretch.graph = graph;
+      stretch.starts = next.steps.front();
+      stretch.goals = next.steps.back();
+      stretch.actions = model;
+      if (turning) stretch.start_headings = next.headings.front();
+      stretch.index_tasks();
+      const planner_core::ValidationReport report = planner_core::validate(
+          stretch, next.steps, {.forbid_rotations = true, .first_stretch = true}, next.headings);
+      ASSERT_TRUE(report.ok()) << "window " << window << ": " << report.summary();
+      for (size_t a = 0; a < agents.size(); ++a) {
+        for (Vertex reached : next.reached[a]) {
+          auto& errands = agents[a].errands;
+          errands.erase(std::find(errands.begin(), errands.end(), reached));
+          --errands_left;
+        }
+      }
+      poses = {next.steps.back(), turning ? next.headings.back() : planner_core::Headings{}};
+    }
+    EXPECT_EQ(errands_left, 0) << (turning ? "rotation model" : "four moves");
+  }
+  // No file: plain PIBT, as before the settings existed.
+  EXPECT_EQ(window_settings(std::nullopt, *graph, 4, planner_core::ActionModel::kMove4).rollouts, 1);
+}
+
+}  // namespace
+}  // namespace coordinator

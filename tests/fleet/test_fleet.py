@@ -593,6 +593,18 @@ class FleetTest(unittest.TestCase):
             output = result.stdout + result.stderr
             self.assertIn(name if expected != "nowhere.yaml" else expected, output)
             self.assertIn(expected, output)
+        # The lifelong planner's settings file the fleet config names: its own faults by its own name.
+        with open(os.path.join(self.fleet.dir, "bad-lifelong.yaml"), "w") as f:
+            f.write("guidance: auto\nrollouts: 0\n")
+        for text, name, expected in [
+                (f"mission: {mission}\nlifelong: true\nlifelong_planner: bad-lifelong.yaml\n", "uses-bad.yaml",
+                 "bad-lifelong.yaml:2"),
+                (f"mission: {mission}\nlifelong_planner: nowhere-lifelong.yaml\n", "uses-missing.yaml",
+                 "nowhere-lifelong.yaml"),
+                (f"mission: {mission}\nlifelong_planner: [a, b]\n", "uses-list.yaml", "lifelong_planner")]:
+            result = coordinator_with(text, name)
+            self.assertEqual(result.returncode, 2, f"{name}: {result.stdout}{result.stderr}")
+            self.assertIn(expected, result.stdout + result.stderr)
         agent = subprocess.run([f"{BIN}/ctsfleet-agent", "--id", "x", "--start", "nonsense"],
                                capture_output=True, text=True, timeout=60)
         self.assertEqual(agent.returncode, 2)

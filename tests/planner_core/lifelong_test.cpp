@@ -7,6 +7,8 @@
 
 #include "planner_core/input_error.hpp"
 #include "planner_core/lifelong.hpp"
+#include "planner_core/lifelong_auto_rules.hpp"
+#include "planner_core/pibt_lifelong.hpp"
 #include "planner_core/lorr_problem.hpp"
 #include "tiny_lorr_problem.hpp"
 

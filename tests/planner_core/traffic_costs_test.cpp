@@ -6,6 +6,8 @@
 #include <stdexcept>
 
 #include "planner_core/lifelong.hpp"
+#include "planner_core/lifelong_auto_rules.hpp"
+#include "planner_core/pibt_lifelong.hpp"
 #include "planner_core/lorr_problem.hpp"
 #include "planner_core/traffic_costs.hpp"
 

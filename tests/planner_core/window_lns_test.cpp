@@ -11,6 +11,8 @@
 #include <random>
 
 #include "planner_core/lifelong.hpp"
+#include "planner_core/lifelong_auto_rules.hpp"
+#include "planner_core/pibt_lifelong.hpp"
 #include "planner_core/lorr_problem.hpp"
 #include "planner_core/window_lns.hpp"
 #include "tiny_lorr_problem.hpp"

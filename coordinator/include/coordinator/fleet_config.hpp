@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "fleet_transport/transport.hpp"
+#include "planner_core/lifelong_config.hpp"
 #include "planner_core/solver.hpp"
 
 namespace coordinator {
@@ -18,6 +19,9 @@ struct FleetConfig {
   // Lifelong: when every task is done the robots park on their goals and the coordinator keeps
   // running, waiting for tasks added at runtime (ctsfleet-task add), with no mission timeout.
   bool lifelong = false;
+  // Lifelong mode: the window planner's settings (key lifelong_planner: a file as config/lifelong.yaml,
+  // relative to the fleet config); none: plain PIBT (window_planner.hpp, window_settings).
+  std::optional<planner_core::LifelongConfig> lifelong_planner;
   bool any_robots = true;        // robots: expected: any
   std::vector<std::string> expected_robots;
   int quorum = 1;                // start once this many robots are bound (any mode)

@@ -29,6 +29,7 @@ struct PlanningRequest {
   // from the instance's starts, through its tasks, towards its goals; validated as a first stretch.
   bool lifelong_window = false;
   int window_steps = 5;
+  std::optional<planner_core::LifelongConfig> lifelong_planner;  // FleetConfig::lifelong_planner
 };
 
 struct PlanningOutcome {

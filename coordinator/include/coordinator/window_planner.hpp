@@ -11,11 +11,13 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "planner_core/deadline.hpp"
 #include "planner_core/dist_table.hpp"
-#include "planner_core/lifelong.hpp"
+#include "planner_core/lifelong_config.hpp"
+#include "planner_core/pibt_lifelong.hpp"
 #include "planner_core/solution.hpp"
 
 namespace coordinator {
@@ -38,12 +40,21 @@ struct PlanWindow {
   std::vector<int> stalled;
 };
 
+// The window planner's PIBT settings: a lifelong settings file (config/lifelong.yaml) settled for
+// the map and the robots, or plain PIBT (one rollout, shortest paths) without one. Never window
+// LNS: its windows move agents in cycles, which robots moving one at a time cannot carry out.
+planner_core::PibtLifelongSettings window_settings(const std::optional<planner_core::LifelongConfig>& settings,
+                                                   const planner_core::Graph& graph, size_t robots,
+                                                   planner_core::ActionModel actions);
+
 class WindowPlanner {
  public:
   static constexpr int kStalledSteps = 100;
 
+  // `pibt`: from window_settings; its actions and forbid_rotations are set here.
   WindowPlanner(std::shared_ptr<const planner_core::Graph> graph, uint32_t seed,
-                planner_core::ActionModel actions = planner_core::ActionModel::kMove4);
+                planner_core::ActionModel actions = planner_core::ActionModel::kMove4,
+                planner_core::PibtLifelongSettings pibt = {});
 
   // Stops early once every agent is parked with no errand left. `from` is where the last window
   // ended (the same agents, in the same order; in the rotation model with their headings). Throws

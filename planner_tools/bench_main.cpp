@@ -12,6 +12,7 @@
 #include "ctsfleet/data_dir.hpp"
 #include "ctsfleet/program.hpp"
 #include "lifelong_experiment.hpp"
+#include "planner_core/lifelong_config.hpp"
 #include "mapf_scale_experiment.hpp"
 #include "paper_experiments.hpp"
 #include "planner_core/benchmark_runner.hpp"
@@ -84,14 +85,14 @@ int main(int argc, char** argv) {
   app.add_option("--step-time", lifelong.step_time_s, "experiment lifelong: seconds to decide each step")
       ->check(ctsfleet::positive_seconds(3600))
       ->capture_default_str();
-  app.add_option("--guidance", lifelong.guidance,
+  app.add_option("--guidance", lifelong.planner.guidance,
                  "experiment lifelong: none (shortest paths), lanes (one-way lanes: rows alternate east and west, "
                  "columns south and north; a move against its lane costs 3), ring (lanes, and within 12 cells of the "
                  "map's edge moves and waits cost up to 0.6 of a move less, the more the nearer) or auto (lanes, but none with --lns "
                  "while agents number at most a quarter of the free cells)")
       ->check(CLI::IsMember({"auto", "none", "lanes", "ring"}))
       ->capture_default_str();
-  app.add_option("--stay-cost", lifelong.stay_cost,
+  app.add_option("--stay-cost", lifelong.planner.stay_cost,
                  "experiment lifelong: what a wait or a quarter turn costs in the guidance, 1-6 (0: 3 with --lns "
                  "on lanes in the rotation model, else 1)")
       ->check(CLI::Range(0, planner_core::GuidedDistances::kMaxStayCost))
@@ -107,69 +108,72 @@ int main(int argc, char** argv) {
   app.add_option("--turns", turns, "with --actions rotate, as ctsfleet-solve --turns: planned, added or both")
       ->check(CLI::IsMember({"both", "planned", "added"}))
       ->capture_default_str();
-  app.add_option("--rollouts", lifelong.rollouts,
+  app.add_option("--rollouts", lifelong.planner.rollouts,
                  "experiment lifelong: PIBT runs tried --rollout-steps ahead each step, the best first step taken "
                  "(1: plain PIBT); they stop at half the step's budget")
       ->check(ctsfleet::count_in(1, 1'000'000))
       ->capture_default_str();
-  app.add_option("--rollout-steps", lifelong.rollout_steps,
+  app.add_option("--rollout-steps", lifelong.planner.rollout_steps,
                  "experiment lifelong: how far ahead each rollout runs, in steps, and with --lns the window LNS "
                  "improves; 0: without --lns 3, or 8 in the rotation model where agents fill more than 90% of the free "
                  "cells; with it 8, or 16 in the rotation model while agents are at most a quarter of the free cells "
                  "and at most 4,000")
       ->check(ctsfleet::count_in(0, 1000))
       ->capture_default_str();
-  CLI::Option* lns_flag =
-      app.add_flag("--lns", lifelong.lns,
-                   "experiment lifelong: improve the best rollout's steps by Large Neighbourhood Search (space-time "
-                   "A* for 8 agents around a late one at a time) with half of the rollouts' time");
-  app.add_option("--lns-rounds", lifelong.lns_rounds,
-                 "experiment lifelong, with --lns: count the work instead of timing it: every step all --rollouts "
-                 "rollouts and exactly N LNS rounds, whatever the clock, and steps taken however long they took: "
+  bool lns = false;
+  app.add_flag("--lns,!--no-lns", lns,
+               "experiment lifelong: improve the best rollout's steps by Large Neighbourhood Search (space-time "
+               "A* for 8 agents around a late one at a time) with half of the rollouts' time; --no-lns: rollouts "
+               "only, the cheaper planner (default: the lifelong settings' lns, auto: on in the rotation model "
+               "unless agents fill more than 90% of the free cells)");
+  std::string lifelong_config;
+  app.add_option("--lifelong-config", lifelong_config,
+                 "experiment lifelong: the planner's settings (YAML, config/lifelong.yaml documents every key); "
+                 "each option below given on the command line overrides its key")
+      ->check(CLI::ExistingFile);
+  app.add_option("--lns-rounds", lifelong.planner.lns_rounds,
+                 "experiment lifelong: count the work instead of timing it: every step all --rollouts "
+                 "rollouts and, with LNS, exactly N LNS rounds, whatever the clock, and steps taken however long they took: "
                  "the same run on every run and machine (timed steps of 1 s do about 24,000 rounds here at 400 agents)")
-      ->check(ctsfleet::count_in(1, 1'000'000'000))
-      ->needs(lns_flag);
-  app.add_option("--keep-window", lifelong.keep_window,
+      ->check(ctsfleet::count_in(1, 1'000'000'000));
+  app.add_option("--keep-window", lifelong.planner.keep_window,
                  "experiment lifelong, with --lns: start each step's LNS from the last step's improved window, one "
                  "step on (agents with a new errand planned again), when it costs less than the best rollout; on, "
                  "off or auto (on in the rotation model, unless agents are at most a quarter of the free cells but "
                  "more than 4,000)")
       ->check(CLI::IsMember({"auto", "on", "off"}))
-      ->capture_default_str()
-      ->needs(lns_flag);
-  app.add_option("--keep-equal-cost", lifelong.keep_equal_cost,
+      ->capture_default_str();
+  app.add_option("--keep-equal-cost", lifelong.planner.keep_equal_cost,
                  "experiment lifelong, with --lns: an LNS round whose new paths cost the same as the old keeps them "
                  "(the search wanders over plateaus); on, off or auto (on in the rotation model while agents are at "
                  "most a quarter of the free cells and at most 4,000, where the window is 16 steps by default)")
       ->check(CLI::IsMember({"auto", "on", "off"}))
-      ->capture_default_str()
-      ->needs(lns_flag);
-  app.add_option("--neighbourhoods", lifelong.neighbourhoods,
+      ->capture_default_str();
+  app.add_option("--neighbourhoods", lifelong.planner.neighbourhoods,
                  "experiment lifelong, with --lns: how an LNS round picks the 8 agents it plans again: nearest (a "
                  "late agent and those standing nearest it), adaptive (each round one of nearest, those passing a "
                  "crossing in the window, or any at random, weighted by their recent gains), or auto (adaptive in "
                  "the rotation model wherever --keep-window auto keeps the window)")
       ->check(CLI::IsMember({"auto", "nearest", "adaptive"}))
-      ->capture_default_str()
-      ->needs(lns_flag);
-  app.add_option("--hold-plans", lifelong.hold_plans,
+      ->capture_default_str();
+  app.add_option("--hold-plans", lifelong.planner.hold_plans,
                  "experiment lifelong, rotation model: when the cells PIBT chose are carried out as a plan, turning "
                  "and moving agents while the others wait, until every agent stands on its own: never, half (in "
                  "every second rollout; the look-ahead picks), always, or auto (always when agents fill more than "
                  "90% of the free cells, else half)")
       ->check(CLI::IsMember({"auto", "never", "half", "always"}))
       ->capture_default_str();
-  app.add_flag("--keep-targets,!--no-keep-targets", lifelong.keep_targets,
+  app.add_flag("--keep-targets,!--no-keep-targets", lifelong.planner.keep_targets,
                "experiment lifelong, rotation model: an agent short of the cell PIBT chose for it (turned towards "
                "it, or queued behind one that turned) decides first and tries that cell first")
       ->capture_default_str();
-  app.add_option("--park-dead-ends", lifelong.park_dead_ends,
+  app.add_option("--park-dead-ends", lifelong.planner.park_dead_ends,
                  "experiment lifelong: park agents whose errand is a dead end (a cell with one neighbour): they "
                  "only move to make way, and give that errand up; on, off or auto (on when agents fill more than "
                  "90% of the free cells)")
       ->check(CLI::IsMember({"auto", "on", "off"}))
       ->capture_default_str();
-  app.add_option("--traffic-costs", lifelong.traffic_costs,
+  app.add_option("--traffic-costs", lifelong.planner.traffic_costs,
                  "experiment lifelong: cells crowded lately cost more in the guidance (taken more than 60% of the "
                  "last 50 steps or so: 0.6 of a move more per 10% above, at most 2 moves; counted every 10 steps); "
                  "on, off or auto (on with the ring road)")
@@ -228,6 +232,28 @@ int main(int argc, char** argv) {
         experiment_settings.scale_per_setting = sample;
       }
       if (experiment == "lifelong") {
+        // The settings file, then each option given on the command line over its key.
+        planner_core::LifelongConfig& planner = lifelong.planner;
+        const planner_core::LifelongConfig given = planner;
+        if (!lifelong_config.empty()) planner = planner_core::load_lifelong_config(lifelong_config);
+        const auto over = [&](const char* option, auto member) {
+          if (app.count(option) > 0) planner.*member = given.*member;
+        };
+        using Config = planner_core::LifelongConfig;
+        over("--guidance", &Config::guidance);
+        over("--stay-cost", &Config::stay_cost);
+        over("--rollouts", &Config::rollouts);
+        over("--rollout-steps", &Config::rollout_steps);
+        over("--lns-rounds", &Config::lns_rounds);
+        over("--keep-window", &Config::keep_window);
+        over("--keep-equal-cost", &Config::keep_equal_cost);
+        over("--neighbourhoods", &Config::neighbourhoods);
+        over("--hold-plans", &Config::hold_plans);
+        over("--keep-targets", &Config::keep_targets);
+        over("--park-dead-ends", &Config::park_dead_ends);
+        over("--traffic-costs", &Config::traffic_costs);
+        if (app.count("--lns") + app.count("--no-lns") > 0) planner.lns = lns ? "on" : "off";
+        planner_core::check_lifelong_config(planner, "the lifelong settings");
         lifelong.benchmarks = experiment_settings.benchmarks;
         lifelong.out_dir = experiment_settings.out_dir;
         lifelong.seed = config.seed;

@@ -11,6 +11,8 @@
 
 #include "planner_core/input_error.hpp"
 #include "planner_core/lifelong.hpp"
+#include "planner_core/lifelong_auto_rules.hpp"
+#include "planner_core/pibt_lifelong.hpp"
 #include "planner_core/lorr_output.hpp"
 #include "planner_core/lorr_problem.hpp"
 
@@ -56,61 +58,30 @@ int run_lifelong_experiment(const LifelongExperimentSettings& settings) {
            "step_ms_max,over_budget,invalid,peak_mb,preprocess_ms\n";
   per_step << "problem,step,errands\n";
   const planner_core::ActionModel actions = planner_core::parse_action_model(settings.actions, "--actions");
-  const bool auto_holding = settings.hold_plans == "auto";
-  const planner_core::PlanHolding asked_holding =
-      auto_holding ? planner_core::PlanHolding::kInHalfTheRollouts
-                   : planner_core::parse_plan_holding(settings.hold_plans, "--hold-plans");
+  const planner_core::LifelongConfig& asked = settings.planner;
   const std::string turning =
       actions == planner_core::ActionModel::kRotate
-          ? ", plans held " + settings.hold_plans + (settings.keep_targets ? ", targets kept" : ", targets not kept")
+          ? ", plans held " + asked.hold_plans + (asked.keep_targets ? ", targets kept" : ", targets not kept")
           : "";
-  const std::string rollout_steps = settings.rollout_steps > 0 ? std::to_string(settings.rollout_steps) : "auto";
+  const std::string rollout_steps = asked.rollout_steps > 0 ? std::to_string(asked.rollout_steps) : "auto";
   std::printf(
-      "lifelong: %d steps, %.3f s per step, actions %s%s, planner pibt, guidance %s, %d rollouts of %s steps (seed "
-      "%u)\n",
-      settings.steps, settings.step_time_s, settings.actions.c_str(), turning.c_str(), settings.guidance.c_str(),
-      settings.rollouts, rollout_steps.c_str(), settings.seed);
-  if (settings.lns_rounds > 0) {
-    std::printf("work counted, not timed: every step %d rollouts and %lld LNS rounds, and taken however long it took\n",
-                settings.rollouts, static_cast<long long>(settings.lns_rounds));
+      "lifelong: %d steps, %.3f s per step, actions %s%s, planner pibt, lns %s, guidance %s, %d rollouts of %s steps "
+      "(seed %u)\n",
+      settings.steps, settings.step_time_s, settings.actions.c_str(), turning.c_str(), asked.lns.c_str(),
+      asked.guidance.c_str(), asked.rollouts, rollout_steps.c_str(), settings.seed);
+  if (asked.lns_rounds > 0) {
+    std::printf("work counted, not timed: every step %d rollouts and, with LNS, %lld LNS rounds, and taken however long it took\n",
+                asked.rollouts, static_cast<long long>(asked.lns_rounds));
   }
   std::printf("%-28s %6s %9s %8s %9s %9s %9s %6s %7s %8s %9s\n", "problem", "agents", "errands", "per step",
               "p50 ms", "p99 ms", "max ms", "over", "invalid", "peak MB", "prep ms");
   for (const std::string& path : problems) {
     const planner_core::LorrProblem problem = planner_core::load_lorr_problem(path);
-    planner_core::PibtLifelongSettings pibt;
-    pibt.guidance = settings.guidance == "auto"
-                        ? planner_core::lifelong_guidance(*problem.graph, problem.starts.size(), settings.lns, actions)
-                        : planner_core::parse_guidance(settings.guidance, "--guidance");
-    pibt.stay_cost =
-        settings.stay_cost > 0 ? settings.stay_cost : planner_core::lifelong_stay_cost(pibt.guidance, settings.lns, actions);
-    pibt.rollouts = settings.rollouts;
-    const planner_core::LifelongWindow window =
-        planner_core::lifelong_window(*problem.graph, problem.starts.size(), actions);
-    pibt.rollout_steps = settings.rollout_steps > 0 ? settings.rollout_steps
-                         : settings.lns
-                             ? window.steps
-                             : planner_core::lifelong_rollout_steps(*problem.graph, problem.starts.size(), actions);
-    pibt.lns = settings.lns;
-    pibt.keep_window = settings.lns && (settings.keep_window == "auto" ? window.kept : settings.keep_window == "on");
-    pibt.lns_keeps_equal_cost =
-        settings.lns && (settings.keep_equal_cost == "auto" ? window.equal_cost_kept : settings.keep_equal_cost == "on");
-    const bool adaptive = settings.lns && (settings.neighbourhoods == "auto" ? window.adaptive_neighbourhoods
-                                                                             : settings.neighbourhoods == "adaptive");
-    pibt.lns_neighbourhoods =
-        adaptive ? planner_core::WindowLns::Neighbourhoods::kAdaptive : planner_core::WindowLns::Neighbourhoods::kNearest;
-    pibt.lns_rounds = settings.lns_rounds;
-    pibt.actions = actions;
-    pibt.hold_plans =
-        auto_holding ? planner_core::lifelong_plan_holding(*problem.graph, problem.starts.size()) : asked_holding;
-    pibt.keep_targets = settings.keep_targets;
-    pibt.park_dead_end_errands = settings.park_dead_ends == "auto"
-                                     ? planner_core::lifelong_parks_dead_ends(*problem.graph, problem.starts.size())
-                                     : settings.park_dead_ends == "on";
-    pibt.traffic = planner_core::lifelong_traffic(*problem.graph, problem.starts.size(), pibt.guidance);
-    if (settings.traffic_costs != "auto") pibt.traffic.on = settings.traffic_costs == "on";
+    const planner_core::PibtLifelongSettings pibt =
+        planner_core::settle_lifelong_config(asked, *problem.graph, problem.starts.size(), actions);
+    const bool adaptive = pibt.lns_neighbourhoods == planner_core::WindowLns::Neighbourhoods::kAdaptive;
     const std::string turning_name = actions == planner_core::ActionModel::kRotate
-                                         ? "-hold-" + planner_core::to_string(pibt.hold_plans) + (settings.keep_targets ? "-keep" : "")
+                                         ? "-hold-" + planner_core::to_string(pibt.hold_plans) + (pibt.keep_targets ? "-keep" : "")
                                          : "";
     planner_core::PibtLifelong planner(*problem.graph, settings.seed, pibt);
     planner_core::LifelongLog log;
@@ -119,7 +90,7 @@ int run_lifelong_experiment(const LifelongExperimentSettings& settings) {
     lifelong.steps = settings.steps;
     lifelong.step_time_s = settings.step_time_s;
     lifelong.interrupt = settings.interrupt;
-    lifelong.late_steps_taken = settings.lns_rounds > 0;
+    lifelong.late_steps_taken = asked.lns_rounds > 0;
     lifelong.log = settings.league_output ? &log : nullptr;
     const planner_core::LifelongResult result = planner_core::run_lifelong(problem, planner, lifelong);
     if (result.interrupted) {
@@ -134,18 +105,18 @@ int run_lifelong_experiment(const LifelongExperimentSettings& settings) {
                 quantile(result.step_ms, 0.99), quantile(result.step_ms, 1.0), result.steps_over_budget,
                 result.invalid_steps, peak_memory_mb(), result.preprocess_ms);
     if (!result.first_invalid.empty()) std::printf("  first invalid step: %s\n", result.first_invalid.c_str());
-    if (settings.lns) {
+    if (pibt.lns) {
       const planner_core::WindowLnsStats& lns = planner.lns_totals();
       std::printf("  window LNS: %lld iterations, %lld improvements, window cost %lld -> %lld\n",
                   static_cast<long long>(lns.iterations), static_cast<long long>(lns.improvements),
                   static_cast<long long>(lns.cost_before), static_cast<long long>(lns.cost_after));
-      std::printf("  windows of %d steps%s, %s%s\n", pibt.rollout_steps, settings.rollout_steps > 0 ? "" : " (auto)",
+      std::printf("  windows of %d steps%s, %s%s\n", pibt.rollout_steps, asked.rollout_steps > 0 ? "" : " (auto)",
                   pibt.keep_window ? "kept from step to step" : "planned afresh each step",
-                  settings.keep_window == "auto" ? " (auto)" : "");
+                  asked.keep_window == "auto" ? " (auto)" : "");
       std::printf("  paths of equal cost %s%s\n", pibt.lns_keeps_equal_cost ? "kept" : "not kept",
-                  settings.keep_equal_cost == "auto" ? " (auto)" : "");
+                  asked.keep_equal_cost == "auto" ? " (auto)" : "");
       std::printf("  neighbourhoods %s%s\n", adaptive ? "adaptive (nearest, crossing, random)" : "nearest",
-                  settings.neighbourhoods == "auto" ? " (auto)" : "");
+                  asked.neighbourhoods == "auto" ? " (auto)" : "");
       if (adaptive) {
         std::printf("  rounds by neighbourhood: nearest %lld (%lld improved), crossing %lld (%lld), random %lld (%lld)\n",
                     static_cast<long long>(lns.rounds_by_kind[0]), static_cast<long long>(lns.improvements_by_kind[0]),
@@ -158,9 +129,9 @@ int run_lifelong_experiment(const LifelongExperimentSettings& settings) {
                     static_cast<long long>(planner.windows_kept()));
       }
     } else if (pibt.rollouts > 1) {
-      std::printf("  rollouts of %d steps%s\n", pibt.rollout_steps, settings.rollout_steps > 0 ? "" : " (auto)");
+      std::printf("  rollouts of %d steps%s\n", pibt.rollout_steps, asked.rollout_steps > 0 ? "" : " (auto)");
     }
-    const char* chosen = settings.guidance == "auto" ? " (auto)" : "";
+    const char* chosen = asked.guidance == "auto" ? " (auto)" : "";
     if (pibt.guidance == planner_core::Guidance::kLanes) {
       std::printf("  guidance lanes%s: they turn every %d rows and every %d columns; a wait or turn costs %d\n", chosen,
                   planner.distances().row_period(), planner.distances().column_period(), pibt.stay_cost);
@@ -173,16 +144,16 @@ int run_lifelong_experiment(const LifelongExperimentSettings& settings) {
     } else {
       std::printf("  guidance none%s: shortest paths; a wait or turn costs %d\n", chosen, pibt.stay_cost);
     }
-    if (auto_holding && actions == planner_core::ActionModel::kRotate) {
+    if (asked.hold_plans == "auto" && actions == planner_core::ActionModel::kRotate) {
       std::printf("  plans held %s (auto)\n", planner_core::to_string(pibt.hold_plans).c_str());
     }
     if (pibt.park_dead_end_errands) {
       std::printf("  parked%s: %d agents at the last step, whose errand is a dead end (given up)\n",
-                  settings.park_dead_ends == "auto" ? " (auto)" : "", planner.parked_agents());
+                  asked.park_dead_ends == "auto" ? " (auto)" : "", planner.parked_agents());
     }
     if (pibt.traffic.on) {
       std::printf("  traffic costs%s: cells taken more than %.0f%% of the time cost up to %d moves more\n",
-                  settings.traffic_costs == "auto" ? " (auto)" : "", 100 * pibt.traffic.threshold,
+                  asked.traffic_costs == "auto" ? " (auto)" : "", 100 * pibt.traffic.threshold,
                   pibt.traffic.max_moves);
     }
     if (settings.league_output) {
@@ -190,7 +161,7 @@ int run_lifelong_experiment(const LifelongExperimentSettings& settings) {
       planner_core::write_lorr_output(output.string(), problem, result, log);
       std::printf("  wrote %s\n", output.c_str());
     }
-    table << name << "," << problem.starts.size() << "," << settings.steps << "," << settings.step_time_s << ",pibt-" << (actions == planner_core::ActionModel::kRotate ? "rotate-" : "") << planner_core::to_string(pibt.guidance) << (pibt.stay_cost != 1 ? "-stay" + std::to_string(pibt.stay_cost) : "") << "-r" << settings.rollouts << (settings.lns ? "-lns" : "") << (pibt.keep_window ? "-window-kept" : "") << (pibt.lns_keeps_equal_cost ? "-equal-kept" : "") << (adaptive ? "-adaptive" : "") << turning_name << (pibt.park_dead_end_errands ? "-park" : "") << (pibt.traffic.on ? "-traffic" : "") << ","
+    table << name << "," << problem.starts.size() << "," << settings.steps << "," << settings.step_time_s << ",pibt-" << (actions == planner_core::ActionModel::kRotate ? "rotate-" : "") << planner_core::to_string(pibt.guidance) << (pibt.stay_cost != 1 ? "-stay" + std::to_string(pibt.stay_cost) : "") << "-r" << pibt.rollouts << (pibt.lns ? "-lns" : "") << (pibt.keep_window ? "-window-kept" : "") << (pibt.lns_keeps_equal_cost ? "-equal-kept" : "") << (adaptive ? "-adaptive" : "") << turning_name << (pibt.park_dead_end_errands ? "-park" : "") << (pibt.traffic.on ? "-traffic" : "") << ","
           << result.errands_finished << "," << result.tasks_finished << "," << per << ","
           << quantile(result.step_ms, 0.5) << "," << quantile(result.step_ms, 0.99) << ","
           << quantile(result.step_ms, 1.0) << "," << result.steps_over_budget << "," << result.invalid_steps << ","
