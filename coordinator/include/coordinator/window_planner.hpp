@@ -1,7 +1,7 @@
 // WindowPlanner (lifelong mode): the next stretch of a plan that never ends. From the
 // configuration the plan in execution ends on, each agent's errands (task cells still to visit,
 // in any order) and its parking cell, up to `steps` more configurations, decided one step at a
-// time by PIBT (planner_core/lifelong.hpp) without rotations, so that the Action Dependency Graph
+// time by PIBT (planner_core/pibt_lifelong.hpp) without rotations, so that the Action Dependency Graph
 // can carry them out. Each agent heads for the nearest of its errands, then the nearest of the
 // rest, then parks. Every step is checked (moves to neighbours only, no two agents on one cell, no
 // swap, no cycle) before the window is handed back. No DDS, no clock beyond the deadline. In the
