@@ -50,6 +50,8 @@ double peak_memory_mb() {
 int run_lifelong_experiment(const LifelongExperimentSettings& settings) {
   const std::vector<std::string> problems =
       settings.problems.empty() ? default_problems(settings.benchmarks) : settings.problems;
+  // Every problem read before anything is written: a bad one stops the run with nothing partial.
+  for (const std::string& path : problems) planner_core::load_lorr_problem(path);
   fs::create_directories(settings.out_dir);
   const fs::path table_path = fs::path(settings.out_dir) / "lifelong.csv";
   const fs::path steps_path = fs::path(settings.out_dir) / "lifelong_steps.csv";
@@ -105,6 +107,12 @@ int run_lifelong_experiment(const LifelongExperimentSettings& settings) {
                 quantile(result.step_ms, 0.99), quantile(result.step_ms, 1.0), result.steps_over_budget,
                 result.invalid_steps, peak_memory_mb(), result.preprocess_ms);
     if (!result.first_invalid.empty()) std::printf("  first invalid step: %s\n", result.first_invalid.c_str());
+    if (problem.delays || problem.ticks_per_action != 1) {
+      std::printf("  %s: agentCounter %d%s read; not simulated here: every action takes one step, no robot is "
+                  "delayed\n",
+                  problem.version.empty() ? "execution settings" : problem.version.c_str(), problem.ticks_per_action,
+                  problem.delays ? ", delayConfig" : "");
+    }
     if (pibt.lns) {
       const planner_core::WindowLnsStats& lns = planner.lns_totals();
       std::printf("  window LNS: %lld iterations, %lld improvements, window cost %lld -> %lld\n",

@@ -43,7 +43,7 @@ std::optional<planner_core::Cell> PlanExecution::confirm(int a, const fleet_tran
   // A robot that reports no heading (-1: its body has no compass) is confirmed by its cell alone, or
   // it would never be: its turns are then left to it, as in a four-way plan.
   Agent& agent = agents_[a];
-  const Move& sent = move(a, agent.sent);
+  const planner_core::Move& sent = move(a, agent.sent);
   const planner_core::Cell cell = graph_->cell_of(sent.to);
   if (state.coordinator != coordinator_ || state.plan_epoch != epoch_ || state.action_index != agent.sent ||
       state.status == fleet_transport::RobotStatus::kMoving || state.cell_x != cell.x || state.cell_y != cell.y ||

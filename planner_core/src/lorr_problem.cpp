@@ -6,6 +6,7 @@
 #include <fstream>
 #include <set>
 #include <sstream>
+#include <type_traits>
 
 #include "planner_core/input_error.hpp"
 #include "planner_core/input_file.hpp"
@@ -41,6 +42,8 @@ std::vector<ListLine> read_list_file(const std::string& path, const std::string&
   std::vector<ListLine> lines;
   while (std::getline(in, text)) {
     ++line_no;
+    const size_t first = text.find_first_not_of(" \t\r");
+    if (first != std::string::npos && text[first] == '#') continue;  // a comment ("# version for LoRR 2026")
     for (char& c : text) c = c == ',' ? ' ' : c;  // later rounds separate a task's errands by commas
     std::istringstream words(text);
     ListLine line{line_no, {}};
@@ -101,6 +104,75 @@ nlohmann::json read_json(const std::string& path) {
   }
 }
 
+// delayConfig.`key`, which must be there and of JSON type `Value`.
+template <typename Value>
+Value delay_key(const nlohmann::json& delays, const std::string& key, const std::string& path) {
+  const std::string named = path + ": \"delayConfig\".\"" + key + "\"";
+  if (!delays.contains(key)) throw InputError(named + " missing");
+  const nlohmann::json& value = delays[key];
+  if constexpr (std::is_same_v<Value, std::string>) {
+    if (!value.is_string()) throw InputError(named + " must be a name");
+  } else if constexpr (std::is_integral_v<Value>) {
+    if (!value.is_number_integer()) throw InputError(named + " must be a whole number");
+  } else {
+    if (!value.is_number()) throw InputError(named + " must be a number");
+  }
+  return value.get<Value>();
+}
+
+LeagueDelays read_delays(const nlohmann::json& delays, const std::string& path) {
+  if (!delays.is_object()) throw InputError(path + ": \"delayConfig\" must be an object");
+  const auto fail = [&](const std::string& key, const std::string& problem) {
+    throw InputError(path + ": \"delayConfig\".\"" + key + "\" " + problem);
+  };
+  LeagueDelays read;
+  const long long seed = delay_key<long long>(delays, "seed", path);
+  if (seed < 0 || seed > 4294967295LL) fail("seed", "must be in [0, 4294967295]");
+  read.seed = static_cast<unsigned>(seed);
+  const long long min_ticks = delay_key<long long>(delays, "minDelay", path);
+  const long long max_ticks = delay_key<long long>(delays, "maxDelay", path);
+  if (min_ticks < 1 || min_ticks > 1'000'000) fail("minDelay", "must be in [1, 1000000] ticks");
+  if (max_ticks < min_ticks || max_ticks > 1'000'000) fail("maxDelay", "must be in [minDelay, 1000000] ticks");
+  read.min_ticks = static_cast<int>(min_ticks);
+  read.max_ticks = static_cast<int>(max_ticks);
+  const std::string events = delay_key<std::string>(delays, "eventModel", path);
+  if (events != "bernoulli" && events != "poisson") fail("eventModel", "must be \"bernoulli\" or \"poisson\"");
+  read.events = events == "poisson" ? LeagueDelays::Events::kPoisson : LeagueDelays::Events::kBernoulli;
+  read.probability = delay_key<double>(delays, "pDelay", path);
+  if (!(read.probability >= 0 && read.probability <= 1)) fail("pDelay", "must be in [0, 1]");
+  const std::string durations = delay_key<std::string>(delays, "durationModel", path);
+  if (durations != "uniform" && durations != "gaussian") fail("durationModel", "must be \"uniform\" or \"gaussian\"");
+  read.durations = durations == "gaussian" ? LeagueDelays::Durations::kGaussian : LeagueDelays::Durations::kUniform;
+  read.gauss_mean_share = delay_key<double>(delays, "gaussMeanRatio", path);
+  read.gauss_spread_share = delay_key<double>(delays, "gaussStdRatio", path);
+  if (!(read.gauss_mean_share >= 0 && read.gauss_mean_share <= 1)) fail("gaussMeanRatio", "must be in [0, 1]");
+  if (!(read.gauss_spread_share >= 0 && read.gauss_spread_share <= 1000)) fail("gaussStdRatio", "must be in [0, 1000]");
+  return read;
+}
+
+// The 2026 rules' execution settings: agentCounter, agentSize, delayConfig, version.
+void read_execution_settings(const nlohmann::json& root, const std::string& path, LorrProblem& problem) {
+  if (root.contains("version")) {
+    if (!root["version"].is_string()) throw InputError(path + ": \"version\" must be a text");
+    problem.version = root["version"].get<std::string>();
+  }
+  if (root.contains("agentCounter")) {
+    const nlohmann::json& counter = root["agentCounter"];
+    if (!counter.is_number_integer() || counter.get<long long>() < 1 || counter.get<long long>() > 1000) {
+      throw InputError(path + ": \"agentCounter\" must be a whole number of ticks in [1, 1000]");
+    }
+    problem.ticks_per_action = counter.get<int>();
+  }
+  if (root.contains("agentSize")) {
+    const nlohmann::json& size = root["agentSize"];
+    if (!size.is_number() || !(size.get<double>() > 0) || size.get<double>() > 1) {
+      throw InputError(path + ": \"agentSize\" must be a number in (0, 1] (cells: robots stand one to a cell)");
+    }
+    problem.agent_size = size.get<double>();
+  }
+  if (root.contains("delayConfig")) problem.delays = read_delays(root["delayConfig"], path);
+}
+
 }  // namespace
 
 LorrProblem load_lorr_problem(const std::string& path) {
@@ -121,6 +193,8 @@ LorrProblem load_lorr_problem(const std::string& path) {
     }
     problem.tasks_revealed_per_agent = root["numTasksReveal"].get<double>();
   }
+  // No strategy named (2024 on): the system schedules a pool of revealed tasks.
+  problem.assignment = root.contains("taskAssignmentStrategy") ? TaskAssignment::kRoundRobin : TaskAssignment::kGreedy;
   if (root.contains("taskAssignmentStrategy")) {
     const nlohmann::json& strategy = root["taskAssignmentStrategy"];
     if (strategy == "roundrobin") {
@@ -131,6 +205,7 @@ LorrProblem load_lorr_problem(const std::string& path) {
       throw InputError(path + ": \"taskAssignmentStrategy\" must be \"roundrobin\" or \"greedy\"");
     }
   }
+  read_execution_settings(root, path, problem);
   const std::string agent_file = file_named(root, "agentFile", path);
   const std::vector<ListLine> agents = read_list_file(agent_file, "agent");
   if (static_cast<long long>(agents.size()) < team) {

@@ -15,7 +15,9 @@ TaskBoard::TaskBoard(const LorrProblem& problem, const Config& starts, LifelongL
     for (int a = 0; a < team; ++a) next_of_agent_[a] = a;
     for (int a = 0; a < team; ++a) refill(a, starts[a]);
   } else {
-    for (int k = 0; k < reveal_ * team; ++k) pool_.push_back(next_task_++);
+    // numTasksReveal x teamSize revealed at a time (2024 on: a multiple of the team, 1.5 in 2026).
+    const auto pool = static_cast<int64_t>(std::ceil(problem.tasks_revealed_per_agent * team - 1e-9));
+    for (int64_t k = 0; k < std::max<int64_t>(1, pool); ++k) pool_.push_back(next_task_++);
     for (int a = 0; a < team; ++a) refill(a, starts[a]);
   }
 }

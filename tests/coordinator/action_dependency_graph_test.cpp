@@ -5,7 +5,7 @@
 #include <stdexcept>
 #include <tuple>
 
-#include "coordinator/action_dependency_graph.hpp"
+#include "planner_core/action_dependency_graph.hpp"
 #include "coordinator/window_planner.hpp"
 #include "planner_core/action_model.hpp"
 #include "planner_core/solver.hpp"
@@ -13,6 +13,9 @@
 
 namespace coordinator {
 namespace {
+
+using planner_core::ActionDependencyGraph;
+using planner_core::Move;
 
 using planner_core::Vertex;
 

@@ -8,11 +8,13 @@
 #include <algorithm>
 #include <memory>
 
-#include "coordinator/action_dependency_graph.hpp"
+#include "planner_core/action_dependency_graph.hpp"
 #include "planner_core/validator.hpp"
 
 namespace coordinator {
 namespace {
+
+using planner_core::ActionDependencyGraph;
 
 using planner_core::Config;
 using planner_core::Graph;

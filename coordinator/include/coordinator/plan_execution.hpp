@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "coordinator/action_dependency_graph.hpp"
+#include "planner_core/action_dependency_graph.hpp"
 #include "fleet_transport/messages.hpp"
 #include "planner_core/graph.hpp"
 #include "planner_core/solution.hpp"
@@ -45,7 +45,7 @@ class PlanExecution {
   // Agent a's moves so far; move(a, i) for i from agent(a).finished - 1 on (earlier ones are freed
   // as they are confirmed: a lifelong plan grows without end).
   int move_count(int a) const { return adg_.move_count(a); }
-  const Move& move(int a, int index) const { return adg_.move(a, index); }
+  const planner_core::Move& move(int a, int index) const { return adg_.move(a, index); }
   // The plan agent of `robot_id`, or -1.
   int agent_of(const std::string& robot_id) const;
 
@@ -102,7 +102,7 @@ class PlanExecution {
   int epoch_;
   uint64_t coordinator_;
   std::shared_ptr<const planner_core::Graph> graph_;
-  ActionDependencyGraph adg_;
+  planner_core::ActionDependencyGraph adg_;
   std::vector<Agent> agents_;
   std::vector<planner_core::Vertex> starts_;  // the plan's first configuration
 };

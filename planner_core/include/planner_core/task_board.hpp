@@ -1,9 +1,10 @@
 // Which tasks each agent of a lifelong run holds, and how tasks are revealed and handed out, as
 // the League of Robot Runners' 2023 rules do (docs/FORMATS.md). The task file is read in order and
 // started over at its end. Round-robin: agent a's tasks are a, a + teamSize, a + 2 teamSize...,
-// tasks_revealed_per_agent (rounded up) of them revealed at a time, done in order. Greedy: a pool
-// of tasks_revealed_per_agent x teamSize revealed tasks; an agent without a task takes the one
-// whose first errand is nearest, and the pool is refilled.
+// tasks_revealed_per_agent (rounded up) of them revealed at a time, done in order. Greedy (also
+// where the file names no strategy, as from 2024 on): a pool of tasks_revealed_per_agent x teamSize
+// revealed tasks (rounded up); an agent without a task takes the one whose first errand is
+// nearest, and the pool is refilled.
 #pragma once
 
 #include <cstdint>

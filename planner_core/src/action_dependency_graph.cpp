@@ -1,13 +1,13 @@
-#include "coordinator/action_dependency_graph.hpp"
+#include "planner_core/action_dependency_graph.hpp"
 
 #include <stdexcept>
 #include <string>
 
-namespace coordinator {
+namespace planner_core {
 
-using planner_core::Vertex;
+using Vertex;
 
-ActionDependencyGraph::ActionDependencyGraph(const planner_core::Solution& plan, const planner_core::HeadingPlan& headings) {
+ActionDependencyGraph::ActionDependencyGraph(const Solution& plan, const HeadingPlan& headings) {
   if (plan.empty()) return;
   moves_.assign(plan[0].size(), {});
   forgotten_.assign(plan[0].size(), 0);
@@ -15,7 +15,7 @@ ActionDependencyGraph::ActionDependencyGraph(const planner_core::Solution& plan,
   extend(plan, headings);
 }
 
-void ActionDependencyGraph::extend(const planner_core::Solution& more, const planner_core::HeadingPlan& headings) {
+void ActionDependencyGraph::extend(const Solution& more, const HeadingPlan& headings) {
   if (more.empty()) return;
   if (more[0] != last_) throw std::invalid_argument("the plan's extension does not start where the plan ends");
   if (!headings.empty() && headings.size() != more.size()) {
@@ -63,4 +63,4 @@ void ActionDependencyGraph::forget_before(int robot, int index) {
   }
 }
 
-}  // namespace coordinator
+}  // namespace planner_core

@@ -10,6 +10,9 @@
 // earlier one back. A move its robot has finished is never asked about again, so forget_before()
 // frees it (a lifelong plan grows without end); move indices stay as they were.
 //
+// It is the product's one executor: the coordinator sends robots their moves by it
+// (coordinator/plan_execution.hpp), and a lockstep run can carry staged plans out by it as well.
+//
 // Plans with turns (the rotation model) give each robot's heading at every step: a turn in place
 // is a move of its own (from and to the same cell, a new heading) that waits only for the robot's
 // own previous moves, since it neither enters nor leaves a cell.
@@ -22,11 +25,11 @@
 
 #include "planner_core/solution.hpp"
 
-namespace coordinator {
+namespace planner_core {
 
 struct Move {
-  planner_core::Vertex from;
-  planner_core::Vertex to;
+  Vertex from;
+  Vertex to;
   int plan_time;  // the timestep at which the plan has the robot arrive at `to`
   int heading = -1;  // plans with turns: the heading the robot ends the move facing; -1 otherwise
   // (robot, move index) pairs that must be finished before this move may start.
@@ -37,12 +40,12 @@ class ActionDependencyGraph {
  public:
   // Robot r's moves come from column r of `plan` (waits dropped); `headings`, when given (plans
   // with turns), holds every robot's heading at every step of `plan`.
-  explicit ActionDependencyGraph(const planner_core::Solution& plan, const planner_core::HeadingPlan& headings = {});
+  explicit ActionDependencyGraph(const Solution& plan, const HeadingPlan& headings = {});
 
   // The plan goes on with `more` (and its headings, for plans with turns), whose first
   // configuration must be the plan's last (else std::invalid_argument); its moves become each
   // robot's next moves.
-  void extend(const planner_core::Solution& more, const planner_core::HeadingPlan& headings = {});
+  void extend(const Solution& more, const HeadingPlan& headings = {});
 
   int robot_count() const { return static_cast<int>(moves_.size()); }
   // Robot r's moves so far, forgotten ones included.
@@ -55,9 +58,9 @@ class ActionDependencyGraph {
   void forget_before(int robot, int index);
   // Timesteps in the plan so far, and its last configuration.
   int plan_steps() const { return steps_; }
-  const planner_core::Config& last_configuration() const { return last_; }
+  const Config& last_configuration() const { return last_; }
   // Plans with turns: the headings at the plan's last step (empty otherwise).
-  const planner_core::Headings& last_headings() const { return last_headings_; }
+  const Headings& last_headings() const { return last_headings_; }
   // May robot r start move k, given how many moves each robot has finished?
   bool ready(int robot, int move, const std::vector<int>& finished) const {
     return ready(robot, move, [&finished](int other) { return finished[other]; });
@@ -76,10 +79,10 @@ class ActionDependencyGraph {
   std::vector<std::deque<Move>> moves_;
   std::vector<int> forgotten_;  // per robot, moves freed from the front
   // Per cell, each robot's latest departure from it so far (robot -> move index).
-  std::unordered_map<planner_core::Vertex, std::map<int, int>> last_departures_;
-  planner_core::Config last_;
-  planner_core::Headings last_headings_;
+  std::unordered_map<Vertex, std::map<int, int>> last_departures_;
+  Config last_;
+  Headings last_headings_;
   int steps_ = 0;
 };
 
-}  // namespace coordinator
+}  // namespace planner_core
