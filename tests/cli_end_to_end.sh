@@ -188,6 +188,18 @@ expect_input_error "bad-lifelong.yaml:2" "$bin/ctsfleet-bench" --experiment life
   --lifelong-config "$work/bad-lifelong.yaml" --out-dir "$work/lifelong-bad"
 grep -q "hold_plans" "$work/err"
 [ ! -e "$work/lifelong-bad/lifelong.csv" ] || { echo "a bad settings file still wrote a table"; exit 1; }
+# The league's 2026 problems (Start-Kit 3.x): read and run, their execution settings named as not
+# simulated; a second problem with a bad delayConfig stops the run before anything is written.
+lorr26="$data/../../benchmarks/lorr-2026/maze.domain"
+"$bin/ctsfleet-bench" --experiment lifelong --problem "$lorr26/maze-example_40.json" --steps 10 --step-time 0.2 \
+  --actions rotate --out-dir "$work/lifelong-2026" > "$work/lifelong-2026.out"
+grep -q "^maze-example_40 " "$work/lifelong-2026.out"
+grep -q "2026 LoRR: agentCounter [0-9]*, delayConfig read; not simulated here" "$work/lifelong-2026.out"
+sed -e "s|\"maps/|\"$lorr26/maps/|; s|\"agents/|\"$lorr26/agents/|; s|\"tasks/|\"$lorr26/tasks/|" \
+  -e 's|"pDelay": [0-9.]*|"pDelay": 1.5|' "$lorr26/maze-example_40.json" > "$work/bad-delays.json"
+expect_input_error '"pDelay"' "$bin/ctsfleet-bench" --experiment lifelong --problem "$lorr26/maze-example_40.json" \
+  --problem "$work/bad-delays.json" --steps 10 --out-dir "$work/lifelong-2026-bad"
+[ ! -e "$work/lifelong-2026-bad/lifelong.csv" ] || { echo "a bad problem still wrote a table"; exit 1; }
 expect_input_error --actions "$bin/ctsfleet-bench" --experiment lifelong --problem "$lorr" --actions diagonal
 expect_input_error --guidance "$bin/ctsfleet-bench" --experiment lifelong --problem "$lorr" --guidance highway
 

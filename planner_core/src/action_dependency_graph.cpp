@@ -5,8 +5,6 @@
 
 namespace planner_core {
 
-using Vertex;
-
 ActionDependencyGraph::ActionDependencyGraph(const Solution& plan, const HeadingPlan& headings) {
   if (plan.empty()) return;
   moves_.assign(plan[0].size(), {});
