@@ -19,15 +19,6 @@ namespace fs = std::filesystem;
 
 const std::string kRandom = std::string(CTSFLEET_BENCHMARKS_DIR) + "/lorr-2023/random.domain/";
 
-std::string error_of(const std::string& path) {
-  try {
-    load_lorr_problem(path);
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
-}
-
 TEST(LorrProblem, TheLeaguesExampleReadsWhole) {
   const LorrProblem problem = load_lorr_problem(kRandom + "random_20.json");
   EXPECT_EQ(problem.graph->width(), 32);
@@ -51,65 +42,65 @@ TEST(LorrProblem, TasksMayHaveSeveralErrandsAndTheMapTheLeaguesSymbols) {
 
 TEST(LorrProblem, EveryFaultNamesItsFileAndLine) {
   TinyProblem tiny({".....", ".@@@.", "....."}, {"2", "0", "4"}, {"2", "2", "12"});
-  EXPECT_EQ(error_of(tiny.path()), "");
+  EXPECT_EQ(lorr_error_of(tiny.path()), "");
   tiny.write("tiny.agents", {"2", "0", "6"});
-  EXPECT_NE(error_of(tiny.path()).find("tiny.agents:3: location 6 (row 1, column 1) is a wall"), std::string::npos)
-      << error_of(tiny.path());
+  EXPECT_NE(lorr_error_of(tiny.path()).find("tiny.agents:3: location 6 (row 1, column 1) is a wall"), std::string::npos)
+      << lorr_error_of(tiny.path());
   tiny.write("tiny.agents", {"2", "0", "15"});
-  EXPECT_NE(error_of(tiny.path()).find("tiny.agents:3: location 15 is off the 5x3 map"), std::string::npos);
+  EXPECT_NE(lorr_error_of(tiny.path()).find("tiny.agents:3: location 15 is off the 5x3 map"), std::string::npos);
   tiny.write("tiny.agents", {"2", "0", "0"});
-  EXPECT_NE(error_of(tiny.path()).find("tiny.agents:3: a second agent on location 0"), std::string::npos);
+  EXPECT_NE(lorr_error_of(tiny.path()).find("tiny.agents:3: a second agent on location 0"), std::string::npos);
   tiny.write("tiny.agents", {"3", "0", "4"});
-  EXPECT_NE(error_of(tiny.path()).find("the first line says 3 but 2 lines follow"), std::string::npos);
+  EXPECT_NE(lorr_error_of(tiny.path()).find("the first line says 3 but 2 lines follow"), std::string::npos);
   tiny.write("tiny.agents", {"1", "0"});
-  EXPECT_NE(error_of(tiny.path()).find("1 agents, but \"teamSize\" is 2"), std::string::npos);
+  EXPECT_NE(lorr_error_of(tiny.path()).find("1 agents, but \"teamSize\" is 2"), std::string::npos);
   tiny.write("tiny.agents", {"2", "0", "four"});
-  EXPECT_NE(error_of(tiny.path()).find("tiny.agents:3: expected integers, found 'four'"), std::string::npos);
+  EXPECT_NE(lorr_error_of(tiny.path()).find("tiny.agents:3: expected integers, found 'four'"), std::string::npos);
   tiny.write("tiny.agents", {"2", "0", "4"});
   tiny.write("tiny.tasks", {"0"});
-  EXPECT_NE(error_of(tiny.path()).find("tiny.tasks: no task"), std::string::npos);
+  EXPECT_NE(lorr_error_of(tiny.path()).find("tiny.tasks: no task"), std::string::npos);
   tiny.write("tiny.tasks", {"1", "7"});
-  EXPECT_NE(error_of(tiny.path()).find("tiny.tasks:2: location 7"), std::string::npos);
+  EXPECT_NE(lorr_error_of(tiny.path()).find("tiny.tasks:2: location 7"), std::string::npos);
   tiny.write("tiny.tasks", {"1", "2"});
   tiny.write("tiny.map", {"type octile", "height 1", "width 3", "map", ".X."});
-  EXPECT_NE(error_of(tiny.path()).find("unknown map symbol 'X'"), std::string::npos);
+  EXPECT_NE(lorr_error_of(tiny.path()).find("unknown map symbol 'X'"), std::string::npos);
   tiny.write("tiny.map", {"type octile", "height 3", "width 5", "map", ".....", ".@@@.", "....."});
   tiny.write("tiny.json", {"{\"mapFile\": \"tiny.map\", \"agentFile\": \"tiny.agents\", \"taskFile\": \"tiny.tasks\"}"});
-  EXPECT_NE(error_of(tiny.path()).find("\"teamSize\" missing"), std::string::npos);
+  EXPECT_NE(lorr_error_of(tiny.path()).find("\"teamSize\" missing"), std::string::npos);
   tiny.write("tiny.json", {"{\"mapFile\": \"nowhere.map\""});
-  EXPECT_NE(error_of(tiny.path()).find("tiny.json: not JSON"), std::string::npos);
+  EXPECT_NE(lorr_error_of(tiny.path()).find("tiny.json: not JSON"), std::string::npos);
   tiny.write("tiny.json", {"{\"mapFile\": \"nowhere.map\", \"teamSize\": 2}"});
-  EXPECT_NE(error_of(tiny.path()).find("nowhere.map"), std::string::npos);
+  EXPECT_NE(lorr_error_of(tiny.path()).find("nowhere.map"), std::string::npos);
   tiny.write("tiny.json", {"[1, 2]"});
-  EXPECT_NE(error_of(tiny.path()).find("not a JSON object"), std::string::npos);
+  EXPECT_NE(lorr_error_of(tiny.path()).find("not a JSON object"), std::string::npos);
 }
 
 // A map cut in two: an agent or an errand on the far side could never be reached.
 TEST(LorrProblem, AStartOrErrandCutOffFromTheFloorIsNamed) {
   // Column 2 is a wall from top to bottom: cells 0-1 and 5-6 on the left, 3-4 and 8-9 on the right.
   TinyProblem tiny({"..@..", "..@.."}, {"2", "0", "5"}, {"2", "1", "6"});
-  EXPECT_EQ(error_of(tiny.path()), "");
+  EXPECT_EQ(lorr_error_of(tiny.path()), "");
   tiny.write("tiny.tasks", {"2", "1", "8"});
-  EXPECT_NE(error_of(tiny.path()).find("tiny.tasks:3: location 8 (row 1, column 3) cannot be reached from the first "
+  EXPECT_NE(lorr_error_of(tiny.path()).find("tiny.tasks:3: location 8 (row 1, column 3) cannot be reached from the first "
                                        "agent's start"),
             std::string::npos)
-      << error_of(tiny.path());
+      << lorr_error_of(tiny.path());
   tiny.write("tiny.tasks", {"1", "0,4"});
-  EXPECT_NE(error_of(tiny.path()).find("tiny.tasks:2: location 4"), std::string::npos) << error_of(tiny.path());
+  EXPECT_NE(lorr_error_of(tiny.path()).find("tiny.tasks:2: location 4"), std::string::npos) << lorr_error_of(tiny.path());
   tiny.write("tiny.tasks", {"1", "1"});
   tiny.write("tiny.agents", {"2", "0", "9"});
-  EXPECT_NE(error_of(tiny.path()).find("tiny.agents:3: location 9 (row 1, column 4) cannot be reached"),
+  EXPECT_NE(lorr_error_of(tiny.path()).find("tiny.agents:3: location 9 (row 1, column 4) cannot be reached"),
             std::string::npos)
-      << error_of(tiny.path());
+      << lorr_error_of(tiny.path());
 }
 
 TEST(LorrProblem, BadSettingsAreNamed) {
   TinyProblem greedy({"....."}, {"1", "0"}, {"1", "4"}, "\"taskAssignmentStrategy\": \"greedy\"");
   EXPECT_EQ(load_lorr_problem(greedy.path()).assignment, TaskAssignment::kGreedy);
   TinyProblem unknown({"....."}, {"1", "0"}, {"1", "4"}, "\"taskAssignmentStrategy\": \"nearest\"");
-  EXPECT_NE(error_of(unknown.path()).find("\"taskAssignmentStrategy\" must be"), std::string::npos);
+  EXPECT_NE(lorr_error_of(unknown.path()).find("\"taskAssignmentStrategy\" must be"), std::string::npos);
   TinyProblem reveal({"....."}, {"1", "0"}, {"1", "4"}, "\"numTasksReveal\": 0");
-  EXPECT_NE(error_of(reveal.path()).find("\"numTasksReveal\" must be a number in [1, 1000]"), std::string::npos);
+  EXPECT_NE(lorr_error_of(reveal.path()).find("\"numTasksReveal\" must be a number in [1, 1000]"), std::string::npos);
 }
 
 TEST(LifelongStep, JumpsSharedCellsAndSwapsAreInvalid) {

@@ -15,15 +15,6 @@ namespace {
 
 const std::string k2026 = std::string(CTSFLEET_BENCHMARKS_DIR) + "/lorr-2026/";
 
-std::string error_of(const std::string& path) {
-  try {
-    load_lorr_problem(path);
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
-}
-
 const std::string kDelays =
     R"("version": "2026 LoRR", "agentCounter": 3, "agentSize": 1.0, "delayConfig": {"seed": 7, "minDelay": 2,
        "maxDelay": 5, "eventModel": "poisson", "pDelay": 0.02, "durationModel": "gaussian", "gaussMeanRatio": 0.5,
@@ -85,7 +76,7 @@ TEST(LorrProblem2026, CommentLinesAreSkippedAndTheSettingsRead) {
   EXPECT_DOUBLE_EQ(problem.tasks_revealed_per_agent, 1.5);
   // A '#' that is not at the start of a line is no comment.
   TinyProblem inline_hash({"....."}, {"2", "0", "4 # here"}, {"1", "1"}, kDelays);
-  EXPECT_NE(error_of(inline_hash.path()).find("tiny.agents:3"), std::string::npos);
+  EXPECT_NE(lorr_error_of(inline_hash.path()).find("tiny.agents:3"), std::string::npos);
 }
 
 TEST(LorrProblem2026, EveryBadExecutionSettingNamesItsKey) {
@@ -123,7 +114,7 @@ TEST(LorrProblem2026, EveryBadExecutionSettingNamesItsKey) {
   };
   for (const auto& [settings, named] : cases) {
     const TinyProblem tiny = with(settings);
-    const std::string error = error_of(tiny.path());
+    const std::string error = lorr_error_of(tiny.path());
     EXPECT_NE(error.find("tiny.json"), std::string::npos) << settings << " -> " << error;
     EXPECT_NE(error.find(named), std::string::npos) << settings << " -> " << error;
   }
@@ -132,9 +123,9 @@ TEST(LorrProblem2026, EveryBadExecutionSettingNamesItsKey) {
 TEST(LorrProblem2026, ATeamLargerThanItsAgentsFileOrATaskOffTheMapIsNamed) {
   TinyProblem team({"....."}, {"2", "0", "4"}, {"1", "1"}, kDelays);
   team.write("tiny.json", {R"({"mapFile": "tiny.map", "agentFile": "tiny.agents", "teamSize": 3, "taskFile": "tiny.tasks"})"});
-  EXPECT_NE(error_of(team.path()).find("\"teamSize\" is 3"), std::string::npos);
+  EXPECT_NE(lorr_error_of(team.path()).find("\"teamSize\" is 3"), std::string::npos);
   TinyProblem off({"....."}, {"2", "0", "4"}, {"1", "2,17"}, kDelays);
-  EXPECT_NE(error_of(off.path()).find("tiny.tasks:2: location 17 is off the 5x1 map"), std::string::npos);
+  EXPECT_NE(lorr_error_of(off.path()).find("tiny.tasks:2: location 17 is off the 5x1 map"), std::string::npos);
 }
 
 }  // namespace

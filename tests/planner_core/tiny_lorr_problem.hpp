@@ -8,6 +8,9 @@
 #include <string>
 #include <vector>
 
+#include "planner_core/input_error.hpp"
+#include "planner_core/lorr_problem.hpp"
+
 namespace planner_core {
 
 // A problem of our own in a fresh folder: map rows, agent locations, tasks (errands per line).
@@ -38,5 +41,15 @@ class TinyProblem {
   static inline int counter_ = 0;
   std::filesystem::path dir_;
 };
+
+// The error load_lorr_problem gives for `path`, or "" when it reads.
+inline std::string lorr_error_of(const std::string& path) {
+  try {
+    load_lorr_problem(path);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
 
 }  // namespace planner_core
