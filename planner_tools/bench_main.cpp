@@ -11,6 +11,7 @@
 
 #include "ctsfleet/data_dir.hpp"
 #include "ctsfleet/program.hpp"
+#include "league_experiment.hpp"
 #include "lifelong_experiment.hpp"
 #include "planner_core/lifelong_config.hpp"
 #include "mapf_scale_experiment.hpp"
@@ -72,13 +73,35 @@ int main(int argc, char** argv) {
   app.add_option("inputs", inputs, "instance files, folders (searched for .yaml) or .txt lists")->check(CLI::ExistingPath);
   app.add_option("--experiment", experiment,
                  "reproduce the CTS-PLL paper's experiments side by side: dense, sparse, scale or all; "
-                 "mapf-scale; lifelong (League of Robot Runners problems, a time budget per step)")
-      ->check(CLI::IsMember({"dense", "sparse", "scale", "all", "mapf-scale", "lifelong"}));
+                 "mapf-scale; lifelong (League of Robot Runners problems, a time budget per step); league (the "
+                 "league's 2026 rules: ticks, agentCounter, delays, a planning call every period, plans carried out "
+                 "by the Action Dependency Graph)")
+      ->check(CLI::IsMember({"dense", "sparse", "scale", "all", "mapf-scale", "lifelong", "league"}));
   ctsfleet_bench::LifelongExperimentSettings lifelong;
   app.add_option("--problem", lifelong.problems,
-                 "experiment lifelong: a League of Robot Runners problem (JSON; repeatable; default: every one under "
-                 "benchmarks/lorr-2023)")
+                 "experiment lifelong or league: a League of Robot Runners problem (JSON; repeatable; default: every "
+                 "one under benchmarks/lorr-2023, for league benchmarks/lorr-2026)")
       ->check(CLI::ExistingFile);
+  ctsfleet_bench::LeagueExperimentSettings league;
+  app.add_option("--ticks", league.ticks, "experiment league: the horizon in ticks (the league's simulationTime)")
+      ->check(ctsfleet::count_in(1, 1'000'000))
+      ->capture_default_str();
+  app.add_option("--tick-ms", league.tick_ms, "experiment league: milliseconds per tick (actionMoveTimeLimit)")
+      ->check(ctsfleet::count_in(1, 60'000))
+      ->capture_default_str();
+  app.add_option("--plan-period-ms", league.plan_period_ms,
+                 "experiment league: a planning call every this many milliseconds, with that budget "
+                 "(planCommTimeLimit); a whole number of ticks")
+      ->check(ctsfleet::count_in(1, 3'600'000))
+      ->capture_default_str();
+  app.add_option("--preprocess-s", league.preprocess_s, "experiment league: seconds to prepare (preprocessTimeLimit)")
+      ->check(ctsfleet::positive_seconds(3600))
+      ->capture_default_str();
+  app.add_option("--delays", league.delays,
+                 "experiment league: robots delayed as each problem's delayConfig draws (on), never (off), or each "
+                 "problem run both ways (both)")
+      ->check(CLI::IsMember({"on", "off", "both"}))
+      ->capture_default_str();
   app.add_option("--steps", lifelong.steps, "experiment lifelong: the horizon in steps")
       ->check(ctsfleet::count_in(1, 1'000'000))
       ->capture_default_str();
@@ -180,7 +203,8 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"auto", "on", "off"}))
       ->capture_default_str();
   app.add_flag("--league-output", lifelong.league_output,
-               "experiment lifelong: also write each run as the league's output file, <out-dir>/<problem>.lorr.json "
+               "experiment lifelong or league: also write each run as the league's output file, "
+               "<out-dir>/<problem>.lorr.json (league: the 2026 format) "
                "(for PlanViz; about 4 bytes per agent and step)");
   ctsfleet_bench::MapfScaleSettings mapf_scale;
   app.add_option("--scale-suite", mapf_scale.suite,
@@ -231,7 +255,7 @@ int main(int argc, char** argv) {
         experiment_settings.dense_per_setting = experiment_settings.sparse_per_setting = sample;
         experiment_settings.scale_per_setting = sample;
       }
-      if (experiment == "lifelong") {
+      if (experiment == "lifelong" || experiment == "league") {
         // The settings file, then each option given on the command line over its key.
         planner_core::LifelongConfig& planner = lifelong.planner;
         const planner_core::LifelongConfig given = planner;
@@ -258,6 +282,13 @@ int main(int argc, char** argv) {
         lifelong.out_dir = experiment_settings.out_dir;
         lifelong.seed = config.seed;
         lifelong.interrupt = &ctsfleet::stop_requested();
+        if (experiment == "league") {
+          if (league.plan_period_ms % league.tick_ms != 0) {
+            throw InputError("--plan-period-ms: " + std::to_string(league.plan_period_ms) +
+                             " is not a whole number of ticks of --tick-ms " + std::to_string(league.tick_ms));
+          }
+          return ctsfleet_bench::run_league_experiment(lifelong, league);
+        }
         return ctsfleet_bench::run_lifelong_experiment(lifelong);
       }
       if (experiment == "mapf-scale") {

@@ -20,11 +20,9 @@ namespace ctsfleet_bench {
 
 namespace fs = std::filesystem;
 
-namespace {
-
-std::vector<std::string> default_problems(const std::string& benchmarks) {
+std::vector<std::string> problems_under(const std::string& benchmarks, const std::string& suite) {
   std::vector<std::string> found;
-  const fs::path root = fs::path(benchmarks) / "lorr-2023";
+  const fs::path root = fs::path(benchmarks) / suite;
   if (!fs::is_directory(root)) throw planner_core::InputError(root.string() + ": no such folder (give --problem)");
   for (const auto& entry : fs::recursive_directory_iterator(root)) {
     if (entry.is_regular_file() && entry.path().extension() == ".json") found.push_back(entry.path().string());
@@ -45,11 +43,9 @@ double peak_memory_mb() {
   return usage.ru_maxrss / 1024.0;
 }
 
-}  // namespace
-
 int run_lifelong_experiment(const LifelongExperimentSettings& settings) {
   const std::vector<std::string> problems =
-      settings.problems.empty() ? default_problems(settings.benchmarks) : settings.problems;
+      settings.problems.empty() ? problems_under(settings.benchmarks, "lorr-2023") : settings.problems;
   // Every problem read before anything is written: a bad one stops the run with nothing partial.
   for (const std::string& path : problems) planner_core::load_lorr_problem(path);
   fs::create_directories(settings.out_dir);

@@ -27,6 +27,15 @@ struct LifelongExperimentSettings {
   const std::atomic<bool>* interrupt = nullptr;  // Ctrl-C: the run under way ends, nothing more runs
 };
 
+// The problem files (.json) under <benchmarks>/<suite>, sorted; throws InputError when there is no such folder.
+std::vector<std::string> problems_under(const std::string& benchmarks, const std::string& suite);
+
+// The q-quantile of `values` (0 when empty).
+double quantile(std::vector<double> values, double q);
+
+// Peak resident memory of this process so far, in MB.
+double peak_memory_mb();
+
 // Returns the process exit code.
 int run_lifelong_experiment(const LifelongExperimentSettings& settings);
 

@@ -36,17 +36,16 @@ void ActionDependencyGraph::extend(const Solution& more, const HeadingPlan& head
         continue;
       }
       moving.push_back(r);
-      last_departures_[more[s - 1][r]][r] = move_count(r);
+      last_departures_[more[s - 1][r]] = {r, move_count(r)};
       moves_[r].push_back({more[s - 1][r], more[s][r], time, heading(s, r), {}});
     }
-    // Each move waits for every other robot's latest departure from its target so far.
+    // Each move waits for the latest departure from its target so far, by another robot.
     for (int r : moving) {
       Move& move = moves_[r].back();
-      const auto departures = last_departures_.find(move.to);
-      if (departures == last_departures_.end()) continue;
-      for (const auto& [other, index] : departures->second) {
-        if (other != r) move.after.emplace_back(other, index);
-      }
+      const auto departure = last_departures_.find(move.to);
+      if (departure == last_departures_.end()) continue;
+      const auto [other, index] = departure->second;
+      if (other != r) move.after.emplace_back(other, index);
     }
   }
   steps_ += static_cast<int>(more.size()) - 1;

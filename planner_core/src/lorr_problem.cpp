@@ -194,7 +194,7 @@ LorrProblem load_lorr_problem(const std::string& path) {
     problem.tasks_revealed_per_agent = root["numTasksReveal"].get<double>();
   }
   // No strategy named (2024 on): the system schedules a pool of revealed tasks.
-  problem.assignment = root.contains("taskAssignmentStrategy") ? TaskAssignment::kRoundRobin : TaskAssignment::kGreedy;
+  problem.assignment = root.contains("taskAssignmentStrategy") ? TaskAssignment::kRoundRobin : TaskAssignment::kPool;
   if (root.contains("taskAssignmentStrategy")) {
     const nlohmann::json& strategy = root["taskAssignmentStrategy"];
     if (strategy == "roundrobin") {

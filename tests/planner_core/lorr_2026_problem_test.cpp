@@ -37,7 +37,7 @@ TEST(LorrProblem2026, EveryStartKitExampleReadsWhole) {
     EXPECT_GE(problem.ticks_per_action, 1) << example.file;
     ASSERT_TRUE(problem.delays.has_value()) << example.file;
     EXPECT_LE(problem.delays->min_ticks, problem.delays->max_ticks) << example.file;
-    EXPECT_EQ(problem.assignment, TaskAssignment::kGreedy) << example.file;  // no strategy: the pool
+    EXPECT_EQ(problem.assignment, TaskAssignment::kPool) << example.file;  // no strategy: the pool
     EXPECT_DOUBLE_EQ(problem.tasks_revealed_per_agent, 1.5) << example.file;
     size_t longest = 0;
     for (const auto& task : problem.tasks) longest = std::max(longest, task.size());
@@ -72,7 +72,7 @@ TEST(LorrProblem2026, CommentLinesAreSkippedAndTheSettingsRead) {
   EXPECT_EQ(problem.delays->seed, 7u);
   EXPECT_EQ(problem.delays->durations, LeagueDelays::Durations::kGaussian);
   EXPECT_DOUBLE_EQ(problem.delays->gauss_spread_share, 0.22);
-  EXPECT_EQ(problem.assignment, TaskAssignment::kGreedy);  // no strategy named: a pool
+  EXPECT_EQ(problem.assignment, TaskAssignment::kPool);  // no strategy named: a pool
   EXPECT_DOUBLE_EQ(problem.tasks_revealed_per_agent, 1.5);
   // A '#' that is not at the start of a line is no comment.
   TinyProblem inline_hash({"....."}, {"2", "0", "4 # here"}, {"1", "1"}, kDelays);

@@ -19,7 +19,6 @@
 #pragma once
 
 #include <deque>
-#include <map>
 #include <unordered_map>
 #include <vector>
 
@@ -78,8 +77,11 @@ class ActionDependencyGraph {
  private:
   std::vector<std::deque<Move>> moves_;
   std::vector<int> forgotten_;  // per robot, moves freed from the front
-  // Per cell, each robot's latest departure from it so far (robot -> move index).
-  std::unordered_map<Vertex, std::map<int, int>> last_departures_;
+  // Per cell, the latest departure from it so far (robot, move index). A move into the cell waits
+  // for that one alone: the robot that left it had itself waited, on arriving, for the departure
+  // before, so the cell's whole order follows (and a long lifelong plan keeps one entry per cell,
+  // not one per robot that ever left it).
+  std::unordered_map<Vertex, std::pair<int, int>> last_departures_;
   Config last_;
   Headings last_headings_;
   int steps_ = 0;

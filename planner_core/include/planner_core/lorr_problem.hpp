@@ -20,9 +20,11 @@ namespace planner_core {
 enum class TaskAssignment {
   kRoundRobin,  // task k goes to agent k mod teamSize, in the task file's order (2023 "roundrobin")
   // A pool of numTasksReveal x teamSize revealed tasks; an agent without a task takes the one whose
-  // first errand is nearest (2023 "greedy"; and where the file names no strategy, as from 2024 on,
-  // when the system schedules the pool).
+  // first errand is nearest (2023 "greedy").
   kGreedy,
+  // No strategy named (2024 on): the system schedules a pool of numTasksReveal x teamSize revealed
+  // tasks as it sees fit (task_board.hpp: TaskScheduler).
+  kPool,
 };
 
 // How the league's 2026 simulator delays robots (delayConfig): at each tick every robot not delayed

@@ -1,14 +1,24 @@
-// Which tasks each agent of a lifelong run holds, and how tasks are revealed and handed out, as
-// the League of Robot Runners' 2023 rules do (docs/FORMATS.md). The task file is read in order and
-// started over at its end. Round-robin: agent a's tasks are a, a + teamSize, a + 2 teamSize...,
-// tasks_revealed_per_agent (rounded up) of them revealed at a time, done in order. Greedy (also
-// where the file names no strategy, as from 2024 on): a pool of tasks_revealed_per_agent x teamSize
-// revealed tasks (rounded up); an agent without a task takes the one whose first errand is
-// nearest, and the pool is refilled.
+// Which tasks each agent of a lifelong run holds, and how tasks are revealed and handed out
+// (docs/FORMATS.md). The task file is read in order and started over at its end. A scheduler
+// (TaskScheduler) decides who gets what:
+// - round-robin (2023 "roundrobin"): agent a's tasks are a, a + teamSize, a + 2 teamSize...,
+//   numTasksReveal (rounded up) of them in hand at a time, done in order.
+// - nearest-errand (2023 "greedy"): a pool of numTasksReveal x teamSize revealed tasks (rounded
+//   up); an agent without a task takes the one whose first errand is nearest, and the pool is
+//   refilled from the file.
+// - whole-task: the same pool; an agent without a task takes the one it can finish soonest: the
+//   way to its first errand and on through the others (the Start-Kit 3.x default scheduler's rule).
+// - whole-task-reassign (ours; the default where the file names no strategy, as from 2024 on,
+//   when the system schedules the pool): whole-task, and an agent may also take a task another
+//   agent holds but has not opened (no errand finished), when it is nearer that task's first
+//   errand than the holder is by now; the holder then takes another from the pool. The 2024 rules
+//   allow reassigning unopened tasks.
+// Distances are cell distances on the map (breadth-first searches), turns not counted.
 #pragma once
 
 #include <cstdint>
 #include <deque>
+#include <string>
 #include <vector>
 
 #include "planner_core/dist_table.hpp"
@@ -17,35 +27,66 @@
 
 namespace planner_core {
 
+enum class TaskScheduler { kRoundRobin, kNearestErrand, kWholeTask, kWholeTaskReassign };
+
+// The scheduler a problem's rules name: its taskAssignmentStrategy, or ours for a pool.
+TaskScheduler scheduler_for(TaskAssignment assignment);
+// "round-robin", "nearest-errand", "whole-task", "whole-task-reassign"; parse throws InputError
+// naming `what` and the choices.
+std::string to_string(TaskScheduler scheduler);
+TaskScheduler parse_task_scheduler(const std::string& text, const std::string& what);
+
 class TaskBoard {
  public:
   // `log`, when set, records each task handed out and finished.
   TaskBoard(const LorrProblem& problem, const Config& starts, LifelongLog* log);
+  TaskBoard(const LorrProblem& problem, const Config& starts, LifelongLog* log, TaskScheduler scheduler);
 
   // The errand agent a heads for, or kNoVertex.
   Vertex goal(int a) const;
+  // The task agent a works on (-1: none), and how many of its errands it has finished.
+  int64_t task_of(int a) const { return in_hand_[a].empty() ? -1 : in_hand_[a].front(); }
+  int errands_done(int a) const { return errand_[a]; }
 
   // The time events are recorded at: the steps done so far.
   void set_time(int time) { time_ = time; }
 
-  // Agent a stands on `cell`: finishes its errand there, if it is one; returns whether it did,
+  // Agent a stands on `cell` (told every step, for every agent): finishes its errand there, if it is one; returns whether it did,
   // and counts a finished task in `tasks_finished`.
   bool arrive(int a, Vertex cell, DistTable& distances, int64_t& tasks_finished);
+
+  // Tasks taken from an agent that had not opened them, for one nearer (whole-task-reassign).
+  int64_t reassignments() const { return reassignments_; }
 
  private:
   const std::vector<Vertex>& task(int64_t k) const { return problem_.tasks[k % problem_.tasks.size()]; }
   void refill(int a, Vertex here, DistTable* distances = nullptr);
+  // Whole-task schedulers: agent a at `here` takes a task (from another agent, when `may_take`).
+  void schedule(int a, Vertex here, bool may_take);
+  // Distances from `from` to every cell, in distances_from_ (kUnreachable where none).
+  void search_from(Vertex from);
+  // Steps from task k's first errand through its others (cached per task of the file).
+  int length_of(int64_t k);
   void hand_out(int a, int64_t task);
 
   const LorrProblem& problem_;
   LifelongLog* log_;
+  TaskScheduler scheduler_;
   int time_ = 0;
   int reveal_ = 1;
   std::vector<std::deque<int64_t>> in_hand_;  // per agent, its tasks in order
   std::vector<int> errand_;                   // per agent, the errand of its first task it heads for
   std::vector<int64_t> next_of_agent_;        // round-robin: the next task each agent gets
-  std::vector<int64_t> pool_;                 // greedy: revealed tasks nobody holds
+  std::vector<int64_t> pool_;                 // the pool: revealed tasks nobody holds
   int64_t next_task_ = 0;
+  // Whole-task schedulers: per agent, when it took its task and how far its first errand was.
+  std::vector<int> taken_at_;
+  std::vector<int> way_when_taken_;
+  Config at_;                                 // per agent, the cell it last arrived on
+  std::vector<int> length_;                   // per task of the file: -1 until searched
+  std::vector<int> distances_from_;
+  std::vector<Vertex> frontier_;
+  int64_t reassignments_ = 0;
 };
 
 }  // namespace planner_core
