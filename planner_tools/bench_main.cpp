@@ -102,6 +102,13 @@ int main(int argc, char** argv) {
                  "problem run both ways (both)")
       ->check(CLI::IsMember({"on", "off", "both"}))
       ->capture_default_str();
+  app.add_option("--scheduler", league.scheduler,
+                 "experiment league: who gets which task: round-robin, nearest-errand (nearest first errand), "
+                 "whole-task (the task finished soonest, as the Start-Kit's default), whole-task-reassign (that, "
+                 "and unopened tasks go to a nearer robot), or auto (the problem's rules: whole-task-reassign for "
+                 "a pool)")
+      ->check(CLI::IsMember({"auto", "round-robin", "nearest-errand", "whole-task", "whole-task-reassign"}))
+      ->capture_default_str();
   app.add_option("--steps", lifelong.steps, "experiment lifelong: the horizon in steps")
       ->check(ctsfleet::count_in(1, 1'000'000))
       ->capture_default_str();

@@ -48,9 +48,9 @@ int run_league_experiment(const LifelongExperimentSettings& common, const League
            "plan_ms_p50,plan_ms_max,late_steps,invalid_steps,faults,peak_mb\n";
   per_tick << "problem,step,errands\n";
   std::printf("league (2026 rules, lockstep): %d ticks of %d ms, a planning call every %d ms, rotation model, "
-              "planner pibt without rotations, guidance %s, %d rollouts (seed %u)\n",
+              "planner pibt without rotations, guidance %s, %d rollouts, plans held %s, scheduler %s (seed %u)\n",
               settings.ticks, settings.tick_ms, settings.plan_period_ms, common.planner.guidance.c_str(),
-              common.planner.rollouts, common.seed);
+              common.planner.rollouts, common.planner.hold_plans.c_str(), settings.scheduler.c_str(), common.seed);
   std::printf("%-28s %6s %7s %7s %8s %9s %6s %9s %9s %5s %7s %6s %8s\n", "problem", "agents", "delays", "tasks",
               "errands", "delayed %", "calls", "p50 ms", "max ms", "late", "invalid", "faults", "peak MB");
   for (const std::string& path : problems) {
@@ -65,6 +65,7 @@ int run_league_experiment(const LifelongExperimentSettings& common, const League
       run.plan_period_ms = settings.plan_period_ms;
       run.preprocess_time_s = settings.preprocess_s;
       run.delays = delays;
+      if (settings.scheduler != "auto") run.scheduler = planner_core::parse_task_scheduler(settings.scheduler, "--scheduler");
       run.interrupt = common.interrupt;
       run.log = common.league_output ? &log : nullptr;
       const planner_core::LeagueRunResult result = planner_core::run_league(problem, planner, run);
@@ -79,6 +80,9 @@ int run_league_experiment(const LifelongExperimentSettings& common, const League
                   static_cast<long long>(result.errands_finished), 100 * result.delayed_share(),
                   result.plan_ms.size(), quantile(result.plan_ms, 0.5), quantile(result.plan_ms, 1.0),
                   result.late_steps, result.invalid_steps, result.faults, peak_memory_mb());
+      if (result.reassignments > 0) {
+        std::printf("  %lld unopened tasks given to a nearer robot\n", static_cast<long long>(result.reassignments));
+      }
       if (!result.first_invalid.empty()) std::printf("  first invalid step: %s\n", result.first_invalid.c_str());
       if (!result.first_fault.empty()) std::printf("  FIRST FAULT: %s\n", result.first_fault.c_str());
       if (common.league_output) {

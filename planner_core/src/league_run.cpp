@@ -46,7 +46,7 @@ class LeagueRun {
         team_(static_cast<int>(problem.starts.size())),
         ticks_per_action_(problem.ticks_per_action),
         distances_(graph_),
-        board_(problem, problem.starts, nullptr),
+        board_(problem, problem.starts, nullptr, settings.scheduler.value_or(scheduler_for(problem.assignment))),
         planned_{problem.starts, Headings(problem.starts.size(), 0)},
         adg_(Solution{problem.starts}, HeadingPlan{planned_.headings}),
         held_by_(graph_.vertex_count(), -1),
@@ -87,12 +87,17 @@ class LeagueRun {
       draw_delays(tick);
       std::vector<char> letters(team_, 'W');
       carry_on_moves(letters);
+      std::vector<char> counted(team_, 0);
+      int tasks = count_errands(tick, counted);
       start_ready_moves(letters);
+      tasks += count_errands(tick, counted);  // robots whose one-tick move has just ended
+      result_.tasks_finished += tasks;
+      result_.tasks_per_tick.push_back(tasks);
       check_tick(tick, letters);
-      count_errands(tick);
       result_.robot_ticks += team_;
     }
     if (draws_) result_.delayed_robot_ticks = draws_->delayed_robot_ticks();
+    result_.reassignments = board_.reassignments();
     if (settings_.log != nullptr) settings_.log->tasks_revealed = tasks_revealed_;
     return result_;
   }
@@ -190,6 +195,7 @@ class LeagueRun {
     for (int r = 0; r < team_; ++r) {
       Robot& robot = robots_[r];
       if (robot.progress != 0 || letters[r] != 'W' || delayed(r)) continue;
+      if (!robot.errands.empty() && robot.errands.front().plan_step <= executed_step(r)) continue;
       if (robot.finished >= adg_.move_count(r) || !adg_.ready(r, robot.finished, finished_of)) continue;
       letters[r] = letter_of(adg_.move(r, robot.finished), robot.heading);
       robot.progress = 1;
@@ -244,29 +250,29 @@ class LeagueRun {
   }
 
   // A robot has reached an errand once it has carried the plan out to the errand's step; its cell
-  // (the one it leaves, when a move is under way) is then the plan's cell at that step.
-  void count_errands(int tick) {
+  // (the one it leaves, when a move is under way) is then the plan's cell at that step. One errand
+  // per robot and tick, as the league counts: a robot with another errand due on the same cell
+  // stays for it (start_ready_moves).
+  // Returns the tasks finished; `counted` marks the robots that finished an errand this tick.
+  int count_errands(int tick, std::vector<char>& counted) {
     int tasks = 0;
     for (int r = 0; r < team_; ++r) {
       Robot& robot = robots_[r];
-      if (robot.errands.empty()) continue;
-      const int executed = executed_step(r);
-      while (!robot.errands.empty() && robot.errands.front().plan_step <= executed) {
-        const PlannedErrand& errand = robot.errands.front();
-        if (robot.cell != problem_.tasks[errand.task % problem_.tasks.size()][errand.errands_done - 1]) {
-          fault(tick, r, -1, "robot " + std::to_string(r) + " finished an errand away from it");
-        }
-        ++result_.errands_finished;
-        if (errand.task_finished) {
-          ++tasks;
-          note_task(r, tick + 1, errand.next_task);
-        }
-        if (settings_.log != nullptr) settings_.log->events.push_back({tick + 1, r, errand.task, errand.errands_done});
-        robot.errands.pop_front();
+      if (counted[r] || robot.errands.empty() || robot.errands.front().plan_step > executed_step(r)) continue;
+      counted[r] = 1;
+      const PlannedErrand& errand = robot.errands.front();
+      if (robot.cell != problem_.tasks[errand.task % problem_.tasks.size()][errand.errands_done - 1]) {
+        fault(tick, r, -1, "robot " + std::to_string(r) + " finished an errand away from it");
       }
+      ++result_.errands_finished;
+      if (errand.task_finished) {
+        ++tasks;
+        note_task(r, tick + 1, errand.next_task);
+      }
+      if (settings_.log != nullptr) settings_.log->events.push_back({tick + 1, r, errand.task, errand.errands_done});
+      robot.errands.pop_front();
     }
-    result_.tasks_finished += tasks;
-    result_.tasks_per_tick.push_back(tasks);
+    return tasks;
   }
 
   // Robot r's first task is `task` from `tick` on.

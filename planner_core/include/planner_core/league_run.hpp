@@ -10,10 +10,12 @@
 // (action_dependency_graph.hpp), starts each robot's next staged move once the moves it depends
 // on are finished: a delayed robot holds up only the robots that must pass where it stands, never
 // causes a collision, and waits in its plan cost it nothing once it goes on. An errand counts as
-// finished at the tick its robot actually stands on it.
+// finished at the tick its robot actually stands on it; a robot with a second errand due on the
+// same cell stays a tick for it.
 //
-//   tick:  [plan period?] -> delays drawn -> moves under way go on -> ready robots start a move
-//          -> checked: no two robots on one cell (a moving robot holds both) -> errands counted
+//   tick:  [plan period?] -> delays drawn -> moves under way go on -> errands counted (one per
+//          robot and tick, as the league counts) -> ready robots start a move -> checked: no two
+//          robots on one cell (a moving robot holds both)
 //
 // Every tick is checked independently of the executor (cells held, moves to neighbours only);
 // a fault is counted and logged, never hidden: it would be the worst bug.
@@ -21,12 +23,14 @@
 
 #include <atomic>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "planner_core/lifelong.hpp"
 #include "planner_core/lorr_problem.hpp"
+#include "planner_core/task_board.hpp"
 
 namespace planner_core {
 
@@ -55,6 +59,8 @@ struct LeagueRunSettings {
   int plan_period_ms = 1000;       // planCommTimeLimit: the planner's call every period, and its budget
   double preprocess_time_s = 30;   // preprocessTimeLimit
   bool delays = true;              // off: the problem's delayConfig is ignored
+  // Who gets which task (task_board.hpp); unset: the one the problem's rules name.
+  std::optional<TaskScheduler> scheduler;
   LeagueLog* log = nullptr;        // set: the run is recorded there
   const std::atomic<bool>* interrupt = nullptr;  // set (Ctrl-C): the run ends after the tick under way
 };
@@ -71,6 +77,7 @@ struct LeagueRunResult {
   int64_t delayed_robot_ticks = 0;      // robot-ticks spent delayed
   int64_t robot_ticks = 0;              // robots x ticks run
   int64_t moves_finished = 0;           // actions carried out (forward moves and turns)
+  int64_t reassignments = 0;            // unopened tasks given to a nearer robot (task_board.hpp)
   int faults = 0;                       // the tick check found two robots on one cell, or a jump: must be 0
   std::string first_fault;
   double preprocess_ms = 0;
