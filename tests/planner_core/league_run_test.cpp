@@ -8,6 +8,7 @@
 #include <numeric>
 #include <string>
 
+#include "planner_core/league_engine.hpp"
 #include "planner_core/league_output.hpp"
 #include "planner_core/league_run.hpp"
 #include "planner_core/pibt_lifelong.hpp"
@@ -160,6 +161,36 @@ TEST(LeagueOutput, TheFileHasTheLeaguesKeys) {
   const std::string first = out["actualPaths"][0];
   EXPECT_EQ(std::count(first.begin(), first.end(), '['), 3);
   EXPECT_THROW(write_league_output("/nonexistent-dir/x.json", problem, settings, result, log), InputError);
+}
+
+}  // namespace
+}  // namespace planner_core
+
+namespace planner_core {
+namespace {
+
+// The engine keeps the staged plan `lead_steps` ahead of the median robot: planning again before
+// robots finish moves adds nothing, and the plan grows as they carry it out.
+TEST(LeagueEngine, TheStagedPlanStaysLeadStepsAheadOfTheMedianRobot) {
+  const LorrProblem problem = load_lorr_problem(k2026 + "maze.domain/maze-example_40.json");
+  PibtLifelong planner = executable_planner(problem);
+  LeagueEngine engine(problem, planner, TaskScheduler::kWholeTaskReassign, 6);
+  std::vector<int> finished(problem.starts.size(), 0);
+  EXPECT_EQ(engine.plan(finished, 1.0).steps, 6);
+  EXPECT_EQ(engine.staged().plan_steps(), 6);
+  EXPECT_EQ(engine.plan(finished, 1.0).steps, 0);
+  // Every robot carries out its moves of the first two steps: the median is at step 2.
+  for (int r = 0; r < engine.robots(); ++r) {
+    while (finished[r] < engine.staged().move_count(r) && engine.staged().move(r, finished[r]).plan_time <= 2) {
+      ++finished[r];
+    }
+    EXPECT_GE(engine.executed_step(r, finished[r]), 2);
+  }
+  const LeagueEngine::PlanCall call = engine.plan(finished, 1.0);
+  EXPECT_GE(call.steps, 2);
+  EXPECT_EQ(call.invalid_steps, 0) << call.first_invalid;
+  EXPECT_EQ(engine.staged().plan_steps(), 6 + call.steps);
+  for (int r = 0; r < engine.robots(); ++r) EXPECT_GE(engine.task_of(r), 0);
 }
 
 }  // namespace
