@@ -104,8 +104,8 @@ int run_lifelong_experiment(const LifelongExperimentSettings& settings) {
                 result.invalid_steps, peak_memory_mb(), result.preprocess_ms);
     if (!result.first_invalid.empty()) std::printf("  first invalid step: %s\n", result.first_invalid.c_str());
     if (problem.delays || problem.ticks_per_action != 1) {
-      std::printf("  %s: agentCounter %d%s read; not simulated here: every action takes one step, no robot is "
-                  "delayed\n",
+      std::printf("  %s: agentCounter %d%s read; not simulated here (--experiment league does): every action "
+                  "takes one step, no robot is delayed\n",
                   problem.version.empty() ? "execution settings" : problem.version.c_str(), problem.ticks_per_action,
                   problem.delays ? ", delayConfig" : "");
     }

@@ -200,6 +200,28 @@ sed -e "s|\"maps/|\"$lorr26/maps/|; s|\"agents/|\"$lorr26/agents/|; s|\"tasks/|\
 expect_input_error '"pDelay"' "$bin/ctsfleet-bench" --experiment lifelong --problem "$lorr26/maze-example_40.json" \
   --problem "$work/bad-delays.json" --steps 10 --out-dir "$work/lifelong-2026-bad"
 [ ! -e "$work/lifelong-2026-bad/lifelong.csv" ] || { echo "a bad problem still wrote a table"; exit 1; }
+# The same problems under the 2026 rules (--experiment league): ticks, agentCounter, delays, the
+# Action Dependency Graph carrying plans out; the output file replayed independently, delays on
+# and off; bad settings and a bad second problem stop the run before anything is written.
+"$bin/ctsfleet-bench" --experiment league --problem "$lorr26/maze-example_40.json" --ticks 200 --rollouts 1 \
+  --delays both --league-output --out-dir "$work/league" > "$work/league.out"
+grep -Eq "^maze-example_40 +40 +on +[0-9]+ +[0-9]+ +[0-9.]+ +[0-9]+ +[0-9.]+ +[0-9.]+ +0 +0 +0 " "$work/league.out"
+grep -Eq "^maze-example_40 +40 +off +[0-9]+ +[0-9]+ +0.0 " "$work/league.out"
+grep -q "^maze-example_40,40,200,100,1000,on," "$work/league/league.csv"
+grep -q "^maze-example_40,40,200,100,1000,off," "$work/league/league.csv"
+grep -q "^maze-example_40 (no delays),199," "$work/league/league_ticks.csv"
+"$python" "$(dirname "$0")/lorr_2026_replay.py" "$work/league/maze-example_40.lorr.json" "$lorr26/maps/maze-32-32-2.map"
+"$python" "$(dirname "$0")/lorr_2026_replay.py" "$work/league/maze-example_40.no-delays.lorr.json" \
+  "$lorr26/maps/maze-32-32-2.map"
+expect_input_error '"pDelay"' "$bin/ctsfleet-bench" --experiment league --problem "$lorr26/maze-example_40.json" \
+  --problem "$work/bad-delays.json" --ticks 10 --out-dir "$work/league-bad"
+[ ! -e "$work/league-bad/league.csv" ] || { echo "a bad problem still wrote a league table"; exit 1; }
+expect_input_error --plan-period-ms "$bin/ctsfleet-bench" --experiment league --problem "$lorr26/maze-example_40.json" \
+  --plan-period-ms 150
+for bad in "--scheduler fastest" "--delays maybe" "--ticks 0" "--tick-ms -5"; do
+  # shellcheck disable=SC2086  # the option and its value are two words
+  expect_input_error "${bad%% *}" "$bin/ctsfleet-bench" --experiment league --problem "$lorr26/maze-example_40.json" $bad
+done
 expect_input_error --actions "$bin/ctsfleet-bench" --experiment lifelong --problem "$lorr" --actions diagonal
 expect_input_error --guidance "$bin/ctsfleet-bench" --experiment lifelong --problem "$lorr" --guidance highway
 

@@ -91,10 +91,10 @@ std::string unreachable(const Graph& graph, Vertex v) {
          ") cannot be reached from the first agent's start: the map is cut in parts";
 }
 
-nlohmann::json read_json(const std::string& path) {
-  require_regular_file(path, "problem file");
+nlohmann::json read_json(const std::string& path, const std::string& what = "problem file") {
+  require_regular_file(path, what);
   std::ifstream in(path);
-  if (!in) throw InputError(path + ": cannot open the problem file");
+  if (!in) throw InputError(path + ": cannot open the " + what);
   try {
     nlohmann::json root = nlohmann::json::parse(in);
     if (!root.is_object()) throw InputError(path + ": not a JSON object");
@@ -174,6 +174,11 @@ void read_execution_settings(const nlohmann::json& root, const std::string& path
 }
 
 }  // namespace
+
+LeagueDelays load_delay_config(const std::string& path) {
+  const nlohmann::json root = read_json(path, "delay config");
+  return read_delays(root.contains("delayConfig") ? root["delayConfig"] : root, path);
+}
 
 LorrProblem load_lorr_problem(const std::string& path) {
   const nlohmann::json root = read_json(path);

@@ -82,6 +82,15 @@ int main(int argc, char** argv) {
   app.add_option("--delay-probability", sim.delay_probability, "sim: chance of an extra delay per move")
       ->check(ctsfleet::number_in(0, 1));
   app.add_option("--delay", sim.delay_s, "sim: length of that delay in seconds")->check(ctsfleet::number_in(0, 3600));
+  std::string delay_config;
+  app.add_option("--delay-config", delay_config,
+                 "sim: delays as the League of Robot Runners' 2026 rules draw them: a JSON file holding a "
+                 "delayConfig (itself, or a problem with one); the draws' seed is its seed plus --seed")
+      ->check(CLI::ExistingFile);
+  app.add_option("--delay-tick", sim.delay_tick_s,
+                 "sim, with --delay-config: seconds per tick of the delay model (0: --step / 3)")
+      ->check(ctsfleet::number_in(0, 3600))
+      ->capture_default_str();
   app.add_option("--stall-at", sim.stall_at_s, "sim fault: stall this many seconds after start")
       ->check(ctsfleet::number_in(0, 1e6));
   app.add_option("--stall-for", sim.stall_for_s, "sim fault: stall duration in seconds")->check(ctsfleet::number_in(0, 1e6));
@@ -122,6 +131,7 @@ int main(int argc, char** argv) {
         throw InputError("--to: --teleport-after needs a cell x,y with x and y in [0, 100000], not '" + teleport_to + "'");
       }
     }
+    if (!delay_config.empty()) sim.league_delays = planner_core::load_delay_config(delay_config);
     if (dds_dir.empty()) dds_dir = ctsfleet::data_path("config/dds").string();
     if (test_clock_skew_ms != 0) {
       fleet_transport::set_wall_clock_skew_for_tests(test_clock_skew_ms);

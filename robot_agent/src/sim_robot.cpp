@@ -1,6 +1,7 @@
 #include "robot_agent/sim_robot.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <numbers>
 
 #include "planner_core/compass.hpp"
@@ -23,7 +24,32 @@ SimRobot::SimRobot(Cell start, const SimSettings& settings)
       started_(Clock::now()),
       cell_(start),
       heading_(((settings.start_heading % 4) + 4) % 4),
-      arrived_ms_(wall_clock_ms()) {}
+      arrived_ms_(wall_clock_ms()) {
+  if (settings.league_delays) {
+    planner_core::LeagueDelays delays = *settings.league_delays;
+    delays.seed += settings.seed;
+    draws_.emplace(delays, 1);
+  }
+}
+
+double SimRobot::with_league_delays(double move_s) {
+  // At most 100,000 ticks drawn at once (hours): a robot delayed for ever (pDelay 1) never arrives.
+  constexpr int64_t kMostTicks = 100'000;
+  const double tick_s = delay_tick_s();
+  const auto standing = static_cast<int64_t>(since_start_s() / tick_s) - ticks_drawn_;
+  for (int64_t k = 0; k < std::min(standing, kMostTicks); ++k) draws_->tick();
+  ticks_drawn_ += std::max<int64_t>(0, standing);
+  const int64_t nominal = std::max<int64_t>(1, static_cast<int64_t>(std::ceil(move_s / tick_s - 1e-9)));
+  int64_t needed = nominal;
+  int64_t spent = 0;
+  while (needed > 0 && spent < kMostTicks) {
+    draws_->tick();
+    ++spent;
+    if (!draws_->delayed(0)) --needed;
+  }
+  ticks_drawn_ += spent;
+  return move_s + static_cast<double>(spent - nominal) * tick_s;  // the ticks spent delayed on top
+}
 
 double SimRobot::since_start_s() const { return std::chrono::duration<double>(Clock::now() - started_).count(); }
 
@@ -44,6 +70,7 @@ bool SimRobot::start_move(Cell target, int target_heading) {
   if (settings_.delay_probability > 0 && std::bernoulli_distribution(settings_.delay_probability)(rng_)) {
     seconds_total += settings_.delay_s;
   }
+  if (draws_) seconds_total = with_league_delays(seconds_total);
   const double now = since_start_s();
   if (settings_.stall_at_s >= 0 && now + seconds_total > settings_.stall_at_s &&
       now < settings_.stall_at_s + settings_.stall_for_s) {

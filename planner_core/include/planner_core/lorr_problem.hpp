@@ -64,4 +64,8 @@ struct LorrProblem {
 // or out of range (a negative delay, p outside [0, 1], an unknown model).
 LorrProblem load_lorr_problem(const std::string& path);
 
+// A delayConfig alone: a JSON file that is the object itself, or a problem holding one under
+// "delayConfig" (its other keys not read). Throws InputError naming the file and key, as above.
+LeagueDelays load_delay_config(const std::string& path);
+
 }  // namespace planner_core

@@ -7,6 +7,8 @@
 #include <optional>
 #include <random>
 
+#include "planner_core/delay_draws.hpp"
+#include "planner_core/lorr_problem.hpp"
 #include "robot_agent/robot_backend.hpp"
 
 namespace robot_agent {
@@ -18,6 +20,12 @@ struct SimSettings {
   int start_heading = 0;        // 0 east, 1 south, 2 west, 3 north
   double delay_probability = 0;  // chance that a move is delayed by delay_s more
   double delay_s = 0;
+  // Delays as the league's 2026 rules draw them (planner_core/delay_draws.hpp), in ticks of
+  // delay_tick_s (0: step_s / 3, the agentCounter of every Start-Kit example): while the robot is
+  // delayed it stands still, so a move takes as many more ticks as fall in a delay. The draws'
+  // seed is the delayConfig's seed plus `seed`, so each robot has its own and a run repeats.
+  std::optional<planner_core::LeagueDelays> league_delays;
+  double delay_tick_s = 0;
   uint32_t seed = 0;
   // Faults, in seconds since the robot started (negative = never).
   double stall_at_s = -1;       // stop moving for stall_for_s
@@ -38,10 +46,17 @@ class SimRobot : public RobotBackend {
   bool starts_moves_at_once() const override { return true; }
   bool reporting_enabled() const;
   bool should_crash() const;
+  // League delays: ticks drawn so far, and those the robot spent delayed.
+  int64_t delay_ticks_drawn() const { return ticks_drawn_; }
+  int64_t delayed_ticks() const { return draws_ ? draws_->delayed_robot_ticks() : 0; }
 
  private:
   using Clock = std::chrono::steady_clock;
   double since_start_s() const;
+  // A move of `seconds` stretched by the league delays that fall in it (and those drawn while the
+  // robot stood since the last move).
+  double with_league_delays(double seconds);
+  double delay_tick_s() const { return settings_.delay_tick_s > 0 ? settings_.delay_tick_s : settings_.step_s / 3; }
 
   SimSettings settings_;
   std::mt19937 rng_;
@@ -56,6 +71,8 @@ class SimRobot : public RobotBackend {
   Clock::time_point move_ends_;
   bool teleported_ = false;
   int moves_done_ = 0;
+  std::optional<planner_core::DelayDraws> draws_;
+  int64_t ticks_drawn_ = 0;
 };
 
 }  // namespace robot_agent
