@@ -102,6 +102,15 @@ int main(int argc, char** argv) {
                  "problem run both ways (both)")
       ->check(CLI::IsMember({"on", "off", "both"}))
       ->capture_default_str();
+  app.add_flag("--plan-round-delayed,!--no-plan-round-delayed", league.plan_round_delayed,
+               "experiment league: robots delayed for longer than an action when the planner is called are "
+               "planned to stay where their staged moves end, the others round them")
+      ->capture_default_str();
+  app.add_option("--lead-periods", league.lead_periods,
+                 "experiment league: how far ahead of the median robot the staged plan is kept, in plan periods' "
+                 "worth of actions")
+      ->check(CLI::Range(0.1, 100.0))
+      ->capture_default_str();
   app.add_option("--scheduler", league.scheduler,
                  "experiment league: who gets which task: round-robin, nearest-errand (nearest first errand), "
                  "whole-task (the task finished soonest, as the Start-Kit's default), whole-task-reassign (that, "

@@ -65,6 +65,8 @@ int run_league_experiment(const LifelongExperimentSettings& common, const League
       run.plan_period_ms = settings.plan_period_ms;
       run.preprocess_time_s = settings.preprocess_s;
       run.delays = delays;
+      run.plan_round_delayed = settings.plan_round_delayed;
+      run.lead_periods = settings.lead_periods;
       if (settings.scheduler != "auto") run.scheduler = planner_core::parse_task_scheduler(settings.scheduler, "--scheduler");
       run.interrupt = common.interrupt;
       run.log = common.league_output ? &log : nullptr;

@@ -23,7 +23,8 @@ void LeagueEngine::prepare(const Deadline& deadline) { planner_.prepare(planned_
 Config LeagueEngine::goals() const {
   Config goals(planned_.cells.size());
   for (size_t r = 0; r < goals.size(); ++r) {
-    goals[r] = board_.goal(static_cast<int>(r)) == kNoVertex ? planned_.cells[r] : board_.goal(static_cast<int>(r));
+    const bool held = r < held_.size() && held_[r];
+    goals[r] = held || board_.goal(static_cast<int>(r)) == kNoVertex ? planned_.cells[r] : board_.goal(static_cast<int>(r));
   }
   return goals;
 }
@@ -46,7 +47,10 @@ LeagueEngine::PlanCall LeagueEngine::plan(const std::vector<int>& moves_finished
   std::nth_element(executed.begin(), executed.begin() + team / 2, executed.end());
   const int lead = staged_.plan_steps() - executed[team / 2];
   call.steps = std::clamp(lead_steps_ - lead, 0, lead_steps_);
-  if (call.steps == 0) return call;
+  if (call.steps == 0) {
+    held_.clear();
+    return call;
+  }
   const auto started = std::chrono::steady_clock::now();
   const double step_budget_s = budget_s / call.steps;
   Solution cells{planned_.cells};
@@ -70,6 +74,7 @@ LeagueEngine::PlanCall LeagueEngine::plan(const std::vector<int>& moves_finished
     reach_errands(step);
   }
   staged_.extend(cells, headings);
+  held_.clear();
   call.ms = elapsed_ms(started);
   return call;
 }

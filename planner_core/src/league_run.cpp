@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <optional>
 #include <stdexcept>
 
@@ -23,15 +24,15 @@ struct Robot {
   Vertex checked = kNoVertex;  // its cell at the last tick's check
 };
 
-// A period's worth of actions, rounded up, and half as much again to carry the fleet over the
-// next call.
+// A period's worth of actions, rounded up, times settings.lead_periods (1.5: half as much again to
+// carry the fleet over the next call), rounded.
 int lead_steps_for(const LorrProblem& problem, const LeagueRunSettings& settings) {
   if (settings.tick_ms <= 0 || settings.plan_period_ms <= 0 || settings.plan_period_ms % settings.tick_ms != 0) {
     throw std::invalid_argument("the planning period must be a whole number of ticks");
   }
   const int period_ticks = settings.plan_period_ms / settings.tick_ms;
   const int per_period = (period_ticks + problem.ticks_per_action - 1) / problem.ticks_per_action;
-  return per_period + (per_period + 1) / 2;
+  return std::max(1, static_cast<int>(std::lround(per_period * settings.lead_periods)));
 }
 
 class LeagueRun {
@@ -94,6 +95,11 @@ class LeagueRun {
   void plan_period() {
     std::vector<int> finished(team_);
     for (int r = 0; r < team_; ++r) finished[r] = robots_[r].finished;
+    if (draws_ && settings_.plan_round_delayed) {
+      std::vector<char> held(team_, 0);
+      for (int r = 0; r < team_; ++r) held[r] = draws_->ticks_left(r) > ticks_per_action_ ? 1 : 0;
+      engine_.hold(std::move(held));
+    }
     const LeagueEngine::PlanCall call = engine_.plan(finished, settings_.plan_period_ms / 1000.0, settings_.interrupt);
     if (call.steps == 0) return;
     result_.plan_steps += call.steps;

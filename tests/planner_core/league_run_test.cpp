@@ -195,3 +195,40 @@ TEST(LeagueEngine, TheStagedPlanStaysLeadStepsAheadOfTheMedianRobot) {
 
 }  // namespace
 }  // namespace planner_core
+
+namespace planner_core {
+namespace {
+
+// Robots held (seen delayed) stay where the staged plan leaves them for one plan(); then they go on.
+TEST(LeagueEngine, HeldRobotsStayForOnePlanCall) {
+  const LorrProblem problem = load_lorr_problem(k2026 + "maze.domain/maze-example_40.json");
+  PibtLifelong planner = executable_planner(problem);
+  LeagueEngine engine(problem, planner, TaskScheduler::kWholeTaskReassign, 6);
+  std::vector<int> finished(problem.starts.size(), 0);
+  engine.hold(std::vector<char>(problem.starts.size(), 1));
+  ASSERT_EQ(engine.plan(finished, 1.0).steps, 6);
+  int moves = 0;
+  for (int r = 0; r < engine.robots(); ++r) moves += engine.staged().move_count(r);
+  EXPECT_EQ(moves, 0);
+  // Carried out (nothing to carry out): the median robot is at the plan's end, so it grows again.
+  ASSERT_EQ(engine.plan(finished, 1.0).steps, 6);
+  for (int r = 0; r < engine.robots(); ++r) moves += engine.staged().move_count(r);
+  EXPECT_GT(moves, 0);
+}
+
+// Delays on, robots planned round those seen delayed or not: no fault either way.
+TEST(LeagueRun, PlanningRoundDelayedRobotsOrNotNeverCausesAFault) {
+  const LorrProblem problem = load_lorr_problem(k2026 + "room.domain/room-example_150.json");
+  for (bool round : {true, false}) {
+    PibtLifelong planner = executable_planner(problem);
+    LeagueRunSettings settings;
+    settings.ticks = 300;
+    settings.plan_round_delayed = round;
+    const LeagueRunResult result = run_league(problem, planner, settings);
+    EXPECT_EQ(result.faults, 0) << result.first_fault;
+    EXPECT_GT(result.tasks_finished, 0);
+  }
+}
+
+}  // namespace
+}  // namespace planner_core

@@ -18,6 +18,7 @@
 #include <cstdint>
 #include <deque>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "planner_core/action_dependency_graph.hpp"
@@ -56,6 +57,10 @@ class LeagueEngine {
   // Extends the staged plan to lead_steps ahead of the median robot, each step within its share
   // of `budget_s`. moves_finished[r]: staged moves robot r has finished.
   PlanCall plan(const std::vector<int>& moves_finished, double budget_s, const std::atomic<bool>* interrupt = nullptr);
+  // Robots seen delayed (held[r] set) are planned to stay where the staged plan leaves them in
+  // the next plan(), so the others are planned round them rather than through where they would be
+  // had they not been delayed; from then on they are planned as usual.
+  void hold(std::vector<char> held) { held_ = std::move(held); }
 
   const ActionDependencyGraph& staged() const { return staged_; }
   ActionDependencyGraph& staged() { return staged_; }  // for forget_before, as robots finish moves
@@ -84,6 +89,7 @@ class LeagueEngine {
   Poses planned_;  // where the staged plan ends
   ActionDependencyGraph staged_;
   std::vector<std::deque<Errand>> errands_;
+  std::vector<char> held_;  // per robot: planned to stay in the next plan() (empty: none)
 };
 
 }  // namespace planner_core
