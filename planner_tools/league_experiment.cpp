@@ -1,10 +1,13 @@
 #include "league_experiment.hpp"
 
+#include <unistd.h>
+
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 
 #include "chart.hpp"
+#include "planner_core/input_error.hpp"
 #include "planner_core/league_output.hpp"
 #include "planner_core/league_run.hpp"
 #include "planner_core/lifelong_auto_rules.hpp"
@@ -30,13 +33,33 @@ planner_core::PibtLifelongSettings executable_settings(const planner_core::Lifel
   return pibt;
 }
 
+// The planner holds a distance table per goal in use, one per robot at least: refuse a problem
+// whose tables would not fit in this machine's memory rather than run it into swap.
+void check_tables_fit(const planner_core::PibtLifelong& planner, const planner_core::LorrProblem& problem,
+                      const std::string& path) {
+  const double needed = static_cast<double>(planner.distances().bytes_per_target()) * problem.starts.size();
+  const double memory = static_cast<double>(sysconf(_SC_PHYS_PAGES)) * sysconf(_SC_PAGESIZE);
+  if (needed > 0.75 * memory) {
+    throw planner_core::InputError(
+        path + ": " + std::to_string(problem.starts.size()) + " robots on " +
+        std::to_string(problem.graph->vertex_count()) + " cells need about " +
+        std::to_string(static_cast<long long>(needed / 1e9)) + " GB of distance tables (one per goal in use), more "
+        "than this machine's memory allows (" + std::to_string(static_cast<long long>(memory / 1e9)) + " GB)");
+  }
+}
+
 }  // namespace
 
 int run_league_experiment(const LifelongExperimentSettings& common, const LeagueExperimentSettings& settings) {
   const std::vector<std::string> problems =
       common.problems.empty() ? problems_under(common.benchmarks, "lorr-2026") : common.problems;
-  // Every problem read before anything is written: a bad one stops the run with nothing partial.
-  for (const std::string& path : problems) planner_core::load_lorr_problem(path);
+  // Every problem read before anything is written: a bad one, or one too big for the planner's
+  // tables, stops the run with nothing partial.
+  for (const std::string& path : problems) {
+    const planner_core::LorrProblem problem = planner_core::load_lorr_problem(path);
+    const planner_core::PibtLifelong planner(*problem.graph, common.seed, executable_settings(common.planner, problem));
+    check_tables_fit(planner, problem, path);
+  }
   std::vector<bool> delay_settings;
   if (settings.delays != "off") delay_settings.push_back(true);
   if (settings.delays != "on") delay_settings.push_back(false);

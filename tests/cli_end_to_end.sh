@@ -216,6 +216,12 @@ grep -q "^maze-example_40 (no delays),199," "$work/league/league_ticks.csv"
 expect_input_error '"pDelay"' "$bin/ctsfleet-bench" --experiment league --problem "$lorr26/maze-example_40.json" \
   --problem "$work/bad-delays.json" --ticks 10 --out-dir "$work/league-bad"
 [ ! -e "$work/league-bad/league.csv" ] || { echo "a bad problem still wrote a league table"; exit 1; }
+# iron_harvest (10,000 robots on 2.2 million cells): the planner's tables would not fit; refused
+# before anything is written, however much memory this machine has (354 GB needed).
+expect_input_error "GB of distance tables" "$bin/ctsfleet-bench" --experiment league --problem \
+  "$lorr26/maze-example_40.json" --problem "$lorr26/../iron_harvest.domain/iron-example_10000.json" --ticks 10 \
+  --out-dir "$work/league-iron"
+[ ! -e "$work/league-iron/league.csv" ] || { echo "a problem too big still wrote a league table"; exit 1; }
 expect_input_error --plan-period-ms "$bin/ctsfleet-bench" --experiment league --problem "$lorr26/maze-example_40.json" \
   --plan-period-ms 150
 for bad in "--scheduler fastest" "--delays maybe" "--ticks 0" "--tick-ms -5"; do
