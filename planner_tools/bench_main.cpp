@@ -104,7 +104,8 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_flag("--plan-round-delayed,!--no-plan-round-delayed", league.plan_round_delayed,
                "experiment league: robots delayed for longer than an action when the planner is called are "
-               "planned to stay where their staged moves end, the others round them")
+               "planned to stay where their staged moves end, the others round them (off by default: measured "
+               "no better)")
       ->capture_default_str();
   app.add_option("--lead-periods", league.lead_periods,
                  "experiment league: how far ahead of the median robot the staged plan is kept, in plan periods' "

@@ -19,7 +19,7 @@ struct LeagueExperimentSettings {
   double preprocess_s = 30;     // preprocessTimeLimit
   std::string delays = "on";    // on, off, or both (each problem run twice)
   std::string scheduler = "auto";
-  bool plan_round_delayed = true;  // LeagueRunSettings::plan_round_delayed
+  bool plan_round_delayed = false;  // LeagueRunSettings::plan_round_delayed
   double lead_periods = 1.5;       // LeagueRunSettings::lead_periods  // auto (the problem's rules), or a TaskScheduler's name
 };
 

@@ -60,8 +60,9 @@ struct LeagueRunSettings {
   double preprocess_time_s = 30;   // preprocessTimeLimit
   bool delays = true;              // off: the problem's delayConfig is ignored
   // Robots delayed for longer than an action when the planner is called are planned to stay
-  // where their staged moves end, the others round them (LeagueEngine::hold).
-  bool plan_round_delayed = true;
+  // where their staged moves end, the others round them (LeagueEngine::hold). Off: measured no
+  // better (docs/RESULTS.md, "The league's 2026 rules").
+  bool plan_round_delayed = false;
   // How far ahead of the median robot the staged plan is kept, in plan periods' worth of actions.
   double lead_periods = 1.5;
   // Who gets which task (task_board.hpp); unset: the one the problem's rules name.
