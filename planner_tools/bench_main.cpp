@@ -110,7 +110,7 @@ int main(int argc, char** argv) {
   app.add_option("--lead-periods", league.lead_periods,
                  "experiment league: how far ahead of the median robot the staged plan is kept, in plan periods' "
                  "worth of actions")
-      ->check(CLI::Range(0.1, 100.0))
+      ->check(ctsfleet::number_in(0.1, 100))
       ->capture_default_str();
   app.add_option("--scheduler", league.scheduler,
                  "experiment league: who gets which task: round-robin, nearest-errand (nearest first errand), "

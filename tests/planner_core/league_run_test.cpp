@@ -163,11 +163,6 @@ TEST(LeagueOutput, TheFileHasTheLeaguesKeys) {
   EXPECT_THROW(write_league_output("/nonexistent-dir/x.json", problem, settings, result, log), InputError);
 }
 
-}  // namespace
-}  // namespace planner_core
-
-namespace planner_core {
-namespace {
 
 // The engine keeps the staged plan `lead_steps` ahead of the median robot: planning again before
 // robots finish moves adds nothing, and the plan grows as they carry it out.
@@ -193,11 +188,6 @@ TEST(LeagueEngine, TheStagedPlanStaysLeadStepsAheadOfTheMedianRobot) {
   for (int r = 0; r < engine.robots(); ++r) EXPECT_GE(engine.task_of(r), 0);
 }
 
-}  // namespace
-}  // namespace planner_core
-
-namespace planner_core {
-namespace {
 
 // Robots held (seen delayed) stay where the staged plan leaves them for one plan(); then they go on.
 TEST(LeagueEngine, HeldRobotsStayForOnePlanCall) {
