@@ -83,10 +83,9 @@ void LeagueEngine::reach_errands(int step) {
   for (int r = 0; r < robots(); ++r) {
     const int64_t task = board_.task_of(r);
     const int done_before = board_.errands_done(r);
-    int64_t unused = 0;
-    if (!board_.arrive(r, planned_.cells[r], distances_, unused)) continue;
-    const bool task_finished = board_.task_of(r) != task || board_.errands_done(r) == 0;
-    errands_[r].push_back({step, task, done_before + 1, task_finished, board_.task_of(r)});
+    int64_t tasks_finished = 0;
+    if (!board_.arrive(r, planned_.cells[r], distances_, tasks_finished)) continue;
+    errands_[r].push_back({step, task, done_before + 1, tasks_finished > 0, board_.task_of(r)});
   }
 }
 
