@@ -78,6 +78,17 @@ class ToioFleet(Fleet):
              "--domain", str(self.domain), "--dds-config-dir", DDS_DIR, *self.security()],
             stdout=out, stderr=subprocess.STDOUT, env=env)
 
+    def wait_agent_up(self, robot_id):
+        """Waits (generously: a loaded 2-core machine) for the agent's first line, which it logs
+        once its DDS participant is up; an agent that exits first fails with its exit status."""
+        process = self.processes[robot_id]
+
+        def up():
+            if process.poll() is not None:
+                raise AssertionError(f"{robot_id} exited with {process.returncode}:\n{read(self.log(robot_id))[-3000:]}")
+            return " robot on " in read(self.log(robot_id))
+        wait_for(up, 180, f"{robot_id} to start (its log: {self.log(robot_id)})")
+
     def drive(self, robot_id, *args, timeout=60):
         return subprocess.run([f"{BIN}/ctsfleet-test-drive", "--robot", robot_id, "--domain", str(self.domain),
                                "--dds-config-dir", DDS_DIR, "--timeout", str(timeout),
@@ -126,7 +137,8 @@ class ToioFleetTest(unittest.TestCase):
     def test_agent_drives_a_cube_three_cells(self):
         self.fleet.emulator([("toio-a", (1, 1)), ("toio-b", (5, 5))])
         self.fleet.toio_agent("robot0", "toio-a")
-        result = self.fleet.drive("robot0", "--path", "2,1 2,2 1,2")
+        self.fleet.wait_agent_up("robot0")
+        result = self.fleet.drive("robot0", "--path", "2,1 2,2 1,2", timeout=120)
         self.assertEqual(result.returncode, 0, result.stdout + read(self.fleet.log("robot0"))[-3000:])
         self.assertIn("arrived 2 at 1,2", result.stdout)
         x, y = centre((1, 2))
@@ -137,7 +149,8 @@ class ToioFleetTest(unittest.TestCase):
     def test_lifted_cube_is_a_fault_until_put_back(self):
         self.fleet.emulator([("toio-a", (3, 3))])
         self.fleet.toio_agent("robot0", "toio-a")
-        self.assertEqual(self.fleet.drive("robot0", "--wait-status", "ready").returncode, 0)
+        self.fleet.wait_agent_up("robot0")
+        self.assertEqual(self.fleet.drive("robot0", "--wait-status", "ready", timeout=120).returncode, 0)
         self.fleet.control("Lift", "string:toio-a")
         fault = self.fleet.drive("robot0", "--wait-status", "fault")
         self.assertEqual(fault.returncode, 0, fault.stdout + read(self.fleet.log("robot0"))[-2000:])
