@@ -13,7 +13,7 @@ LeagueEngine::LeagueEngine(const LorrProblem& problem, LifelongPlanner& planner,
       planner_(planner),
       lead_steps_(std::max(1, lead_steps)),
       distances_(graph_),
-      board_(problem, problem.starts, nullptr, scheduler),
+      board_(problem, problem.starts, nullptr, scheduler, Headings(problem.starts.size(), 0)),
       planned_{problem.starts, Headings(problem.starts.size(), 0)},
       staged_(Solution{problem.starts}, HeadingPlan{planned_.headings}),
       errands_(problem.starts.size()) {}
@@ -84,7 +84,7 @@ void LeagueEngine::reach_errands(int step) {
     const int64_t task = board_.task_of(r);
     const int done_before = board_.errands_done(r);
     int64_t tasks_finished = 0;
-    if (!board_.arrive(r, planned_.cells[r], distances_, tasks_finished)) continue;
+    if (!board_.arrive(r, planned_.cells[r], planned_.headings[r], distances_, tasks_finished)) continue;
     errands_[r].push_back({step, task, done_before + 1, tasks_finished > 0, board_.task_of(r)});
   }
 }

@@ -58,7 +58,7 @@ LifelongResult run_lifelong(const LorrProblem& problem, LifelongPlanner& planner
     log->cost.assign(team, 0);
   }
   DistTable distances(graph);
-  TaskBoard board(problem, positions, log);
+  TaskBoard board(problem, positions, log, scheduler_for(problem.assignment), now.headings);
   LifelongResult result;
   const auto current_goals = [&] {
     Config goals(team);
@@ -109,7 +109,8 @@ LifelongResult run_lifelong(const LorrProblem& problem, LifelongPlanner& planner
       if (model == ActionModel::kRotate) now.headings[a] = next.headings[a];
       // One errand per agent and step, as the league counts: a next errand on the same cell is
       // finished at the next step.
-      if (board.arrive(a, positions[a], distances, result.tasks_finished)) ++finished;
+      const int heading = model == ActionModel::kRotate ? now.headings[a] : 0;
+      if (board.arrive(a, positions[a], heading, distances, result.tasks_finished)) ++finished;
     }
     result.errands_finished += finished;
     result.errands_per_step.push_back(finished);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 
 #include "planner_core/input_error.hpp"
 
@@ -35,7 +36,8 @@ TaskScheduler parse_task_scheduler(const std::string& text, const std::string& w
 TaskBoard::TaskBoard(const LorrProblem& problem, const Config& starts, LifelongLog* log)
     : TaskBoard(problem, starts, log, scheduler_for(problem.assignment)) {}
 
-TaskBoard::TaskBoard(const LorrProblem& problem, const Config& starts, LifelongLog* log, TaskScheduler scheduler)
+TaskBoard::TaskBoard(const LorrProblem& problem, const Config& starts, LifelongLog* log, TaskScheduler scheduler,
+                     const Headings& start_headings)
     : problem_(problem),
       log_(log),
       scheduler_(scheduler),
@@ -44,7 +46,11 @@ TaskBoard::TaskBoard(const LorrProblem& problem, const Config& starts, LifelongL
       taken_at_(starts.size(), 0),
       way_when_taken_(starts.size(), 0),
       at_(starts),
-      length_(problem.tasks.size(), -1) {
+      heading_of_(start_headings),
+      length_(problem.tasks.size(), {-1, -1, -1, -1}) {
+  if (!heading_of_.empty() && heading_of_.size() != starts.size()) {
+    throw std::invalid_argument("TaskBoard: one start heading per agent");
+  }
   const int team = static_cast<int>(starts.size());
   reveal_ = std::max(1, static_cast<int>(std::ceil(problem.tasks_revealed_per_agent)));
   if (scheduler == TaskScheduler::kRoundRobin) {
@@ -69,8 +75,9 @@ Vertex TaskBoard::goal(int a) const {
   return task(in_hand_[a].front())[errand_[a]];
 }
 
-bool TaskBoard::arrive(int a, Vertex cell, DistTable& distances, int64_t& tasks_finished) {
+bool TaskBoard::arrive(int a, Vertex cell, int heading, DistTable& distances, int64_t& tasks_finished) {
   at_[a] = cell;
+  if (counts_turns()) heading_of_[a] = heading;
   if (in_hand_[a].empty() || goal(a) != cell) return false;
   if (++errand_[a] == static_cast<int>(task(in_hand_[a].front()).size())) {
     ++tasks_finished;
@@ -107,24 +114,22 @@ void TaskBoard::refill(int a, Vertex here, DistTable* distances) {
 }
 
 void TaskBoard::schedule(int a, Vertex here, bool may_take) {
-  search_from(here);
+  search_from(here, counts_turns() ? heading_of_[a] : 0);
   int64_t best_cost = std::numeric_limits<int64_t>::max();
   size_t best_free = pool_.size();
   int best_holder = -1;
   for (size_t k = 0; k < pool_.size(); ++k) {
-    const int way = distances_from_[task(pool_[k]).front()];
-    const int64_t cost = static_cast<int64_t>(way) + length_of(pool_[k]);
+    const int64_t cost = cost_of(pool_[k]);
     if (cost < best_cost) best_cost = cost, best_free = k;
   }
   if (may_take) {
     for (int b = 0; b < static_cast<int>(in_hand_.size()); ++b) {
       if (b == a || in_hand_[b].empty() || errand_[b] != 0) continue;
       const int64_t held = in_hand_[b].front();
-      const int way = distances_from_[task(held).front()];
       // What the holder has left to go, assuming it has come a step nearer every step since.
       const int holder_left = std::max(0, way_when_taken_[b] - (time_ - taken_at_[b]));
-      if (way >= holder_left) continue;
-      const int64_t cost = static_cast<int64_t>(way) + length_of(held);
+      if (way_to(held) >= holder_left) continue;
+      const int64_t cost = cost_of(held);
       if (cost < best_cost) best_cost = cost, best_holder = b;
     }
   }
@@ -134,14 +139,13 @@ void TaskBoard::schedule(int a, Vertex here, bool may_take) {
     pool_.push_back(task_taken);
     ++reassignments_;
     best_free = pool_.size() - 1;
-    best_cost = static_cast<int64_t>(distances_from_[task(task_taken).front()]) + length_of(task_taken);
   }
   if (best_free == pool_.size()) return;  // nothing to take
   const int64_t chosen = pool_[best_free];
   pool_[best_free] = pool_.back();
   pool_.pop_back();
   taken_at_[a] = time_;
-  way_when_taken_[a] = distances_from_[task(chosen).front()];
+  way_when_taken_[a] = way_to(chosen);
   hand_out(a, chosen);
   // The holder it was taken from takes another, from the pool only (no chain of takings).
   if (best_holder >= 0) {
@@ -149,44 +153,131 @@ void TaskBoard::schedule(int a, Vertex here, bool may_take) {
   }
 }
 
-void TaskBoard::search_from(Vertex from) {
+namespace {
+
+int plus(int64_t a, int64_t b) { return static_cast<int>(std::min<int64_t>(kUnreachable, a + b)); }
+
+}  // namespace
+
+void TaskBoard::search_from(Vertex from, int heading) {
   const Graph& graph = *problem_.graph;
-  distances_from_.assign(graph.vertex_count(), kUnreachable);
+  const int per_cell = counts_turns() ? kHeadings : 1;
+  steps_from_.assign(graph.vertex_count() * per_cell, kUnreachable);
   frontier_.clear();
-  distances_from_[from] = 0;
-  frontier_.push_back(from);
+  const int source = counts_turns() ? from * kHeadings + heading : from;
+  steps_from_[source] = 0;
+  frontier_.push_back(source);
+  auto reach = [&](int state, int steps) {
+    if (steps_from_[state] != kUnreachable) return;
+    steps_from_[state] = steps;
+    frontier_.push_back(state);
+  };
   for (size_t head = 0; head < frontier_.size(); ++head) {
-    const Vertex v = frontier_[head];
-    for (Vertex next : graph.neighbours(v)) {
-      if (distances_from_[next] != kUnreachable) continue;
-      distances_from_[next] = distances_from_[v] + 1;
-      frontier_.push_back(next);
+    const int state = frontier_[head];
+    const int steps = steps_from_[state] + 1;
+    if (!counts_turns()) {
+      for (Vertex next : graph.neighbours(state)) reach(next, steps);
+      continue;
     }
+    const Vertex v = state / kHeadings;
+    const int h = state % kHeadings;
+    reach(v * kHeadings + turned_clockwise(h), steps);
+    reach(v * kHeadings + turned_counter_clockwise(h), steps);
+    if (const Vertex forward = ahead(graph, v, h); forward != kNoVertex) reach(forward * kHeadings + h, steps);
   }
 }
 
-int TaskBoard::length_of(int64_t k) {
-  int& length = length_[k % problem_.tasks.size()];
-  if (length >= 0) return length;
-  // A search from each errand to the next, stopped once it is reached.
+int TaskBoard::way_to(int64_t k) const {
+  const Vertex first = task(k).front();
+  if (!counts_turns()) return steps_from_[first];
+  int way = kUnreachable;
+  for (int h = 0; h < kHeadings; ++h) way = std::min(way, steps_from_[first * kHeadings + h]);
+  return way;
+}
+
+int64_t TaskBoard::cost_of(int64_t k) {
+  const Vertex first = task(k).front();
+  const std::array<int, kHeadings>& length = length_of(k);
+  if (!counts_turns()) return plus(steps_from_[first], length[0]);
+  int64_t cost = kUnreachable;
+  for (int h = 0; h < kHeadings; ++h) cost = std::min<int64_t>(cost, plus(steps_from_[first * kHeadings + h], length[h]));
+  return cost;
+}
+
+const std::array<int, kHeadings>& TaskBoard::length_of(int64_t k) {
+  std::array<int, kHeadings>& length = length_[k % problem_.tasks.size()];
+  if (length[0] >= 0) return length;
   const Graph& graph = *problem_.graph;
   const std::vector<Vertex>& errands = task(k);
-  std::vector<int> seen(graph.vertex_count(), -1);
-  length = 0;
+  if (!counts_turns()) {
+    // A search from each errand to the next, stopped once it is reached.
+    std::vector<int> seen(graph.vertex_count(), -1);
+    int total = 0;
+    for (size_t e = 0; e + 1 < errands.size(); ++e) {
+      std::fill(seen.begin(), seen.end(), -1);
+      std::vector<Vertex> queue{errands[e]};
+      seen[errands[e]] = 0;
+      for (size_t head = 0; head < queue.size() && seen[errands[e + 1]] < 0; ++head) {
+        for (Vertex next : graph.neighbours(queue[head])) {
+          if (seen[next] >= 0) continue;
+          seen[next] = seen[queue[head]] + 1;
+          queue.push_back(next);
+        }
+      }
+      total = plus(total, seen[errands[e + 1]] < 0 ? kUnreachable : seen[errands[e + 1]]);
+    }
+    length.fill(total);
+    return length;
+  }
+  // Per heading at the first errand, the fewest steps on through the others: the legs' step
+  // counts (from each heading to each heading) chained, min-plus.
+  std::array<std::array<int, kHeadings>, kHeadings> through{};
+  for (int h = 0; h < kHeadings; ++h) {
+    for (int g = 0; g < kHeadings; ++g) through[h][g] = h == g ? 0 : kUnreachable;
+  }
   for (size_t e = 0; e + 1 < errands.size(); ++e) {
-    std::fill(seen.begin(), seen.end(), -1);
-    std::vector<Vertex> queue{errands[e]};
-    seen[errands[e]] = 0;
-    for (size_t head = 0; head < queue.size() && seen[errands[e + 1]] < 0; ++head) {
-      for (Vertex next : graph.neighbours(queue[head])) {
-        if (seen[next] >= 0) continue;
-        seen[next] = seen[queue[head]] + 1;
-        queue.push_back(next);
+    const auto step = leg(errands[e], errands[e + 1]);
+    std::array<std::array<int, kHeadings>, kHeadings> chained{};
+    for (int h = 0; h < kHeadings; ++h) {
+      for (int g = 0; g < kHeadings; ++g) {
+        chained[h][g] = kUnreachable;
+        for (int m = 0; m < kHeadings; ++m) chained[h][g] = std::min(chained[h][g], plus(through[h][m], step[m][g]));
       }
     }
-    length += seen[errands[e + 1]];
+    through = chained;
   }
+  for (int h = 0; h < kHeadings; ++h) length[h] = *std::min_element(through[h].begin(), through[h].end());
   return length;
+}
+
+std::array<std::array<int, kHeadings>, kHeadings> TaskBoard::leg(Vertex from, Vertex to) {
+  const Graph& graph = *problem_.graph;
+  std::array<std::array<int, kHeadings>, kHeadings> steps{};
+  std::vector<int> seen(graph.vertex_count() * kHeadings, -1);
+  std::vector<int> queue;
+  for (int h = 0; h < kHeadings; ++h) {
+    std::fill(seen.begin(), seen.end(), -1);
+    queue.assign(1, from * kHeadings + h);
+    seen[queue[0]] = 0;
+    int found = 0;
+    auto reach = [&](int state, int count) {
+      if (seen[state] >= 0) return;
+      seen[state] = count;
+      queue.push_back(state);
+      if (state / kHeadings == to) ++found;
+    };
+    if (from == to) found = 1;
+    for (size_t head = 0; head < queue.size() && found < kHeadings; ++head) {
+      const int state = queue[head];
+      const Vertex v = state / kHeadings;
+      const int g = state % kHeadings;
+      reach(v * kHeadings + turned_clockwise(g), seen[state] + 1);
+      reach(v * kHeadings + turned_counter_clockwise(g), seen[state] + 1);
+      if (const Vertex forward = ahead(graph, v, g); forward != kNoVertex) reach(forward * kHeadings + g, seen[state] + 1);
+    }
+    for (int g = 0; g < kHeadings; ++g) steps[h][g] = seen[to * kHeadings + g] < 0 ? kUnreachable : seen[to * kHeadings + g];
+  }
+  return steps;
 }
 
 void TaskBoard::hand_out(int a, int64_t task) {

@@ -1,5 +1,6 @@
 // The schedulers of a lifelong run's tasks (task_board.hpp): nearest first errand, the whole task
-// soonest finished, and ours, which also takes an unopened task from an agent farther from it.
+// soonest finished, and ours, which also takes an unopened task from an agent farther from it;
+// turns counted in the rotation model.
 #include <gtest/gtest.h>
 
 #include <string>
@@ -41,6 +42,25 @@ TEST(TaskScheduler, WholeTaskTakesTheTaskFinishedSoonest) {
   EXPECT_EQ(TaskBoard(problem, starts, nullptr).goal(0), column(problem, 6));
 }
 
+// In the rotation model a quarter turn costs a step: an agent at column 4 facing east reaches
+// column 6 (two steps forward) sooner than column 3 behind it (two turns and a step).
+TEST(TaskScheduler, TurnsCountInTheRotationModel) {
+  TinyProblem tiny({"........."}, {"1", "4"}, {"2", "3", "6"}, "\"numTasksReveal\": 2");
+  const LorrProblem problem = load_lorr_problem(tiny.path());
+  EXPECT_EQ(TaskBoard(problem, problem.starts, nullptr, TaskScheduler::kWholeTask).goal(0), column(problem, 3));
+  EXPECT_EQ(TaskBoard(problem, problem.starts, nullptr, TaskScheduler::kWholeTask, {0}).goal(0), column(problem, 6));
+  EXPECT_EQ(TaskBoard(problem, problem.starts, nullptr, TaskScheduler::kWholeTask, {2}).goal(0), column(problem, 3));
+}
+
+// Turns count between errands too: columns 6 then 5 is 3 steps without turns, 5 with (2 forward,
+// then turning back); column 8 is 4 either way.
+TEST(TaskScheduler, TurnsBetweenErrandsCount) {
+  TinyProblem tiny({"........."}, {"1", "4"}, {"2", "6,5", "8"}, "\"numTasksReveal\": 2");
+  const LorrProblem problem = load_lorr_problem(tiny.path());
+  EXPECT_EQ(TaskBoard(problem, problem.starts, nullptr, TaskScheduler::kWholeTask).goal(0), column(problem, 6));
+  EXPECT_EQ(TaskBoard(problem, problem.starts, nullptr, TaskScheduler::kWholeTask, {0}).goal(0), column(problem, 8));
+}
+
 // Agent 0 at column 5 takes task 0 (column 6); agent 1 at column 0 is left task 1 (column 10).
 // Agent 0 finishes at step 1, task 2 (column 0) is revealed: ours gives agent 0 task 1, which it
 // is 4 away from while agent 1 still has about 9 to go, and agent 1 the task at its feet.
@@ -54,7 +74,7 @@ TEST(TaskScheduler, AnUnopenedTaskGoesToANearerAgent) {
     EXPECT_EQ(board.goal(1), column(problem, 10));
     board.set_time(1);
     int64_t finished = 0;
-    EXPECT_TRUE(board.arrive(0, column(problem, 6), distances, finished));
+    EXPECT_TRUE(board.arrive(0, column(problem, 6), 0, distances, finished));
     EXPECT_EQ(finished, 1);
     const bool ours = scheduler == TaskScheduler::kWholeTaskReassign;
     EXPECT_EQ(board.goal(0), column(problem, ours ? 10 : 0)) << to_string(scheduler);
@@ -72,10 +92,10 @@ TEST(TaskScheduler, AnOpenedTaskStaysWithItsAgent) {
   ASSERT_EQ(board.goal(1), column(problem, 1));
   int64_t finished = 0;
   board.set_time(1);
-  EXPECT_TRUE(board.arrive(1, column(problem, 1), distances, finished));  // agent 1 opens task 1
+  EXPECT_TRUE(board.arrive(1, column(problem, 1), 0, distances, finished));  // agent 1 opens task 1
   EXPECT_EQ(board.goal(1), column(problem, 11));
   board.set_time(2);
-  EXPECT_TRUE(board.arrive(0, column(problem, 6), distances, finished));
+  EXPECT_TRUE(board.arrive(0, column(problem, 6), 0, distances, finished));
   EXPECT_EQ(board.goal(1), column(problem, 11));
   EXPECT_EQ(board.goal(0), column(problem, 0));
   EXPECT_EQ(board.reassignments(), 0);

@@ -13,14 +13,19 @@
 //   agent holds but has not opened (no errand finished), when it is nearer that task's first
 //   errand than the holder is by now; the holder then takes another from the pool. The 2024 rules
 //   allow reassigning unopened tasks.
-// Distances are cell distances on the map (breadth-first searches), turns not counted.
+// The whole-task schedulers' costs are steps on the map: with start headings (the rotation
+// model, as the 2024 and 2026 rules are), a quarter turn costs a step as a move forward does, and
+// a task's cost is the fewest steps to its first errand and on through the others, over every
+// heading the robot may arrive with; without, cell distances (breadth-first searches).
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <deque>
 #include <string>
 #include <vector>
 
+#include "planner_core/action_model.hpp"
 #include "planner_core/dist_table.hpp"
 #include "planner_core/lifelong.hpp"
 #include "planner_core/lorr_problem.hpp"
@@ -40,7 +45,9 @@ class TaskBoard {
  public:
   // `log`, when set, records each task handed out and finished.
   TaskBoard(const LorrProblem& problem, const Config& starts, LifelongLog* log);
-  TaskBoard(const LorrProblem& problem, const Config& starts, LifelongLog* log, TaskScheduler scheduler);
+  // `start_headings` (the rotation model): turns count in the whole-task schedulers' costs.
+  TaskBoard(const LorrProblem& problem, const Config& starts, LifelongLog* log, TaskScheduler scheduler,
+            const Headings& start_headings = {});
 
   // The errand agent a heads for, or kNoVertex.
   Vertex goal(int a) const;
@@ -51,9 +58,10 @@ class TaskBoard {
   // The time events are recorded at: the steps done so far.
   void set_time(int time) { time_ = time; }
 
-  // Agent a stands on `cell` (told every step, for every agent): finishes its errand there, if it is one; returns whether it did,
-  // and counts a finished task in `tasks_finished`.
-  bool arrive(int a, Vertex cell, DistTable& distances, int64_t& tasks_finished);
+  // Agent a stands on `cell` facing `heading` (told every step, for every agent; the heading
+  // matters only to a board given start headings): finishes its errand there, if it is one;
+  // returns whether it did, and counts a finished task in `tasks_finished`.
+  bool arrive(int a, Vertex cell, int heading, DistTable& distances, int64_t& tasks_finished);
 
   // Tasks taken from an agent that had not opened them, for one nearer (whole-task-reassign).
   int64_t reassignments() const { return reassignments_; }
@@ -61,12 +69,21 @@ class TaskBoard {
  private:
   const std::vector<Vertex>& task(int64_t k) const { return problem_.tasks[k % problem_.tasks.size()]; }
   void refill(int a, Vertex here, DistTable* distances = nullptr);
+  bool counts_turns() const { return !heading_of_.empty(); }
   // Whole-task schedulers: agent a at `here` takes a task (from another agent, when `may_take`).
   void schedule(int a, Vertex here, bool may_take);
-  // Distances from `from` to every cell, in distances_from_ (kUnreachable where none).
-  void search_from(Vertex from);
-  // Steps from task k's first errand through its others (cached per task of the file).
-  int length_of(int64_t k);
+  // Steps from `from` (facing `heading` when turns count) to every cell, in steps_from_: per cell,
+  // or per cell and heading of arrival when turns count (kUnreachable where none).
+  void search_from(Vertex from, int heading);
+  // The fewest steps to task k's first errand (from the last search_from) and on through its others.
+  int64_t cost_of(int64_t k);
+  // The steps to task k's first errand from the last search_from.
+  int way_to(int64_t k) const;
+  // Steps from task k's first errand through its others, per heading it is reached with (all
+  // four alike when turns do not count); cached per task of the file.
+  const std::array<int, kHeadings>& length_of(int64_t k);
+  // Rotation model: steps from (from, each heading) to (to, each heading), fewest first.
+  std::array<std::array<int, kHeadings>, kHeadings> leg(Vertex from, Vertex to);
   void hand_out(int a, int64_t task);
 
   const LorrProblem& problem_;
@@ -83,9 +100,10 @@ class TaskBoard {
   std::vector<int> taken_at_;
   std::vector<int> way_when_taken_;
   Config at_;                                 // per agent, the cell it last arrived on
-  std::vector<int> length_;                   // per task of the file: -1 until searched
-  std::vector<int> distances_from_;
-  std::vector<Vertex> frontier_;
+  Headings heading_of_;                       // per agent, its heading there (empty: turns not counted)
+  std::vector<std::array<int, kHeadings>> length_;  // per task of the file: -1 until searched
+  std::vector<int> steps_from_;
+  std::vector<int> frontier_;
   int64_t reassignments_ = 0;
 };
 
