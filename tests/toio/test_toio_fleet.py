@@ -4,6 +4,7 @@ a fake BlueZ on a private dbus-daemon, with the coordinator and the safety monit
 loopback. Every wait is on a condition with a generous deadline."""
 import os
 import re
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -87,13 +88,28 @@ class ToioFleet(Fleet):
             if process.poll() is not None:
                 raise AssertionError(f"{robot_id} exited with {process.returncode}:\n{read(self.log(robot_id))[-3000:]}")
             return " robot on " in read(self.log(robot_id))
-        wait_for(up, 180, f"{robot_id} to start (its log: {self.log(robot_id)})")
+        try:
+            wait_for(up, 180, f"{robot_id} to start (its log: {self.log(robot_id)})")
+        except AssertionError as e:
+            raise AssertionError(f"{e}\n{backtraces(process.pid)}") from None
 
     def drive(self, robot_id, *args, timeout=60):
         return subprocess.run([f"{BIN}/ctsfleet-test-drive", "--robot", robot_id, "--domain", str(self.domain),
                                "--dds-config-dir", DDS_DIR, "--timeout", str(timeout),
                                *self.security("test-driver"), *args],
                               capture_output=True, text=True, timeout=300)
+
+
+def backtraces(pid):
+    """Where a process that hangs stands (every thread), when gdb is at hand."""
+    if shutil.which("gdb") is None:
+        return "(no gdb: no backtraces)"
+    try:
+        result = subprocess.run(["gdb", "-p", str(pid), "-batch", "-ex", "thread apply all bt"],
+                                capture_output=True, text=True, timeout=120)
+        return result.stdout[-6000:]
+    except subprocess.TimeoutExpired:
+        return "(gdb timed out)"
 
 
 def role_starts():
