@@ -8,12 +8,15 @@
 #include <cmath>
 #include <cstdlib>
 #include <iostream>
+#include <optional>
 
 #include <set>
 
 #include "ctsfleet/program.hpp"
 #include "fake_bluez.hpp"
+#include "planner_core/delay_draws.hpp"
 #include "planner_core/input_error.hpp"
+#include "planner_core/lorr_problem.hpp"
 #include "robot_agent/dbus_event_pump.hpp"
 #include "robot_agent/mat_calibration.hpp"
 
@@ -62,6 +65,18 @@ int main(int argc, char** argv) {
       ->check(ctsfleet::number_in(0.01, 100))
       ->capture_default_str();
   app.add_option("--tick-ms", tick_ms, "simulation step in milliseconds")->check(ctsfleet::number_in(0.1, 1000))->capture_default_str();
+  std::string delay_config;
+  double delay_tick_s = 0.1;
+  unsigned seed = 0;
+  app.add_option("--delay-config", delay_config,
+                 "cubes delayed (they stand still, their moves wait) as the League of Robot Runners' 2026 rules "
+                 "draw delays: a JSON file holding a delayConfig (itself, or a problem with one); seed: its seed "
+                 "plus --seed")
+      ->check(CLI::ExistingFile);
+  app.add_option("--delay-tick", delay_tick_s, "with --delay-config: seconds per tick of the delay model")
+      ->check(ctsfleet::number_in(0.001, 3600))
+      ->capture_default_str();
+  app.add_option("--seed", seed, "with --delay-config: added to the delayConfig's seed")->capture_default_str();
   return program.main(argc, argv, [&] {
     const std::atomic<bool>& g_stop = ctsfleet::stop_requested();
     if (bus.empty()) {
@@ -79,17 +94,34 @@ int main(int argc, char** argv) {
       cubes.push_back(parse_cube(text, mat ? &*mat : nullptr));
       if (!names.insert(cubes.back().name).second) throw InputError("--cube " + text + ": a second cube named " + cubes.back().name);
     }
+    std::optional<planner_core::DelayDraws> delays;
+    if (!delay_config.empty()) {
+      planner_core::LeagueDelays config = planner_core::load_delay_config(delay_config);
+      config.seed += seed;
+      delays.emplace(config, static_cast<int>(cubes.size()));
+    }
     try {
       auto connection = sdbus::createSessionBusConnectionWithAddress(bus);
       toio_emulator::FakeBluez bluez(*connection, cubes, adapter, speed_per_unit);
       connection->requestName("org.bluez");
       robot_agent::DbusEventPump pump(*connection);
-      std::cout << "toio-emulator ready: " << cubes.size() << " cubes on " << bus << std::endl;
+      std::cout << "toio-emulator ready: " << cubes.size() << " cubes on " << bus;
+      if (delays) std::cout << ", delays from " << delay_config << " every " << delay_tick_s << " s";
+      std::cout << std::endl;
       const auto tick = std::chrono::microseconds(static_cast<int64_t>(tick_ms * 1000));
       auto last = std::chrono::steady_clock::now();
       auto next_tick = last + tick;
+      const auto delay_tick = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+          std::chrono::duration<double>(delay_tick_s));
+      auto next_delay_tick = last;
       while (!g_stop.load()) {
         const auto now = std::chrono::steady_clock::now();
+        for (; delays && now >= next_delay_tick; next_delay_tick += delay_tick) {
+          for (int cube : delays->tick()) {
+            spdlog::info("cube {} delayed for {} ticks", cubes[cube].name, delays->ticks_left(cube));
+          }
+          for (size_t cube = 0; cube < cubes.size(); ++cube) bluez.set_paused(cube, delays->delayed(static_cast<int>(cube)));
+        }
         if (now >= next_tick) {
           bluez.tick(std::chrono::duration<double>(now - last).count());
           last = now;

@@ -30,6 +30,9 @@ class FakeBluez {
   ~FakeBluez();
   // Advances every cube by dt seconds and sends their notifications.
   void tick(double dt);
+  // Cube `index` (in the order given) delayed or not (ToioCubeModel::set_paused).
+  void set_paused(size_t index, bool paused) { cubes_.at(index)->model.set_paused(paused); }
+  size_t cube_count() const { return cubes_.size(); }
 
  private:
   struct CharacteristicObject {

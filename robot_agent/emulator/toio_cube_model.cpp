@@ -130,7 +130,7 @@ std::vector<Notification> ToioCubeModel::advance(double dt) {
     out.push_back(motor_response(*move_, 2));  // ID missed: the cube was lifted mid-move
     move_.reset();
   }
-  if (move_) {
+  if (move_ && !paused_) {
     Move& move = *move_;
     const double dx = move.target_x - pose_.x, dy = move.target_y - pose_.y;
     const double distance = std::hypot(dx, dy);

@@ -45,6 +45,9 @@ class ToioCubeModel {
   void place(CubePose pose);
   void disconnected();  // settings reset and motors stop, as on a real cube
   void set_blocked(bool blocked) { blocked_ = blocked; }  // wheels spin, the cube does not move
+  // Delayed, as the league delays a robot: it stands still and its move waits (its time-out too),
+  // then goes on where it stopped.
+  void set_paused(bool paused) { paused_ = paused; }
 
   const CubePose& pose() const { return pose_; }
   bool on_mat() const { return on_mat_; }
@@ -68,6 +71,7 @@ class ToioCubeModel {
   double speed_per_unit_;
   bool on_mat_ = true;
   bool blocked_ = false;
+  bool paused_ = false;
   std::optional<Move> move_;
   // ID notification settings (reset on disconnect).
   double id_interval_s_ = 0.01;

@@ -4,6 +4,13 @@
 
 #include <gtest/gtest.h>
 
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <thread>
+
 #include "emulated_bluez.hpp"
 
 namespace robot_agent {
@@ -227,6 +234,61 @@ TEST(ToioRobot, NoBusIsAFaultThatNamesTheBus) {
   ASSERT_TRUE(eventually([&] { return robot.fault_reason().find("D-Bus") != std::string::npos; }))
       << robot.fault_reason();
   EXPECT_TRUE(robot.poll().fault);
+}
+
+// A delayConfig file (ctsfleet-toio-emulator --delay-config) in the temporary folder.
+std::string delay_config_file(const std::string& name, double p, int ticks) {
+  const auto path = std::filesystem::temp_directory_path() / (name + "-" + std::to_string(getpid()) + ".json");
+  std::ofstream(path) << "{\"seed\": 0, \"minDelay\": " << ticks << ", \"maxDelay\": " << ticks
+                      << ", \"eventModel\": \"bernoulli\", \"pDelay\": " << p
+                      << ", \"durationModel\": \"uniform\", \"gaussMeanRatio\": 0.5, \"gaussStdRatio\": 0.2}";
+  return path.string();
+}
+
+// pDelay 1: the cube is delayed at its first tick and at once again after each delay; it reports
+// where it stands, but a move never starts.
+TEST(ToioRobot, CubeDelayedForEverStandsStill) {
+  const std::string config = delay_config_file("delayed-for-ever", 1.0, 1000);
+  EmulatedBluez bluez({"toio-a@cell:1,1"}, {"--delay-config", config, "--delay-tick", "0.05"});
+  std::filesystem::remove(config);
+  ToioRobot robot(settings_for("toio-a"), MatCalibration::load(kRing));
+  ASSERT_TRUE(eventually([&] { return ready(robot); })) << robot.fault_reason();
+  EXPECT_NE(bluez.log().find("cube toio-a delayed for 1000 ticks"), std::string::npos) << bluez.log();
+  ASSERT_TRUE(robot.start_move({2, 1}, -1));
+  const auto until = std::chrono::steady_clock::now() + std::chrono::milliseconds(1500);
+  while (std::chrono::steady_clock::now() < until) {
+    EXPECT_NEAR(bluez.pose("toio-a").x, 125, 1);
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  EXPECT_TRUE(robot.poll().moving);
+}
+
+// Delays of 5 ticks, drawn often: each stops the cube where it is, then its move goes on.
+TEST(ToioRobot, DelayedCubeGoesOnWhereItStoppedAndArrives) {
+  const std::string config = delay_config_file("delayed-often", 0.3, 5);
+  EmulatedBluez bluez({"toio-a@cell:1,1"}, {"--delay-config", config, "--delay-tick", "0.1"});
+  std::filesystem::remove(config);
+  ToioRobot robot(settings_for("toio-a"), MatCalibration::load(kRing));
+  ASSERT_TRUE(eventually([&] { return ready(robot); })) << robot.fault_reason();
+  move_and_arrive(robot, bluez, "toio-a", {3, 1});
+  EXPECT_NE(bluez.log().find("cube toio-a delayed for 5 ticks"), std::string::npos) << bluez.log();
+}
+
+// A delayConfig with a negative delay: exit 2 and a line naming the file and the key, before any bus.
+TEST(ToioEmulator, BadDelayConfigIsRefusedNamingTheKey) {
+  const std::string config = delay_config_file("negative-delay", 0.1, -3);
+  const std::string out = config + ".out";
+  const std::string command = std::string(CTSFLEET_BIN_DIR) + "/ctsfleet-toio-emulator --bus unix:path=/nonexistent " +
+                              "--cube toio-a@100,100 --delay-config " + config + " > " + out + " 2>&1";
+  const int status = std::system(command.c_str());
+  std::ifstream file(out);
+  const std::string text((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+  std::filesystem::remove(config);
+  std::filesystem::remove(out);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 2) << text;
+  EXPECT_NE(text.find(config), std::string::npos) << text;
+  EXPECT_NE(text.find("minDelay"), std::string::npos) << text;
 }
 
 }  // namespace
