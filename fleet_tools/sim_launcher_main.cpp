@@ -26,6 +26,7 @@
 #include "ctsfleet/program.hpp"
 #include "planner_core/input_error.hpp"
 #include "planner_core/instance.hpp"
+#include "planner_core/lorr_problem.hpp"
 #include "robot_agent/mat_calibration.hpp"
 
 namespace {
@@ -106,6 +107,12 @@ int main(int argc, char** argv) {
   app.add_option("--actions", actions, "plans with turns (rotate) or without (move4); default: the config's")
       ->check(CLI::IsMember({"move4", "rotate"}));
   app.add_option("--seed", seed, "sim: random seed of the first agent")->capture_default_str();
+  std::string delay_config;
+  app.add_option("--delay-config", delay_config,
+                 "robots delayed as the League of Robot Runners' 2026 rules draw delays: a JSON file holding a "
+                 "delayConfig (itself, or a problem with one); each simulated robot draws with its own seed "
+                 "(--seed + its number), emulated cubes with --seed")
+      ->check(CLI::ExistingFile);
   app.add_option("--log-dir", log_dir, "where the agents' logs go")->check(ctsfleet::writable_folder())->capture_default_str();
   app.add_flag("--json", json, "the coordinator prints its mission summary as one JSON object");
   bool secure = false;
@@ -146,6 +153,10 @@ int main(int argc, char** argv) {
       if (domain < 0) domain = config.domain_id;
       // One source for the simulated robots' speed: the config the coordinator times its commands by.
       if (app.count("--step") == 0) step = config.step_s;
+      if (!delay_config.empty()) {
+        planner_core::load_delay_config(delay_config);  // refused here, once, before anything starts
+        delay_config = fs::absolute(delay_config).string();
+      }
       fs::create_directories(log_dir);
       if (!security_dir.empty()) secure = true;
       const fs::path fleet_ca = security_dir.empty() ? fs::absolute(fs::path(log_dir) / "fleet-ca") : fs::absolute(security_dir);
@@ -190,6 +201,7 @@ int main(int argc, char** argv) {
           emulator.push_back("toio-" + std::to_string(r) + "@cell:" + std::to_string(starts[r].x) + "," +
                              std::to_string(starts[r].y));
         }
+        if (!delay_config.empty()) emulator.insert(emulator.end(), {"--delay-config", delay_config, "--seed", std::to_string(seed)});
         const std::string emulator_log = (fs::path(log_dir) / "toio-emulator.log").string();
         helpers.push_back(coordinator::start_child(emulator, emulator_log));
         if (!wait_until([&] { return file_contains(emulator_log, "toio-emulator ready"); }, std::chrono::seconds(20))) {
@@ -274,6 +286,7 @@ int main(int argc, char** argv) {
                                          "--seed", std::to_string(seed + r)};
         if (!config.dds_config_dir.empty()) args.insert(args.end(), {"--dds-config-dir", config.dds_config_dir});
         if (toio) args.insert(args.end(), {"--cube", "toio-" + std::to_string(r), "--mat", mat_path});
+        if (!toio && !delay_config.empty()) args.insert(args.end(), {"--delay-config", delay_config});
         if (secure) args.insert(args.end(), {"--security", fleet_ca.string()});
         args.insert(args.end(), discovery_options.begin(), discovery_options.end());
         agents.push_back(coordinator::start_child(args, log_dir + "/robot" + std::to_string(r) + ".log"));

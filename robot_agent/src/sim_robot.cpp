@@ -1,5 +1,7 @@
 #include "robot_agent/sim_robot.hpp"
 
+#include <spdlog/spdlog.h>
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -48,6 +50,7 @@ double SimRobot::with_league_delays(double move_s) {
     if (!draws_->delayed(0)) --needed;
   }
   ticks_drawn_ += spent;
+  if (spent > nominal) spdlog::info("sim: this move delayed {} ticks of {} s", spent - nominal, tick_s);
   return move_s + static_cast<double>(spent - nominal) * tick_s;  // the ticks spent delayed on top
 }
 

@@ -235,13 +235,18 @@ class FleetTest(unittest.TestCase):
         self.assert_safe()
 
     def test_mission_with_turns_completes_safely(self):
-        """Plans with turns (--actions rotate) on robots that take time to turn: every move starts
-        facing its way (no agent had to turn on its own), every robot ends the mission, nobody collides."""
+        """Plans with turns (--actions rotate) on robots that take time to turn and are delayed as
+        the league's 2026 rules delay robots: every move starts facing its way (no agent had to turn
+        on its own), every robot ends the mission, nobody collides."""
         self.fleet.monitor()
         agents_dir = os.path.join(self.fleet.dir, "agents")
+        delays = os.path.join(self.fleet.dir, "delays.json")
+        with open(delays, "w") as f:
+            f.write('{"seed": 0, "minDelay": 2, "maxDelay": 6, "eventModel": "bernoulli", "pDelay": 0.05, '
+                    '"durationModel": "uniform", "gaussMeanRatio": 0.5, "gaussStdRatio": 0.2}')
         self.fleet.start("sim", [f"{BIN}/ctsfleet-sim", "--robots", "8", "--config", CONFIG,
                                  "--domain", str(self.fleet.domain), "--step", STEP, "--turn", STEP,
-                                 "--actions", "rotate", "--log-dir", agents_dir])
+                                 "--actions", "rotate", "--delay-config", delays, "--log-dir", agents_dir])
         code = self.fleet.wait_exit("sim", 240)
         text = read(self.fleet.log("sim"))
         self.assertEqual(code, 0, text[-3000:])
@@ -253,6 +258,7 @@ class FleetTest(unittest.TestCase):
         for log in logs:
             self.assertNotIn("turned first", log)
             self.assertNotIn("rejected command", log)
+        self.assertTrue(any("this move delayed" in log for log in logs), "no robot was delayed")
 
     def test_robot_restarted_facing_another_way_in_a_fleet_that_turns(self):
         """Plans with turns, robots that take time to turn: robot3's process is killed mid-mission and
