@@ -220,15 +220,23 @@ class ToioFleetTest(unittest.TestCase):
         self.finish_mission()
 
     def test_sim_launcher_runs_the_toio_demo(self):
+        """The demo with cubes delayed as the league's 2026 rules delay robots (short delays: each
+        stays well under the agent's move time-out)."""
         self.fleet.monitor()
+        delays = os.path.join(self.fleet.dir, "delays.json")
+        with open(delays, "w") as f:
+            f.write('{"seed": 0, "minDelay": 2, "maxDelay": 4, "eventModel": "bernoulli", "pDelay": 0.03, '
+                    '"durationModel": "uniform", "gaussMeanRatio": 0.5, "gaussStdRatio": 0.2}')
+        sim_dir = os.path.join(self.fleet.dir, "sim")
         self.fleet.start("sim", [f"{BIN}/ctsfleet-sim", "--backend", "toio-emulated", "--robots", "4",
-                                 "--domain", str(self.fleet.domain), "--log-dir", os.path.join(self.fleet.dir, "sim"),
-                                 *self.fleet.security()])
+                                 "--domain", str(self.fleet.domain), "--log-dir", sim_dir,
+                                 "--delay-config", delays, *self.fleet.security()])
         code = self.fleet.wait_exit("sim", 240)
         text = read(self.fleet.log("sim"))
         self.assertEqual(code, 0, text[-3000:])
         self.assertIn("mission completed: tasks 6/6", text)
         self.assertIn("emulated BlueZ with 4 toio cubes", text)
+        self.assertRegex(read(os.path.join(sim_dir, "toio-emulator.log")), r"cube toio-\d delayed for [2-4] ticks")
         self.assert_safe()
 
     def test_calibration_fits_a_rotated_grid_then_drives_the_corners(self):
