@@ -33,6 +33,7 @@
 #include "fleet_transport/transport.hpp"
 #include "planner_core/input_error.hpp"
 #include "planner_core/instance_generator.hpp"
+#include "planner_core/lifelong_config.hpp"
 
 namespace fs = std::filesystem;
 using coordinator::monitor_overlaps;
@@ -158,6 +159,11 @@ int main(int argc, char** argv) {
   app.add_option("--turn", turn_s, "task-stream: seconds per quarter turn of the sim robots (0: free)")
       ->check(ctsfleet::number_in(0, 60))
       ->capture_default_str();
+  std::string lifelong_planner;
+  app.add_option("--lifelong-planner", lifelong_planner,
+                 "task-stream: the window planner's settings (a file as config/lifelong.yaml; the fleet config's "
+                 "lifelong_planner); default: plain PIBT")
+      ->check(CLI::ExistingFile);
   coordinator::StreamTimeline timeline;
   app.add_option("--warmup", timeline.warmup_s, "task-stream: seconds from the first plan before tasks are counted")
       ->check(ctsfleet::number_in(0, 3600))
@@ -217,6 +223,10 @@ int main(int argc, char** argv) {
       settings.step_s = step;
       settings.actions = actions;
       settings.turn_s = turn_s;
+      if (!lifelong_planner.empty()) {
+        planner_core::load_lifelong_config(lifelong_planner);  // refused here, before any fleet starts
+        settings.lifelong_planner = fs::absolute(lifelong_planner).string();
+      }
       settings.timeline = timeline;
       settings.json = json;
       coordinator::print_task_stream_header(settings);

@@ -157,12 +157,16 @@ bool run_task_stream(const TaskStreamSettings& settings, int robots, int domain)
   const fs::path mission_file = settings.work / ("stream-mission-" + std::to_string(robots) + ".yaml");
   std::ofstream(mission_file) << planner_core::instance_to_yaml(mission, fs::absolute(settings.map).string());
   const fs::path config_file = settings.work / ("stream-fleet-" + std::to_string(robots) + ".yaml");
-  std::ofstream(config_file) << "mission: " << mission_file.string() << "\nlifelong: true\nrobots:\n  quorum: " << robots
-                             << "\n  wait_timeout_s: 120\nplanner:\n  solver: cts-pll-v2\n  time_limit_s: 5\n"
-                             << "  actions: " << settings.actions << "\n"
-                             << "  replan_solver: cts-pll-v2\n  replan_time_limit_s: 5\ndds:\n  vendor: " << settings.vendor
-                             << "\n  domain_id: " << domain << "\n  config_dir: " << settings.dds_config_dir
-                             << "\ntiming:\n  step_s: " << settings.step_s << "\n  silence_timeout_s: 3\n";
+  {
+    std::ofstream config(config_file);
+    config << "mission: " << mission_file.string() << "\nlifelong: true\n";
+    if (!settings.lifelong_planner.empty()) config << "lifelong_planner: " << settings.lifelong_planner << "\n";
+    config << "robots:\n  quorum: " << robots << "\n  wait_timeout_s: 120\nplanner:\n  solver: cts-pll-v2\n"
+           << "  time_limit_s: 5\n  actions: " << settings.actions << "\n"
+           << "  replan_solver: cts-pll-v2\n  replan_time_limit_s: 5\ndds:\n  vendor: " << settings.vendor
+           << "\n  domain_id: " << domain << "\n  config_dir: " << settings.dds_config_dir
+           << "\ntiming:\n  step_s: " << settings.step_s << "\n  silence_timeout_s: 3\n";
+  }
   const uint32_t seed = static_cast<uint32_t>(robots);
   TaskStream processes_stream(*graph, robots, mission.task_count(), seed, "stream");
   nlohmann::json summary;

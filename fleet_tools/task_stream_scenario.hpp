@@ -24,6 +24,7 @@ struct TaskStreamSettings {
   double jitter = 0.1;
   std::string actions = "move4";  // planner.actions: rotate plans with turns
   double turn_s = 0;              // the sim robots' quarter turn (0: free)
+  std::string lifelong_planner;   // the fleet config's lifelong_planner (empty: plain PIBT windows)
   StreamTimeline timeline;
   bool json = false;
 };
