@@ -112,8 +112,8 @@ int main(int argc, char** argv) {
                  "worth of actions")
       ->check(ctsfleet::number_in(0.1, 100))
       ->capture_default_str();
-  app.add_option("--scheduler", league.scheduler,
-                 "experiment league: who gets which task: round-robin, nearest-errand (nearest first errand), "
+  app.add_option("--scheduler", lifelong.scheduler,
+                 "experiment lifelong or league: who gets which task: round-robin, nearest-errand (nearest first errand), "
                  "whole-task (the task finished soonest, as the Start-Kit's default), whole-task-reassign (that, "
                  "and unopened tasks go to a nearer robot), or auto (the problem's rules: whole-task-reassign for "
                  "a pool)")

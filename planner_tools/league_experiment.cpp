@@ -73,7 +73,7 @@ int run_league_experiment(const LifelongExperimentSettings& common, const League
   std::printf("league (2026 rules, lockstep): %d ticks of %d ms, a planning call every %d ms, rotation model, "
               "planner pibt without rotations, guidance %s, %d rollouts, plans held %s, scheduler %s (seed %u)\n",
               settings.ticks, settings.tick_ms, settings.plan_period_ms, common.planner.guidance.c_str(),
-              common.planner.rollouts, common.planner.hold_plans.c_str(), settings.scheduler.c_str(), common.seed);
+              common.planner.rollouts, common.planner.hold_plans.c_str(), common.scheduler.c_str(), common.seed);
   std::printf("%-28s %6s %7s %7s %8s %9s %6s %9s %9s %5s %7s %6s %8s\n", "problem", "agents", "delays", "tasks",
               "errands", "delayed %", "calls", "p50 ms", "max ms", "late", "invalid", "faults", "peak MB");
   for (const std::string& path : problems) {
@@ -90,7 +90,7 @@ int run_league_experiment(const LifelongExperimentSettings& common, const League
       run.delays = delays;
       run.plan_round_delayed = settings.plan_round_delayed;
       run.lead_periods = settings.lead_periods;
-      if (settings.scheduler != "auto") run.scheduler = planner_core::parse_task_scheduler(settings.scheduler, "--scheduler");
+      if (common.scheduler != "auto") run.scheduler = planner_core::parse_task_scheduler(common.scheduler, "--scheduler");
       run.interrupt = common.interrupt;
       run.log = common.league_output ? &log : nullptr;
       const planner_core::LeagueRunResult result = planner_core::run_league(problem, planner, run);

@@ -18,9 +18,8 @@ struct LeagueExperimentSettings {
   int plan_period_ms = 1000;    // planCommTimeLimit
   double preprocess_s = 30;     // preprocessTimeLimit
   std::string delays = "on";    // on, off, or both (each problem run twice)
-  std::string scheduler = "auto";
   bool plan_round_delayed = false;  // LeagueRunSettings::plan_round_delayed
-  double lead_periods = 1.5;       // LeagueRunSettings::lead_periods  // auto (the problem's rules), or a TaskScheduler's name
+  double lead_periods = 1.5;       // LeagueRunSettings::lead_periods
 };
 
 // `common` gives the problems (default: every one under benchmarks/lorr-2026), the planner's

@@ -63,10 +63,10 @@ int run_lifelong_experiment(const LifelongExperimentSettings& settings) {
           : "";
   const std::string rollout_steps = asked.rollout_steps > 0 ? std::to_string(asked.rollout_steps) : "auto";
   std::printf(
-      "lifelong: %d steps, %.3f s per step, actions %s%s, planner pibt, lns %s, guidance %s, %d rollouts of %s steps "
-      "(seed %u)\n",
+      "lifelong: %d steps, %.3f s per step, actions %s%s, planner pibt, lns %s, guidance %s, %d rollouts of %s steps, "
+      "scheduler %s (seed %u)\n",
       settings.steps, settings.step_time_s, settings.actions.c_str(), turning.c_str(), asked.lns.c_str(),
-      asked.guidance.c_str(), asked.rollouts, rollout_steps.c_str(), settings.seed);
+      asked.guidance.c_str(), asked.rollouts, rollout_steps.c_str(), settings.scheduler.c_str(), settings.seed);
   if (asked.lns_rounds > 0) {
     std::printf("work counted, not timed: every step %d rollouts and, with LNS, %lld LNS rounds, and taken however long it took\n",
                 asked.rollouts, static_cast<long long>(asked.lns_rounds));
@@ -89,6 +89,7 @@ int run_lifelong_experiment(const LifelongExperimentSettings& settings) {
     lifelong.step_time_s = settings.step_time_s;
     lifelong.interrupt = settings.interrupt;
     lifelong.late_steps_taken = asked.lns_rounds > 0;
+    if (settings.scheduler != "auto") lifelong.scheduler = planner_core::parse_task_scheduler(settings.scheduler, "--scheduler");
     lifelong.log = settings.league_output ? &log : nullptr;
     const planner_core::LifelongResult result = planner_core::run_lifelong(problem, planner, lifelong);
     if (result.interrupted) {

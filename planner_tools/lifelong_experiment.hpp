@@ -24,6 +24,7 @@ struct LifelongExperimentSettings {
   std::string actions = "move4";      // planner_core/action_model.hpp
   planner_core::LifelongConfig planner;  // the planner's settings, "auto" settled per problem
   bool league_output = false;         // also write <out-dir>/<problem>.lorr.json (planner_core/lorr_output.hpp)
+  std::string scheduler = "auto";     // auto (the problem's rules), or a TaskScheduler's name
   const std::atomic<bool>* interrupt = nullptr;  // Ctrl-C: the run under way ends, nothing more runs
 };
 

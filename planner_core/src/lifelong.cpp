@@ -58,7 +58,7 @@ LifelongResult run_lifelong(const LorrProblem& problem, LifelongPlanner& planner
     log->cost.assign(team, 0);
   }
   DistTable distances(graph);
-  TaskBoard board(problem, positions, log, scheduler_for(problem.assignment), now.headings);
+  TaskBoard board(problem, positions, log, settings.scheduler.value_or(scheduler_for(problem.assignment)), now.headings);
   LifelongResult result;
   const auto current_goals = [&] {
     Config goals(team);

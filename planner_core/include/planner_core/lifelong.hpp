@@ -17,6 +17,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -25,6 +26,7 @@
 #include "planner_core/instance.hpp"
 #include "planner_core/lorr_problem.hpp"
 #include "planner_core/step_faults.hpp"
+#include "planner_core/task_scheduler.hpp"
 
 namespace planner_core {
 
@@ -73,6 +75,7 @@ struct LifelongSettings {
   // A step decided after its budget is still taken (and counted in steps_over_budget), not
   // replaced by waiting: for planners whose work is counted, not timed (lns_rounds).
   bool late_steps_taken = false;
+  std::optional<TaskScheduler> scheduler;  // who gets which task; none: the problem's rules (scheduler_for)
 };
 
 struct LifelongResult {
