@@ -17,20 +17,18 @@ import json
 import re
 import sys
 
+from lorr_replay import free_cells
+
 AHEAD = [(0, 1), (1, 0), (0, -1), (-1, 0)]  # east, south, west, north
 SEGMENT = re.compile(r"\[\((\d+),(\d+),(\d+),(\d+),(\d+)\):\(([^)]*)\)\]")
 
 
 def main():
     run = json.load(open(sys.argv[1]))
-    lines = open(sys.argv[2]).read().split("\n")
-    height = int(lines[1].split()[1])
-    width = int(lines[2].split()[1])
-    rows = lines[4:4 + height]
+    free_cell = free_cells(sys.argv[2])
 
     def free(cell):
-        r, c = cell
-        return 0 <= r < height and 0 <= c < width and rows[r][c] in ".ES"
+        return free_cell(*cell)
 
     assert run["actionModel"] == "MAPF_T" and run["version"] == "2026 LoRR", run["actionModel"]
     assert run["numPlannerErrors"] == 0 and run["errors"] == [], run["errors"][:3]

@@ -16,15 +16,21 @@ AHEAD = [(0, 1), (1, 0), (0, -1), (-1, 0)]  # east, south, west, north
 HEADINGS = "ESWN"
 
 
-def main():
-    run = json.load(open(sys.argv[1]))
-    lines = open(sys.argv[2]).read().split("\n")
+def free_cells(map_path):
+    """A MovingAI map's test for a free cell: free(row, column), False off the map."""
+    lines = open(map_path).read().split("\n")
     height = int(lines[1].split()[1])
     width = int(lines[2].split()[1])
     rows = lines[4:4 + height]
 
     def free(r, c):
         return 0 <= r < height and 0 <= c < width and rows[r][c] in ".ES"
+    return free
+
+
+def main():
+    run = json.load(open(sys.argv[1]))
+    free = free_cells(sys.argv[2])
 
     rotate = run["actionModel"] == "MAPF_T"
     assert run["actionModel"] in ("MAPF", "MAPF_T"), run["actionModel"]

@@ -131,6 +131,17 @@ namespace {
 
 int plus(int64_t a, int64_t b) { return static_cast<int>(std::min<int64_t>(kUnreachable, a + b)); }
 
+// The rotation model's states (cell x 4 + heading) one action from `state`: the two quarter
+// turns and, unless a wall is ahead, the step forward.
+template <typename Reach>
+void each_action(const Graph& graph, int state, Reach&& reach) {
+  const Vertex v = state / kHeadings;
+  const int h = state % kHeadings;
+  reach(v * kHeadings + turned_clockwise(h));
+  reach(v * kHeadings + turned_counter_clockwise(h));
+  if (const Vertex forward = ahead(graph, v, h); forward != kNoVertex) reach(forward * kHeadings + h);
+}
+
 }  // namespace
 
 void TaskBoard::search_from(Vertex from, int heading) {
@@ -153,11 +164,7 @@ void TaskBoard::search_from(Vertex from, int heading) {
       for (Vertex next : graph.neighbours(state)) reach(next, steps);
       continue;
     }
-    const Vertex v = state / kHeadings;
-    const int h = state % kHeadings;
-    reach(v * kHeadings + turned_clockwise(h), steps);
-    reach(v * kHeadings + turned_counter_clockwise(h), steps);
-    if (const Vertex forward = ahead(graph, v, h); forward != kNoVertex) reach(forward * kHeadings + h, steps);
+    each_action(graph, state, [&](int next) { reach(next, steps); });
   }
 }
 
@@ -243,11 +250,7 @@ std::array<std::array<int, kHeadings>, kHeadings> TaskBoard::leg(Vertex from, Ve
     if (from == to) found = 1;
     for (size_t head = 0; head < queue.size() && found < kHeadings; ++head) {
       const int state = queue[head];
-      const Vertex v = state / kHeadings;
-      const int g = state % kHeadings;
-      reach(v * kHeadings + turned_clockwise(g), seen[state] + 1);
-      reach(v * kHeadings + turned_counter_clockwise(g), seen[state] + 1);
-      if (const Vertex forward = ahead(graph, v, g); forward != kNoVertex) reach(forward * kHeadings + g, seen[state] + 1);
+      each_action(graph, state, [&](int next) { reach(next, seen[state] + 1); });
     }
     for (int g = 0; g < kHeadings; ++g) steps[h][g] = seen[to * kHeadings + g] < 0 ? kUnreachable : seen[to * kHeadings + g];
   }
