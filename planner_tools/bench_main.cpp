@@ -219,6 +219,12 @@ int main(int argc, char** argv) {
                  "on, off or auto (on with the ring road)")
       ->check(CLI::IsMember({"auto", "on", "off"}))
       ->capture_default_str();
+  app.add_option("--guide-paths", lifelong.planner.guide_paths,
+                 "experiment lifelong: each agent follows a path round the others' flows (1 a move, plus 1 for "
+                 "each agent whose path takes the move the other way, plus 0.1 for each whose path crosses the "
+                 "cell), and PIBT tries its next cell first; on, off or auto (off)")
+      ->check(CLI::IsMember({"auto", "on", "off"}))
+      ->capture_default_str();
   app.add_flag("--league-output", lifelong.league_output,
                "experiment lifelong or league: also write each run as the league's output file, "
                "<out-dir>/<problem>.lorr.json (league: the 2026 format) "
@@ -293,6 +299,7 @@ int main(int argc, char** argv) {
         over("--keep-targets", &Config::keep_targets);
         over("--park-dead-ends", &Config::park_dead_ends);
         over("--traffic-costs", &Config::traffic_costs);
+        over("--guide-paths", &Config::guide_paths);
         if (app.count("--lns") + app.count("--no-lns") > 0) planner.lns = lns ? "on" : "off";
         planner_core::check_lifelong_config(planner, "the lifelong settings");
         lifelong.benchmarks = experiment_settings.benchmarks;

@@ -161,12 +161,17 @@ int run_lifelong_experiment(const LifelongExperimentSettings& settings) {
                   asked.traffic_costs == "auto" ? " (auto)" : "", 100 * pibt.traffic.threshold,
                   pibt.traffic.max_moves);
     }
+    if (pibt.guide_paths.on) {
+      std::printf("  guide paths%s: %lld searched, %lld moves of them against another's at the end\n",
+                  asked.guide_paths == "auto" ? " (auto)" : "", static_cast<long long>(planner.guides().paths_searched()),
+                  static_cast<long long>(planner.guides().contraflow_moves()));
+    }
     if (settings.league_output) {
       const fs::path output = fs::path(settings.out_dir) / (name + ".lorr.json");
       planner_core::write_lorr_output(output.string(), problem, result, log);
       std::printf("  wrote %s\n", output.c_str());
     }
-    table << name << "," << problem.starts.size() << "," << settings.steps << "," << settings.step_time_s << ",pibt-" << (actions == planner_core::ActionModel::kRotate ? "rotate-" : "") << planner_core::to_string(pibt.guidance) << (pibt.stay_cost != 1 ? "-stay" + std::to_string(pibt.stay_cost) : "") << "-r" << pibt.rollouts << (pibt.lns ? "-lns" : "") << (pibt.keep_window ? "-window-kept" : "") << (pibt.lns_keeps_equal_cost ? "-equal-kept" : "") << (adaptive ? "-adaptive" : "") << turning_name << (pibt.park_dead_end_errands ? "-park" : "") << (pibt.traffic.on ? "-traffic" : "") << ","
+    table << name << "," << problem.starts.size() << "," << settings.steps << "," << settings.step_time_s << ",pibt-" << (actions == planner_core::ActionModel::kRotate ? "rotate-" : "") << planner_core::to_string(pibt.guidance) << (pibt.stay_cost != 1 ? "-stay" + std::to_string(pibt.stay_cost) : "") << "-r" << pibt.rollouts << (pibt.lns ? "-lns" : "") << (pibt.keep_window ? "-window-kept" : "") << (pibt.lns_keeps_equal_cost ? "-equal-kept" : "") << (adaptive ? "-adaptive" : "") << turning_name << (pibt.park_dead_end_errands ? "-park" : "") << (pibt.traffic.on ? "-traffic" : "") << (pibt.guide_paths.on ? "-guided" : "") << ","
           << result.errands_finished << "," << result.tasks_finished << "," << per << ","
           << quantile(result.step_ms, 0.5) << "," << quantile(result.step_ms, 0.99) << ","
           << quantile(result.step_ms, 1.0) << "," << result.steps_over_budget << "," << result.invalid_steps << ","

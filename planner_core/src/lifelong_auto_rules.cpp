@@ -66,4 +66,6 @@ TrafficSettings lifelong_traffic(const Graph& graph, size_t agents, Guidance gui
   return traffic;
 }
 
+bool lifelong_guide_paths(const Graph&, size_t, ActionModel) { return false; }
+
 }  // namespace planner_core

@@ -46,6 +46,7 @@ std::vector<std::pair<std::string, std::string>> problems(const LifelongConfig& 
       {"hold_plans", not_one_of(c.hold_plans, {"never", "half", "always", "auto"})},
       {"park_dead_ends", not_one_of(c.park_dead_ends, kOnOffAuto)},
       {"traffic_costs", not_one_of(c.traffic_costs, kOnOffAuto)},
+      {"guide_paths", not_one_of(c.guide_paths, kOnOffAuto)},
   };
 }
 
@@ -81,7 +82,8 @@ LifelongConfig load_lifelong_config(const std::string& path) {
   if (!root.IsMap()) r.fail(root, "top level", "must be a map of settings (docs/ARCHITECTURE.md, lifelong settings)");
   r.only_keys(root,
               {"lns", "guidance", "stay_cost", "rollouts", "rollout_steps", "lns_rounds", "keep_window",
-               "keep_equal_cost", "neighbourhoods", "hold_plans", "keep_targets", "park_dead_ends", "traffic_costs"},
+               "keep_equal_cost", "neighbourhoods", "hold_plans", "keep_targets", "park_dead_ends", "traffic_costs",
+               "guide_paths"},
               "top level");
   int64_t stay_cost = config.stay_cost, rollouts = config.rollouts, rollout_steps = config.rollout_steps;
   for (const auto& [key, out] : {std::pair{"stay_cost", &stay_cost}, {"rollouts", &rollouts},
@@ -91,7 +93,8 @@ LifelongConfig load_lifelong_config(const std::string& path) {
   for (const auto& [key, out] : {std::pair{"lns", &config.lns}, {"guidance", &config.guidance},
                                  {"keep_window", &config.keep_window}, {"keep_equal_cost", &config.keep_equal_cost},
                                  {"neighbourhoods", &config.neighbourhoods}, {"hold_plans", &config.hold_plans},
-                                 {"park_dead_ends", &config.park_dead_ends}, {"traffic_costs", &config.traffic_costs}}) {
+                                 {"park_dead_ends", &config.park_dead_ends}, {"traffic_costs", &config.traffic_costs},
+                                 {"guide_paths", &config.guide_paths}}) {
     read_word(r, root, key, *out);
   }
   if (const YAML::Node node = root["keep_targets"]) {
@@ -144,6 +147,7 @@ PibtLifelongSettings settle_lifelong_config(const LifelongConfig& config, const 
   settings.park_dead_end_errands = on(config.park_dead_ends, lifelong_parks_dead_ends(graph, agents));
   settings.traffic = lifelong_traffic(graph, agents, settings.guidance);
   if (config.traffic_costs != "auto") settings.traffic.on = config.traffic_costs == "on";
+  settings.guide_paths.on = on(config.guide_paths, lifelong_guide_paths(graph, agents, actions));
   return settings;
 }
 

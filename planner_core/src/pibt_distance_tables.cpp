@@ -52,6 +52,23 @@ void PibtLifelong::follow_traffic(const Config& positions, const Deadline& deadl
   distances_.prepare(needed, deadline, DistTable::default_threads());
 }
 
+GuidePaths::Heuristic PibtLifelong::guide_heuristic() {
+  return [this](Vertex goal, Vertex cell) {
+    int best = distances_.get(goal, cell);
+    for (int heading = 1; settings_.actions == ActionModel::kRotate && heading < kHeadings; ++heading) {
+      best = std::min(best, distances_.get(goal, cell, heading));
+    }
+    return best >= GuidedDistances::kUnreachable ? best : best / distances_.cost_unit();
+  };
+}
+
+void PibtLifelong::follow_guides(const Poses& now, const Config& goals, const Deadline& deadline) {
+  if (!settings_.guide_paths.on) return;
+  Deadline share = Deadline::in_seconds(kGuideShare * deadline.seconds_left());
+  share.interrupt = deadline.interrupt;
+  guides_.update(now.cells, goals, guide_heuristic(), share);
+}
+
 int PibtLifelong::distance(Vertex goal, const Poses& poses, int agent) {
   if (settings_.actions == ActionModel::kRotate) return distances_.get(goal, poses.cells[agent], poses.headings[agent]);
   return distances_.get(goal, poses.cells[agent]);

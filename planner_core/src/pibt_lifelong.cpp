@@ -36,6 +36,7 @@ PibtLifelong::PibtLifelong(const Graph& graph, uint32_t seed, PibtLifelongSettin
       distances_(graph, settings.guidance, settings.actions, settings.stay_cost,
                  settings.traffic.on ? settings.traffic.max_moves : 0),
       traffic_(static_cast<size_t>(graph.vertex_count()), settings.traffic, distances_.cost_unit()),
+      guides_(graph, settings.guide_paths),
       bound_for_(graph.vertex_count(), 0),
       table_held_(graph.vertex_count(), 0),
       rng_(seed),
@@ -44,10 +45,14 @@ PibtLifelong::PibtLifelong(const Graph& graph, uint32_t seed, PibtLifelongSettin
       lns_(graph, distances_, settings.actions) {
   lns_.keep_equal_cost(settings.lns_keeps_equal_cost);
   lns_.neighbourhoods(settings.lns_neighbourhoods);
+  if (settings.guide_paths.on) {
+    lns_.follow_guides(&guides_, static_cast<int>(settings.guide_paths.off_guide_moves * distances_.cost_unit()));
+  }
 }
 
-void PibtLifelong::prepare(const Poses&, const Config& goals, const Deadline& deadline) {
+void PibtLifelong::prepare(const Poses& now, const Config& goals, const Deadline& deadline) {
   follow_goals(goals, deadline);
+  if (settings_.guide_paths.on) guides_.update(now.cells, goals, guide_heuristic(), deadline);
 }
 
 Poses PibtLifelong::next_step(const Poses& now, const Config& errands, const Deadline& deadline) {
@@ -67,6 +72,7 @@ Poses PibtLifelong::next_step(const Poses& now, const Config& errands, const Dea
     stuck_steps_ = stuck_steps_for(graph_, positions.size());
   }
   follow_traffic(positions, deadline);
+  follow_guides(now, goals, deadline);
   if (settings_.rollouts <= 1 && !settings_.lns) {
     holding_ = settings_.hold_plans == PlanHolding::kAlways;
     return one_step(now, goals, previous_goals);

@@ -129,8 +129,10 @@ bool PibtLifelong::decide(int agent, int pushed_by, const Poses& now, const Conf
       if (candidates[k] == straight_on) rank[k] += 2 * settings_.straight_push_cost;
     }
   }
+  const Vertex guided = settings_.guide_paths.on ? guides_.next(agent, here) : kNoVertex;
   for (int k = 0; k < count; ++k) {
     if (keeps_target && candidates[k] == targets_[agent]) rank[k] = -1;  // before any other
+    if (candidates[k] == guided) rank[k] = -1;                           // and so is its guide's next cell
   }
   for (int i = 1; i < count; ++i) {  // insertion sort, keeping the shuffled order of ties
     for (int j = i; j > 0 && rank[j] < rank[j - 1]; --j) {

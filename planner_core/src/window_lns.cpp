@@ -16,13 +16,29 @@ int WindowLns::heuristic(Vertex goal, Vertex cell, int heading) {
   return actions_ == ActionModel::kRotate ? distances_.get(goal, cell, heading) : distances_.get(goal, cell);
 }
 
+void WindowLns::mark_guide(int agent) {
+  guide_marked_ = false;
+  if (guides_ == nullptr) return;
+  if (guide_mark_.size() != cells_) guide_mark_.assign(cells_, 0);
+  if (++guide_stamp_ == 0) {
+    std::fill(guide_mark_.begin(), guide_mark_.end(), 0);
+    guide_stamp_ = 1;
+  }
+  // A window of `steps_` moves reaches no further along the guide than that.
+  for (Vertex cell : guides_->ahead(agent, static_cast<size_t>(steps_) + 1)) {
+    guide_mark_[cell] = guide_stamp_;
+    guide_marked_ = true;
+  }
+}
+
 int64_t WindowLns::path_cost(const std::vector<Poses>& window, int agent, Vertex goal) {
   if (window[0].cells[agent] == goal) return 0;
+  mark_guide(agent);
   int64_t cost = 0;
   for (int t = 1; t <= steps_; ++t) {
     const Vertex from = window[t - 1].cells[agent];
     const Vertex to = window[t].cells[agent];
-    cost += to == from ? distances_.stay_cost(from) : distances_.move_cost(from, to);
+    cost += to == from ? distances_.stay_cost(from) : distances_.move_cost(from, to) + off_guide(from, to);
     if (to == goal) return cost;
   }
   const int heading = actions_ == ActionModel::kRotate ? window[steps_].headings[agent] : 0;
@@ -39,6 +55,7 @@ void WindowLns::reserve(const std::vector<Poses>& window, int agent, Vertex goal
 bool WindowLns::plan_agent(std::vector<Poses>& window, int agent, Vertex goal) {
   const bool rotate = actions_ == ActionModel::kRotate;
   const int headings = rotate ? kHeadings : 1;
+  mark_guide(agent);
   ++stamp_;
   nodes_.clear();
   using Entry = std::pair<std::pair<int64_t, int64_t>, int>;  // (f, -g), node
@@ -82,11 +99,15 @@ bool WindowLns::plan_agent(std::vector<Poses>& window, int agent, Vertex goal) {
     };
     if (rotate) {
       const Vertex forward = ahead(graph_, node.cell, node.heading);
-      if (forward != kNoVertex) visit(forward, node.heading, distances_.move_cost(node.cell, forward));
+      if (forward != kNoVertex) {
+        visit(forward, node.heading, distances_.move_cost(node.cell, forward) + off_guide(node.cell, forward));
+      }
       visit(node.cell, turned_clockwise(node.heading), distances_.stay_cost(node.cell));
       visit(node.cell, turned_counter_clockwise(node.heading), distances_.stay_cost(node.cell));
     } else {
-      for (Vertex next : graph_.neighbours(node.cell)) visit(next, 0, distances_.move_cost(node.cell, next));
+      for (Vertex next : graph_.neighbours(node.cell)) {
+        visit(next, 0, distances_.move_cost(node.cell, next) + off_guide(node.cell, next));
+      }
     }
     visit(node.cell, node.heading, distances_.stay_cost(node.cell));
   }

@@ -7,6 +7,7 @@
 // whatever the clock.
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <numeric>
 #include <random>
 
@@ -106,6 +107,32 @@ TEST(WindowLns, AnAgentLeftWaitingIsSentOnItsCheapestWay) {
         }
       }
     }
+  }
+}
+
+// On two lanes, agent 1's guide path takes the lower lane, out of the way of agent 0's, which
+// comes the other way on the upper one. Agent 0 stands on agent 1's goal all window long (5 steps).
+// Without guides agent 1 takes the upper lane (4 moves, a wait and 1 left: 6, against 5 moves and
+// 2 left below); with guides followed a move off the guide costs a move more (10 above), and it
+// takes the lower.
+TEST(WindowLns, WithGuidesFollowedAnAgentKeepsToItsGuide) {
+  const Graph graph(6, 2, {"......", "......"});
+  const auto at = [&](int x, int y) { return graph.vertex_at({x, y}); };
+  const Config goals{at(0, 0), at(5, 0)};
+  GuidePaths guides(graph, {.on = true, .crowd_weight = 0});
+  const GuidePaths::Heuristic manhattan = [&](Vertex goal, Vertex cell) {
+    return std::abs(graph.cell_of(goal).x - graph.cell_of(cell).x) + std::abs(graph.cell_of(goal).y - graph.cell_of(cell).y);
+  };
+  guides.update({at(5, 0), at(0, 0)}, goals, manhattan, Deadline::in_seconds(10));
+  ASSERT_EQ(guides.next(1, at(0, 0)), at(0, 1)) << "the guide takes the lower lane";
+  for (const bool followed : {false, true}) {
+    GuidedDistances distances(graph, Guidance::kNone, ActionModel::kMove4);
+    WindowLns lns(graph, distances, ActionModel::kMove4);
+    if (followed) lns.follow_guides(&guides, 1);
+    std::vector<Poses> window = waiting_window({{at(5, 0), at(0, 0)}, {}}, 5);
+    ASSERT_TRUE(lns.replan(window, goals, {1}));
+    EXPECT_EQ(window[1].cells[1], followed ? at(0, 1) : at(1, 0)) << (followed ? "guides followed" : "no guides");
+    EXPECT_EQ(lns.cost(window, goals), 10 + (followed ? 7 : 6)) << "agent 0: 5 waits and 5 moves left";
   }
 }
 

@@ -77,6 +77,8 @@ int lifelong_rollout_steps(const Graph& graph, size_t agents, ActionModel action
 // (random_400, 500 steps, 12 seeds, work counted: +9.3%). A cell costs more once taken more than
 // 60% of the time, or 10 points above the fleet's fill where that is more (random_600: from 83%).
 TrafficSettings lifelong_traffic(const Graph& graph, size_t agents, Guidance guidance);
+// Guide paths (guide_paths.hpp): off until measured.
+bool lifelong_guide_paths(const Graph& graph, size_t agents, ActionModel actions);
 // Window LNS's window: in four moves 8 steps planned afresh (kept: random_400 4,874 errands
 // against 4,867, seeds 0-3, work counted). In the rotation model, kept from step to step: 16 steps
 // where agents are few (up to kMostAgentsForLongWindows; random_100 +1.7% over 8 afresh, every

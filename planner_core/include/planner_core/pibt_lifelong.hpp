@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "planner_core/guide_paths.hpp"
 #include "planner_core/guided_distances.hpp"
 #include "planner_core/lifelong.hpp"
 #include "planner_core/traffic_costs.hpp"
@@ -131,11 +132,17 @@ struct PibtLifelongSettings {
   // Traffic costs (traffic_costs.hpp): cells crowded lately cost more in the guidance, counted from
   // the steps taken (not the rollouts). For crowded maps (lifelong_traffic).
   TrafficSettings traffic;
+  // Guide paths (guide_paths.hpp): each agent follows a path round the others' flows, and PIBT
+  // tries its next cell first. For maps where shortest paths meet in the middle (lifelong_guide_paths).
+  GuidePathSettings guide_paths;
 };
 
 class PibtLifelong : public LifelongPlanner {
  public:
   PibtLifelong(const Graph& graph, uint32_t seed, PibtLifelongSettings settings = {});
+  // Not copied or moved: the window LNS holds a pointer to the guide paths.
+  PibtLifelong(const PibtLifelong&) = delete;
+  PibtLifelong& operator=(const PibtLifelong&) = delete;
   Poses next_step(const Poses& now, const Config& goals, const Deadline& deadline) override;
   void prepare(const Poses& now, const Config& goals, const Deadline& deadline) override;
 
@@ -147,6 +154,7 @@ class PibtLifelong : public LifelongPlanner {
   int64_t windows_carried_on() const { return windows_carried_on_; }
   int64_t windows_kept() const { return windows_kept_; }
   const GuidedDistances& distances() const { return distances_; }
+  const GuidePaths& guides() const { return guides_; }
 
  private:
   // What one PIBT step changes besides the positions: a rollout starts from a copy.
@@ -183,11 +191,17 @@ class PibtLifelong : public LifelongPlanner {
   // Traffic costs: counts the step's positions; when the costs change, the tables of goals
   // nobody heads for are let go and the others searched again.
   void follow_traffic(const Config& positions, const Deadline& deadline);
+  // Guide paths: brought up to date with the step's positions and goals, within kGuideShare of the budget.
+  void follow_guides(const Poses& now, const Config& goals, const Deadline& deadline);
+  static constexpr double kGuideShare = 0.2;
+  // The guide paths' A* heuristic: the distance tables' cost to the goal, in moves, best heading.
+  GuidePaths::Heuristic guide_heuristic();
 
   const Graph& graph_;
   PibtLifelongSettings settings_;
   GuidedDistances distances_;
   TrafficCosts traffic_;
+  GuidePaths guides_;
   std::vector<int> bound_for_;      // vertex -> agents whose goal it is
   std::vector<char> table_held_;    // vertex -> its distance table is held
   int tables_held_ = 0;

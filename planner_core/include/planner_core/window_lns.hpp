@@ -24,6 +24,7 @@
 
 #include "planner_core/action_model.hpp"
 #include "planner_core/deadline.hpp"
+#include "planner_core/guide_paths.hpp"
 #include "planner_core/guided_distances.hpp"
 
 namespace planner_core {
@@ -75,6 +76,15 @@ class WindowLns {
   enum class Neighbourhoods { kNearest, kAdaptive };
   void neighbourhoods(Neighbourhoods kind) { neighbourhoods_ = kind; }
 
+  // With guide paths (guide_paths.hpp): a move onto a cell off the agent's guide costs
+  // `off_guide_cost` more (in the distances' cost units), so that the window's search keeps to the
+  // guides PIBT was steered by rather than take the shortest way back through the jam. An agent
+  // without a guide pays nothing. nullptr: off.
+  void follow_guides(const GuidePaths* guides, int off_guide_cost) {
+    guides_ = guides;
+    off_guide_cost_ = off_guide_cost;
+  }
+
  private:
   struct Node {
     int64_t f;
@@ -95,6 +105,13 @@ class WindowLns {
   // `window`. False when every way is blocked.
   bool plan_agent(std::vector<Poses>& window, int agent, Vertex goal);
   int heuristic(Vertex goal, Vertex cell, int heading);
+  // Marks the cells of `agent`'s guide the window can reach (none without guides).
+  void mark_guide(int agent);
+  // What a move from `from` to `to` costs beyond its guided cost: off_guide_cost_ when the marked
+  // guide does not hold `to`.
+  int off_guide(Vertex from, Vertex to) const {
+    return to != from && guide_marked_ && guide_mark_[to] != guide_stamp_ ? off_guide_cost_ : 0;
+  }
   enum Kind { kNearestKind, kCrossingKind, kRandomKind, kKinds };  // as WindowLnsStats counts them
   static constexpr size_t kMostCellsWalked = 64;
   // Visits the cells breadth first from `start` (each cell's neighbours in a random order when
@@ -124,6 +141,11 @@ class WindowLns {
   std::vector<int64_t> best_g_;    // (t, cell, heading) -> cheapest cost reached with, this search
   uint32_t stamp_ = 0;
   std::vector<Node> nodes_;
+  const GuidePaths* guides_ = nullptr;
+  int off_guide_cost_ = 0;
+  std::vector<uint32_t> guide_mark_;  // cell -> guide_stamp_ when on the marked guide
+  uint32_t guide_stamp_ = 0;
+  bool guide_marked_ = false;         // the agent marked last has a guide
 };
 
 }  // namespace planner_core
