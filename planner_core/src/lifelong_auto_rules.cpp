@@ -20,7 +20,7 @@ bool lifelong_lns(const Graph& graph, size_t agents, ActionModel actions) {
 
 Guidance lifelong_guidance(const Graph& graph, size_t agents, bool lns, ActionModel actions) {
   const FleetOnMap fleet = measure_fleet_on_map(graph, agents);
-  if (lns && agents_are_few(fleet)) return Guidance::kNone;
+  if (lns && agents_are_few(fleet) && agents <= kMostAgentsOnShortestPaths) return Guidance::kNone;
   const bool ring_covers_the_map = fleet.shorter_side <= kRingRoadShorterSideAtMost;
   return lns && actions == ActionModel::kRotate && ring_covers_the_map ? Guidance::kRing : Guidance::kLanes;
 }
@@ -65,7 +65,5 @@ TrafficSettings lifelong_traffic(const Graph& graph, size_t agents, Guidance gui
   traffic.threshold = std::min(0.95, std::max(traffic.threshold, fill + 0.1));
   return traffic;
 }
-
-bool lifelong_guide_paths(const Graph&, size_t, ActionModel) { return false; }
 
 }  // namespace planner_core

@@ -147,7 +147,10 @@ PibtLifelongSettings settle_lifelong_config(const LifelongConfig& config, const 
   settings.park_dead_end_errands = on(config.park_dead_ends, lifelong_parks_dead_ends(graph, agents));
   settings.traffic = lifelong_traffic(graph, agents, settings.guidance);
   if (config.traffic_costs != "auto") settings.traffic.on = config.traffic_costs == "on";
-  settings.guide_paths.on = on(config.guide_paths, lifelong_guide_paths(graph, agents, actions));
+  // Guide paths: auto is off. Rotation model, 0.3 s per step: without LNS they hold CITY-02's rate
+  // up (1,500 steps: 22,509 errands against 19,239, flat from step 500 on), but LNS over lanes
+  // finishes more there (23,751), and on CITY-01 (1,000 steps) they cost (8,799 against 10,262).
+  settings.guide_paths.on = config.guide_paths == "on";
   return settings;
 }
 

@@ -396,8 +396,8 @@ TEST(Lifelong, AutoWindowIsLongWhileTurningAgentsAreFewAndKeptUnlessTooMany) {
 }
 
 // "auto" guidance: shortest paths only with window LNS while agents number at most a quarter of
-// the free cells (random-32-32-20 has 819), else lanes, with a ring road in the rotation model
-// with LNS on small maps.
+// the free cells (random-32-32-20 has 819) and at most 2,000 of them, else lanes, with a ring road
+// in the rotation model with LNS on small maps.
 TEST(Lifelong, AutoGuidanceTakesShortestPathsOnlyWithLnsWhileAgentsAreFew) {
   const LorrProblem problem = load_lorr_problem(kRandom + "random_100.json");
   const Graph& graph = *problem.graph;
@@ -423,7 +423,10 @@ TEST(Lifelong, AutoGuidanceTakesShortestPathsOnlyWithLnsWhileAgentsAreFew) {
   const LorrProblem large = load_lorr_problem(warehouse + "warehouse_large_8000.json");
   ASSERT_EQ(large.graph->vertex_count(), 38'586);
   EXPECT_EQ(lifelong_guidance(*large.graph, 10'000, true, kRotate), Guidance::kLanes);
-  EXPECT_EQ(lifelong_guidance(*large.graph, 9'646, true, kRotate), Guidance::kNone);
+  // Few by fill (a quarter: 9,646) and by count (2,000): on warehouse_large lanes from 2,001 on.
+  EXPECT_EQ(lifelong_guidance(*large.graph, 9'646, true, kRotate), Guidance::kLanes);
+  EXPECT_EQ(lifelong_guidance(*large.graph, kMostAgentsOnShortestPaths + 1, true, kRotate), Guidance::kLanes);
+  EXPECT_EQ(lifelong_guidance(*large.graph, kMostAgentsOnShortestPaths, true, kRotate), Guidance::kNone);
   // Waits and turns cost 3 with guidance and LNS in the rotation model, else 1.
   EXPECT_EQ(lifelong_stay_cost(lifelong_guidance(graph, 100, true, kRotate), true, kRotate), 1);
   EXPECT_EQ(lifelong_stay_cost(lifelong_guidance(graph, 400, true, kRotate), true, kRotate), 3);

@@ -26,6 +26,12 @@ FleetOnMap measure_fleet_on_map(const Graph& graph, size_t agents);
 // step pay. random-32-32-20, 200 steps, shortest paths against lanes with LNS: 100 agents 812 / 734
 // errands (four moves), 608 / 563 (rotation); 200 agents 989 / 989; 400 agents 636 / 913.
 inline constexpr double kFewAgentsFill = 0.25;
+// Shortest paths also need the agents few in number: LNS's budget per step is the same however
+// many there are, and with thousands it reaches few of the meetings; lanes keep streams apart
+// whatever the count. Rotation model, LNS, 1,000 steps of 0.3 s, fill under 0.15 in each, shortest
+// paths against lanes: CITY-01 (1,500 agents) 10,262 / 10,327 errands, CITY-02 (3,000) 14,014 /
+// 17,289, warehouse_large_5000 14,490 / 18,730.
+inline constexpr size_t kMostAgentsOnShortestPaths = 2000;
 // Crowded: more than 90% of the free cells taken (random_800: 98%). There the 2023 winner's
 // crowded-map habits pay: parking agents whose errand is a dead end, holding plans always, 8-step
 // rollouts, and no window LNS. Parking, random_800 (rotation, plans held always, 500 steps, seeds
@@ -57,7 +63,7 @@ int stuck_steps_for(const Graph& graph, size_t agents);
 // 203-226 with LNS. In four moves LNS stays off: its gain there was not measured against the
 // rollouts' default.
 bool lifelong_lns(const Graph& graph, size_t agents, ActionModel actions);
-// Guidance: shortest paths with LNS where agents are few; else one-way lanes, with a ring road in
+// Guidance: shortest paths with LNS where agents are few (by fill and by count); else one-way lanes, with a ring road in
 // the rotation model with LNS on maps narrow enough (kRingRoadShorterSideAtMost). The ring road,
 // 200 steps: random_400 1,197 / 1,181 errands against 1,012 / 971 with lanes (seeds 0 / 1),
 // random_600 757 against 585, warehouse_small_800 1,674 against 1,343; in four moves it cost
@@ -77,8 +83,6 @@ int lifelong_rollout_steps(const Graph& graph, size_t agents, ActionModel action
 // (random_400, 500 steps, 12 seeds, work counted: +9.3%). A cell costs more once taken more than
 // 60% of the time, or 10 points above the fleet's fill where that is more (random_600: from 83%).
 TrafficSettings lifelong_traffic(const Graph& graph, size_t agents, Guidance guidance);
-// Guide paths (guide_paths.hpp): off until measured.
-bool lifelong_guide_paths(const Graph& graph, size_t agents, ActionModel actions);
 // Window LNS's window: in four moves 8 steps planned afresh (kept: random_400 4,874 errands
 // against 4,867, seeds 0-3, work counted). In the rotation model, kept from step to step: 16 steps
 // where agents are few (up to kMostAgentsForLongWindows; random_100 +1.7% over 8 afresh, every

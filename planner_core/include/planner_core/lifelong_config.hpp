@@ -29,7 +29,7 @@ struct LifelongConfig {
   bool keep_targets = true;              // rotation model: an agent short of its target tries it first
   std::string park_dead_ends = "auto";   // on, off or auto (lifelong_parks_dead_ends)
   std::string traffic_costs = "auto";    // on, off or auto (lifelong_traffic)
-  std::string guide_paths = "auto";      // on, off or auto (lifelong_guide_paths)
+  std::string guide_paths = "auto";      // on, off or auto (off: settle_lifelong_config says why)
 
   bool operator==(const LifelongConfig&) const = default;
 };
