@@ -220,9 +220,10 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"auto", "on", "off"}))
       ->capture_default_str();
   app.add_option("--guide-paths", lifelong.planner.guide_paths,
-                 "experiment lifelong: each agent follows a path round the others' flows (1 a move, plus 1 for "
-                 "each agent whose path takes the move the other way, plus 0.1 for each whose path crosses the "
-                 "cell), and PIBT tries its next cell first; on, off or auto (off)")
+                 "experiment lifelong or league: each agent follows a path round the others' flows (1 a move, "
+                 "plus 1 for each agent whose path takes the move the other way, 0.1 for each whose path crosses "
+                 "the cell, 4 times how often the cell was taken lately); PIBT tries its next cell first and "
+                 "window LNS counts a move off it as a move more; on, off or auto (off)")
       ->check(CLI::IsMember({"auto", "on", "off"}))
       ->capture_default_str();
   app.add_flag("--league-output", lifelong.league_output,
