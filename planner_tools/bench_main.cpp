@@ -128,8 +128,9 @@ int main(int argc, char** argv) {
   app.add_option("--guidance", lifelong.planner.guidance,
                  "experiment lifelong: none (shortest paths), lanes (one-way lanes: rows alternate east and west, "
                  "columns south and north; a move against its lane costs 3), ring (lanes, and within 12 cells of the "
-                 "map's edge moves and waits cost up to 0.6 of a move less, the more the nearer) or auto (lanes, but none with --lns "
-                 "while agents number at most a quarter of the free cells)")
+                 "map's edge moves and waits cost up to 0.6 of a move less, the more the nearer) or auto (lanes, but none with LNS "
+                 "while agents number at most a quarter of the free cells and at most 2,000, and ring with LNS in the "
+                 "rotation model on maps at most 36 cells across)")
       ->check(CLI::IsMember({"auto", "none", "lanes", "ring"}))
       ->capture_default_str();
   app.add_option("--stay-cost", lifelong.planner.stay_cost,
