@@ -7,10 +7,9 @@
 //
 // A path's cost counts, for each move from u to v, 1 plus the agents whose remaining paths cross
 // that edge the other way (contraflow) plus `vertex_weight` times the remaining paths through v
-// (congestion) plus `crowd_weight` times how often an agent
-// stood on v lately (a jam). Paths are searched by A* over cells with the distance tables the planner already
-// holds as heuristic (turns included, so slightly more than the moves left: a guide need not be
-// optimal). An agent gets a new path when its goal changes or it stands off its path; each step
+// (congestion) plus `crowd_weight` times how often an agent stood on v lately (a jam). Paths are
+// searched by A* over cells with the distance tables the planner already holds as heuristic
+// (turns and lanes included, so it may overestimate: a guide need not be optimal). An agent gets a new path when its goal changes or it stands off its path; each step
 // also some others, oldest first, within the time given, so the paths follow the flows.
 #pragma once
 
@@ -53,7 +52,7 @@ class GuidePaths {
   std::span<const Vertex> ahead(int agent, size_t most) const;
 
   int64_t paths_searched() const { return paths_searched_; }
-  // Sum over agents of the cost of their remaining paths' moves that go against another's path.
+  // The moves of the agents' remaining paths that go against another's path.
   int64_t contraflow_moves() const;
 
  private:

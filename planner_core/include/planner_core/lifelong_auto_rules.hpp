@@ -63,11 +63,12 @@ int stuck_steps_for(const Graph& graph, size_t agents);
 // 203-226 with LNS. In four moves LNS stays off: its gain there was not measured against the
 // rollouts' default.
 bool lifelong_lns(const Graph& graph, size_t agents, ActionModel actions);
-// Guidance: shortest paths with LNS where agents are few (by fill and by count); else one-way lanes, with a ring road in
-// the rotation model with LNS on maps narrow enough (kRingRoadShorterSideAtMost). The ring road,
-// 200 steps: random_400 1,197 / 1,181 errands against 1,012 / 971 with lanes (seeds 0 / 1),
-// random_600 757 against 585, warehouse_small_800 1,674 against 1,343; in four moves it cost
-// (1,752 against 1,899), and without LNS (random_800: 242 against 275).
+// Guidance: shortest paths with LNS where agents are few (by fill and by count); else one-way
+// lanes, with a ring road in the rotation model with LNS on maps narrow enough
+// (kRingRoadShorterSideAtMost). The ring road, 200 steps: random_400 1,197 / 1,181 errands against
+// 1,012 / 971 with lanes (seeds 0 / 1), random_600 757 against 585, warehouse_small_800 1,674
+// against 1,343; in four moves it cost (1,752 against 1,899), and without LNS (random_800: 242
+// against 275).
 Guidance lifelong_guidance(const Graph& graph, size_t agents, bool lns, ActionModel actions);
 // A wait's or a quarter turn's cost in the guidance: 3 (a move against the lane) in the rotation
 // model on lanes with LNS (random_400 +28% over 500 steps, random_800 +11% over 200), else 1

@@ -133,7 +133,7 @@ struct PibtLifelongSettings {
   // the steps taken (not the rollouts). For crowded maps (lifelong_traffic).
   TrafficSettings traffic;
   // Guide paths (guide_paths.hpp): each agent follows a path round the others' flows, and PIBT
-  // tries its next cell first. For maps where shortest paths meet in the middle (lifelong_guide_paths).
+  // tries its next cell first. Off unless asked for (settle_lifelong_config says why).
   GuidePathSettings guide_paths;
 };
 
