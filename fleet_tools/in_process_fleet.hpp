@@ -25,6 +25,7 @@ struct StreamFigures {
   int refused = 0;
   int64_t windows = 0;         // lifelong windows the plan grew by
   double window_ms_max = 0;
+  int64_t tasks_reassigned = 0;  // pooled tasks moved to a robot that got there sooner
   int replans = 0;
   bool interrupted = false;
 };

@@ -138,6 +138,7 @@ StreamFigures run_fleet_of_processes(const TaskStreamSettings& settings, const p
   figures.refused = stream.refused();
   figures.windows = coordinator_summary.value("windows", int64_t{0});
   figures.window_ms_max = coordinator_summary.value("window_ms_max", 0.0);
+  figures.tasks_reassigned = coordinator_summary.value("tasks_reassigned", int64_t{0});
   figures.replans = coordinator_summary.value("replans", 0);
   return figures;
 }
@@ -184,7 +185,8 @@ bool run_task_stream(const TaskStreamSettings& settings, int robots, int domain)
     const auto figures = [](const StreamFigures& f) {
       return nlohmann::json{{"tasks_done", f.tasks_done}, {"seconds", f.seconds}, {"tasks_per_minute", f.tasks_per_minute},
                             {"accepted", f.accepted}, {"refused", f.refused}, {"windows", f.windows},
-                            {"window_ms_max", f.window_ms_max}, {"replans", f.replans}};
+                            {"window_ms_max", f.window_ms_max}, {"tasks_reassigned", f.tasks_reassigned},
+                            {"replans", f.replans}};
     };
     const nlohmann::json row = {{"robots", robots}, {"scenario", "task-stream"}, {"step_s", settings.step_s},
                                 {"processes", figures(processes)}, {"in_process", figures(in_process)},

@@ -73,6 +73,7 @@ void FleetCoordinator::resume(MissionJournal& journal) {
     mission_.index_tasks();
     progress_.add_task();
   }
+  pinned_tasks_.insert(resume->pinned_tasks.begin(), resume->pinned_tasks.end());
   const auto does_not_fit = [&](const std::string& what) {
     return JournalError("--journal " + journal.path() + ": " + what + " does not fit mission " + identity_.mission_id +
                         " (" + std::to_string(mission_.task_count()) + " tasks, " +

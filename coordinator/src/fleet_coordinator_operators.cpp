@@ -174,6 +174,10 @@ TaskReply FleetCoordinator::add_task(const TaskRequest& request) {
   const bool journaled = journal_write("task added", [&](MissionJournal& journal) {
     journal.record_task_added(task, request.x, request.y, chosen.role, request.request_id);
   });
+  if (!request.robot_id.empty()) {  // the operator named the robot: the pool leaves the task with it
+    pinned_tasks_.insert(task);
+    journal_write("task pinned", [&](MissionJournal& journal) { journal.record_task_pinned(task); });
+  }
   mission_.tasks.push_back({cell, {chosen.role}});
   mission_.index_tasks();
   progress_.add_task();
@@ -236,13 +240,29 @@ void FleetCoordinator::adopt_tasks(const fleet_transport::MissionInfo& info) {
     progress_.add_task();
     spdlog::info("standby: mirrors task {} at {} added at runtime", t, cell_text(task.x, task.y));
   }
+  bool roles_changed = false;  // lifelong mode's pool moves tasks added at runtime between roles
   for (size_t t = 0; t < info.tasks.size() && t < mission_.tasks.size(); ++t) {
     if (info.tasks[t].cancelled) progress_.cancel(static_cast<int>(t));
+    const std::vector<int>& roles = info.tasks[t].roles;
+    const bool moved = static_cast<int>(t) >= progress_.mission_task_count() && roles.size() == 1 &&
+                       mission_.tasks[t].agents.size() == 1 && roles.front() != mission_.tasks[t].agents.front() &&
+                       roles.front() >= 0 && roles.front() < mission_.agent_count() &&
+                       !progress_.visited(static_cast<int>(t), 0);
+    if (moved) {
+      mission_.tasks[t].agents = roles;
+      roles_changed = true;
+    }
   }
+  if (roles_changed) mission_.index_tasks();
   summary_.tasks_total = progress_.tasks_to_do();
 }
 
 void FleetCoordinator::journal_added_tasks() {
+  // Tasks it journaled before may have moved to other roles since (lifelong mode's pool).
+  for (int t = progress_.mission_task_count(); t < journaled_tasks_ && t < mission_.task_count(); ++t) {
+    if (progress_.task_done(t) || progress_.cancelled(t) || mission_.tasks[t].agents.size() != 1) continue;
+    journal_write("task role", [&](MissionJournal& journal) { journal.record_task_role(t, mission_.tasks[t].agents.front()); });
+  }
   for (int t = journaled_tasks_; t < mission_.task_count(); ++t) {
     const planner_core::Cell at = mission_.graph->cell_of(mission_.tasks[t].at);
     journal_write("task added", [&](MissionJournal& journal) {

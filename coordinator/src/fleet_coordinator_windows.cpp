@@ -60,6 +60,7 @@ void FleetCoordinator::extend_plan(fleet_transport::Transport& transport) {
   }
   if (end - std::max(slowest, first_plan_steps_) > kMaxLeadSteps) return;
   credit_visits_at_rest();
+  rebalance_pool_tasks();
   const std::vector<WindowAgent> agents = window_agents();
   // Or a robot has made every move and has tasks to go to, or is not parked yet.
   const planner_core::Config& last = plan_->last_configuration();
@@ -120,6 +121,78 @@ void FleetCoordinator::credit_visits_at_rest() {
       credit_visits(robot.role, mission_vertex(robot.last.cell_x, robot.last.cell_y), robot.id);
     }
   }
+}
+
+void FleetCoordinator::rebalance_pool_tasks() {
+  // The pool: tasks added at runtime for any robot, neither done nor cancelled, whose visit the
+  // plan has not reached.
+  std::vector<PooledTask> pooled;
+  for (int t = progress_.mission_task_count(); t < mission_.task_count(); ++t) {
+    if (mission_.tasks[t].agents.size() != 1 || progress_.task_done(t) || progress_.cancelled(t) ||
+        progress_.visited(t, 0) || planned_visits_.count({t, 0}) || pinned_tasks_.count(t)) {
+      continue;
+    }
+    pooled.push_back({t, mission_.tasks[t].at, mission_.tasks[t].agents.front()});  // holder: a role for now
+  }
+  if (pooled.empty()) return;
+  // One pool robot per plan agent with a role, where its plan ends, with the task cells it still
+  // heads for (window_agents' errands); then one per role holding a pooled task without a robot.
+  const planner_core::Graph& graph = *plan_->graph();
+  const planner_core::Config& last = plan_->last_configuration();
+  const std::vector<WindowAgent> agents = window_agents();
+  std::vector<PoolRobot> robots;
+  std::vector<int> role_of_robot;
+  std::map<int, int> robot_of_role;
+  for (int a = 0; a < plan_->agent_count(); ++a) {
+    const int role = robot_of_agent(a)->role;
+    if (role < 0) continue;
+    PoolRobot robot;
+    const planner_core::Cell end = graph.cell_of(last[a]);
+    robot.from = mission_vertex(end.x, end.y);
+    for (const Vertex errand : agents[a].errands) {
+      const planner_core::Cell cell = graph.cell_of(errand);
+      robot.errands.push_back(mission_vertex(cell.x, cell.y));
+    }
+    robot_of_role[role] = static_cast<int>(robots.size());
+    robots.push_back(std::move(robot));
+    role_of_robot.push_back(role);
+  }
+  for (PooledTask& task : pooled) {
+    if (!robot_of_role.count(task.holder)) {
+      robot_of_role[task.holder] = static_cast<int>(robots.size());
+      robots.push_back({planner_core::kNoVertex, {}, /*out=*/true});
+      role_of_robot.push_back(task.holder);
+    }
+    task.holder = robot_of_role[task.holder];
+  }
+  // Searches from task cells, kept between windows; started afresh once they hold much memory
+  // (a lifelong stream reaches every cell of a large map in time).
+  constexpr size_t kMostPoolSearchBytes = size_t{256} << 20;
+  if (!pool_distances_ || pool_distances_->memory_bytes() > kMostPoolSearchBytes) {
+    pool_distances_ = std::make_unique<planner_core::DistTable>(*mission_.graph);
+  }
+  const std::vector<TaskMove> moves = rebalance_pool(*pool_distances_, robots, pooled);
+  for (const TaskMove& move : moves) {
+    const int role = role_of_robot[move.to];
+    const std::string& robot_id = progress_.robot_of(role);
+    // A journal that fails here stops recording, and the mission goes on from memory (journal_write).
+    journal_write("task reassigned", [&](MissionJournal& journal) {
+      if (move.task < journaled_tasks_) journal.record_task_role(move.task, role);
+    });
+    mission_.tasks[move.task].agents = {role};
+    const std::string why =
+        move.holder_way < 0
+            ? fmt::format("task {} goes to robot {} ({} steps away): its robot is out", move.task, robot_id, move.way)
+            : fmt::format("task {} goes to robot {}, {} steps away, before role {}'s robot ({} steps on its way)",
+                          move.task, robot_id, move.way, role_of_robot[move.from], move.holder_way);
+    spdlog::info("lifelong pool: {}", why);
+    report("task_reassigned", robot_id, why, move.task);
+  }
+  if (moves.empty()) return;
+  mission_.index_tasks();
+  summary_.tasks_reassigned += static_cast<int64_t>(moves.size());
+  desk_.mission_changed();
+  schedule_.progress_changed();
 }
 
 std::vector<WindowAgent> FleetCoordinator::window_agents() const {

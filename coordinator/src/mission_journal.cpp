@@ -22,8 +22,8 @@ constexpr const char* kFormat = "ctsfleet-journal-1";
 // before anything is written to it.
 constexpr int64_t kApplicationId = 0x43545346;
 // The tables of a journal: a file with others (or without `meta`) is no journal.
-const std::set<std::string> kJournalTables = {"meta",     "runs",    "claims",      "epochs",
-                                              "bindings", "visits",  "tasks_added", "tasks_cancelled"};
+const std::set<std::string> kJournalTables = {"meta",   "runs",        "claims",          "epochs",      "bindings",
+                                              "visits", "tasks_added", "tasks_cancelled", "tasks_pinned"};
 
 // FNV-1a, 64 bits: stable across builds and machines, unlike std::hash.
 struct Fingerprint {
@@ -184,7 +184,9 @@ MissionJournal::MissionJournal(const std::string& path, const std::string& finge
         " y INTEGER NOT NULL, role INTEGER NOT NULL, request TEXT NOT NULL, at_ms INTEGER NOT NULL,"
         " PRIMARY KEY(run, task));"
         "CREATE TABLE IF NOT EXISTS tasks_cancelled(run INTEGER NOT NULL, task INTEGER NOT NULL,"
-        " request TEXT NOT NULL, at_ms INTEGER NOT NULL, PRIMARY KEY(run, task));");
+        " request TEXT NOT NULL, at_ms INTEGER NOT NULL, PRIMARY KEY(run, task));"
+        "CREATE TABLE IF NOT EXISTS tasks_pinned(run INTEGER NOT NULL, task INTEGER NOT NULL,"
+        " PRIMARY KEY(run, task));");
     std::string format, recorded;
     {
       Statement meta(*this, "SELECT key, value FROM meta");
@@ -303,6 +305,8 @@ void MissionJournal::read_resumable() {
     }
     Statement cancelled(*this, "SELECT task FROM tasks_cancelled WHERE run = ?1 ORDER BY task", {resume.run});
     while (cancelled.next()) resume.cancelled_tasks.push_back(cancelled.int_in(0, "tasks_cancelled.task"));
+    Statement pinned(*this, "SELECT task FROM tasks_pinned WHERE run = ?1 ORDER BY task", {resume.run});
+    while (pinned.next()) resume.pinned_tasks.push_back(pinned.int_in(0, "tasks_pinned.task"));
   }
   Statement visits(*this, "SELECT task, role FROM visits WHERE run = ?1 ORDER BY task, role", {resume.run});
   while (visits.next()) {
@@ -375,6 +379,18 @@ void MissionJournal::record_task_added(int task, int x, int y, int role, const s
              static_cast<int64_t>(role), request_id, fleet_transport::wall_clock_ms()})
       .run();
   count_row_written("tasks_added");
+  checkpoint();
+}
+
+void MissionJournal::record_task_pinned(int task) {
+  Statement(*this, "INSERT OR IGNORE INTO tasks_pinned VALUES(?1, ?2)", {run_, static_cast<int64_t>(task)}).run();
+  checkpoint();
+}
+
+void MissionJournal::record_task_role(int task, int role) {
+  Statement(*this, "UPDATE tasks_added SET role = ?1 WHERE run = ?2 AND task = ?3",
+            {static_cast<int64_t>(role), run_, static_cast<int64_t>(task)})
+      .run();
   checkpoint();
 }
 

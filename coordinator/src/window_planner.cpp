@@ -88,7 +88,11 @@ PlanWindow WindowPlanner::plan(const planner_core::Poses& start, const std::vect
     return goal;
   };
   Config goals(n);
-  for (int step = 0; step < steps; ++step) {
+  // A window in which nobody moves or turns adds nothing to the plan, and a plan every robot has
+  // carried out with a robot not yet parked would be replanned whole: so until someone moves, the
+  // window goes on (PIBT boosts an agent stuck for a few steps, and kStalledSteps ends it).
+  bool moved = false;
+  for (int step = 0; step < steps || (!moved && step < kStalledSteps); ++step) {
     bool settled = true;
     for (int a = 0; a < n; ++a) {
       goals[a] = aim(a);
@@ -99,6 +103,7 @@ PlanWindow WindowPlanner::plan(const planner_core::Poses& start, const std::vect
     planner_core::StepFault fault = planner_core::find_pose_fault(*graph_, actions_, at, next);
     if (fault.what.empty()) fault = planner_core::find_rotation(at.cells, next.cells);
     if (!fault.what.empty()) throw std::logic_error("the lifelong window's step " + std::to_string(step + 1) + " is invalid: " + fault.what);
+    moved = moved || next.cells != at.cells || next.headings != at.headings;
     at = std::move(next);
     window.steps.push_back(at.cells);
     if (turning) window.headings.push_back(at.headings);

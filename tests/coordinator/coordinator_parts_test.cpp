@@ -109,6 +109,54 @@ TEST(TaskAssignment, EarliestArrivalPicksTheRobotThatGetsThereSoonestNotTheOneWh
   EXPECT_EQ(earliest_arrival(distances, v(8), tours).tour, -1);
 }
 
+TEST(TaskAssignment, ARobotOutOfTasksTakesAQueuedTaskItReachesSoonerThanItsHolder) {
+  // 12x1 corridor and a cell cut off: robot a's plan ends at 0 and heads for 2, 9 and 11 (the
+  // nearest first: 2, then 9, then 11); robot b's ends at 10 with nothing to do; robot c's at 5,
+  // with a task at 6 of its own.
+  const planner_core::Graph line(14, 1, {"............@."});
+  planner_core::DistTable distances(line);
+  const auto v = [&](int x) { return line.vertex_at({x, 0}); };
+  std::vector<PoolRobot> robots = {{v(0), {v(11), v(2), v(9)}}, {v(10), {}}, {v(5), {v(6)}}};
+  std::vector<PooledTask> tasks = {{40, v(2), 0}, {41, v(9), 0}, {42, v(11), 0}, {43, v(6), 2}};
+  const std::vector<TaskMove> moves = rebalance_pool(distances, robots, tasks);
+  // b reaches 9 and 11 in 1 step (a in 9 and 11); the pair taken first is the nearest, and b takes
+  // one task per call: 9, as the first in the pool of the two.
+  ASSERT_EQ(moves.size(), 1u);
+  EXPECT_EQ(moves[0].task, 41);
+  EXPECT_EQ(moves[0].from, 0);
+  EXPECT_EQ(moves[0].to, 1);
+  EXPECT_EQ(moves[0].way, 1);
+  EXPECT_EQ(moves[0].holder_way, 9);  // 0 -> 2 -> 9
+  EXPECT_EQ(tasks[1].holder, 1);
+  EXPECT_EQ(robots[0].errands, (std::vector<planner_core::Vertex>{v(11), v(2)}));
+  EXPECT_EQ(robots[1].errands, std::vector<planner_core::Vertex>{v(9)});
+  // Next call: b has a task, so nothing moves; a keeps 2 (b would come from 10, farther than a).
+  EXPECT_TRUE(rebalance_pool(distances, robots, tasks).empty());
+  // A robot never takes a task its holder reaches as soon: c's task at 6 stays with c (1 step)
+  // when b (4 steps from 6) runs out of tasks.
+  robots[1].errands.clear();
+  robots[0].errands = {v(2)};
+  tasks = {{40, v(2), 0}, {43, v(6), 2}};
+  EXPECT_TRUE(rebalance_pool(distances, robots, tasks).empty());
+}
+
+TEST(TaskAssignment, TheTasksOfARobotThatIsOutGoToTheNearestRobotsOneEach) {
+  const planner_core::Graph line(14, 1, {"............@."});
+  planner_core::DistTable distances(line);
+  const auto v = [&](int x) { return line.vertex_at({x, 0}); };
+  // Robot 0 is out holding three tasks; robots 1 and 2 are free; a fourth task is cut off.
+  std::vector<PoolRobot> robots = {{planner_core::kNoVertex, {v(3), v(8), v(13)}, true}, {v(0), {}}, {v(10), {}}};
+  std::vector<PooledTask> tasks = {{1, v(3), 0}, {2, v(8), 0}, {3, v(13), 0}};
+  const std::vector<TaskMove> moves = rebalance_pool(distances, robots, tasks);
+  ASSERT_EQ(moves.size(), 2u);
+  EXPECT_EQ(moves[0].task, 2);  // robot 2 to 8: 2 steps, the nearest pair
+  EXPECT_EQ(moves[0].to, 2);
+  EXPECT_EQ(moves[0].holder_way, -1);
+  EXPECT_EQ(moves[1].task, 1);  // robot 1 to 3
+  EXPECT_EQ(moves[1].to, 1);
+  EXPECT_EQ(tasks[2].holder, 0);  // nobody reaches 13: it waits
+}
+
 TEST(TaskAssignment, CheapestInsertionPicksTheTourThatGrowsLeastAtItsBestPlace) {
   // 7x1 corridor: robot a stands at 0 bound for 6; robot b stands at 3 on its goal.
   const planner_core::Graph line(7, 1, {"......."});

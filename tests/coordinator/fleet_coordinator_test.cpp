@@ -796,6 +796,84 @@ TEST(FleetCoordinator, ALifelongStreamOfTasksIsTakenUpByThePlanAsItGrowsWithoutS
   expect_only_steps(visited);
 }
 
+// Lifelong mode's pool: 24 tasks at once queue up on robots (each goes to the robot that gets there
+// soonest at that moment); robots that run out of tasks take queued ones they reach sooner, and
+// the journal follows every move. Three tasks named for robot0 stay with it.
+TEST(FleetCoordinator, ALifelongFleetMovesQueuedTasksToRobotsThatRunOutButNotTasksNamedForARobot) {
+  using namespace runtime_tasks;
+  planner_core::Instance mission = planner_core::load_instance(CTSFLEET_CONFIG_DIR "/default/mission-8.yaml");
+  std::vector<FakeRobot> robots = robots_on_their_starts(mission);
+  const int mission_tasks = mission.task_count();
+  const std::string path = (std::filesystem::temp_directory_path() /
+                            ("ctsfleet-pool-" + std::to_string(::getpid()) + ".journal")).string();
+  std::filesystem::remove(path);
+  const std::string fingerprint = mission_fingerprint(mission);
+  std::vector<planner_core::Cell> free_cells;
+  for (planner_core::Vertex v = 0; v < mission.graph->vertex_count(); ++v) free_cells.push_back(mission.graph->cell_of(v));
+  FleetConfig config = config_for(mission.agent_count());
+  config.lifelong = true;
+  std::map<int, std::string> robot_named;  // task -> the robot it was named for
+  {
+    MissionJournal journal(path, fingerprint, "test");
+    FleetCoordinator coordinator(config, std::move(mission), {false, &journal});
+    std::mt19937 rng(11);
+    std::vector<std::string> asked;
+    int after_done = 0;
+    run(coordinator, robots, {}, [&](FleetCoordinator& c, FakeTransport& wire, int) {
+      if (asked.empty() && wire.last_plan.plan_epoch >= 1) {
+        for (int k = 0; k < 27; ++k) {
+          const planner_core::Cell cell = free_cells[rng() % free_cells.size()];
+          asked.push_back("pool-" + std::to_string(k));
+          c.on_task_request(add(asked.back(), cell.x, cell.y, k < 3 ? "robot0" : ""));
+        }
+        return true;
+      }
+      const MissionSummary& summary = c.summary();
+      const bool answered = !asked.empty() && std::all_of(asked.begin(), asked.end(), [&](const std::string& id) {
+        return reply_to(wire, id) != nullptr;
+      });
+      if (answered && robot_named.empty()) {
+        for (int k = 0; k < 3; ++k) {
+          const fleet_transport::TaskReply* reply = reply_to(wire, asked[k]);
+          if (reply->accepted) robot_named[reply->task] = "robot0";
+        }
+      }
+      return !(answered && summary.tasks_done == summary.tasks_total && ++after_done > 100);
+    });
+    const MissionSummary& summary = coordinator.summary();
+    EXPECT_GT(summary.tasks_total, mission_tasks + 20);  // a few cells drawn twice are refused as duplicates
+    EXPECT_EQ(summary.tasks_done, summary.tasks_total);
+    EXPECT_GT(summary.tasks_reassigned, 0);
+    EXPECT_EQ(summary.replans, 0);
+    ASSERT_EQ(robot_named.size(), 3u);
+  }
+  {
+    // The journal holds each task added at runtime with the role that did it, and the named ones.
+    const planner_core::Instance again = planner_core::load_instance(CTSFLEET_CONFIG_DIR "/default/mission-8.yaml");
+    MissionJournal journal(path, fingerprint, "test");
+    ASSERT_TRUE(journal.resumable().has_value());
+    std::map<int, int> role_of_task;
+    for (const JournalResume::AddedTask& added : journal.resumable()->added_tasks) role_of_task[added.task] = added.role;
+    std::set<std::pair<int, int>> visits;
+    for (const fleet_transport::TaskVisit& visit : journal.resumable()->visits) visits.insert({visit.task, visit.role});
+    for (const auto& [task, role] : role_of_task) {
+      EXPECT_TRUE(visits.count({task, role})) << "task " << task << " journaled for role " << role << " but not visited by it";
+    }
+    std::vector<int> pinned = journal.resumable()->pinned_tasks;
+    std::vector<int> named;
+    for (const auto& [task, robot] : robot_named) named.push_back(task);
+    EXPECT_EQ(pinned, named);
+    // ... and robot0's role visited them, whatever the pool did.
+    for (const int task : named) {
+      const int role = role_of_task.at(task);
+      EXPECT_EQ(journal.resumable()->bindings.at(role), "robot0") << "task " << task;
+    }
+  }
+  std::filesystem::remove(path);
+  std::filesystem::remove(path + "-wal");
+  std::filesystem::remove(path + "-shm");
+}
+
 TEST(FleetCoordinator, ALifelongFleetThatLosesARobotReplansOnceAndGoesOnGrowingThePlan) {
   planner_core::Instance mission = planner_core::load_instance(CTSFLEET_CONFIG_DIR "/default/mission-8.yaml");
   std::vector<FakeRobot> robots = robots_on_their_starts(mission);

@@ -43,6 +43,22 @@ TEST(WindowPlanner, AWindowStopsAtItsLengthAndTheNextGoesOn) {
   EXPECT_EQ(third.reached[0], std::vector<Vertex>{7});
 }
 
+TEST(WindowPlanner, AWindowInWhichNobodyMovesGoesOnUntilSomeoneDoes) {
+  // Two rows of 5: agent 0 parked on (1,0), its parking cell; agent 1 at (2,0) bound for (0,0),
+  // whose way (2 steps) leads through agent 0. Agents nearest their goals decide first, so agent 0
+  // stays and agent 1 waits until PIBT boosts it as stuck (after 8 steps on this map). A 5-step
+  // window of waits would leave the plan carried out with agent 1 short of its cell: the coordinator
+  // would replan the whole fleet. The window goes on until someone moves.
+  auto graph = std::make_shared<const Graph>(5, 2, std::vector<std::string>{".....", "....."});
+  const auto v = [&](int x, int y) { return graph->vertex_at({x, y}); };
+  WindowPlanner windows(graph, 1);
+  const PlanWindow window =
+      windows.plan({{v(1, 0), v(2, 0)}, {}}, {{{}, v(1, 0)}, {{}, v(0, 0)}}, 5, planner_core::Deadline::in_seconds(5));
+  ASSERT_GT(window.steps.size(), 6u);
+  EXPECT_NE(window.steps.back(), window.steps.front());
+  EXPECT_TRUE(window.stalled.empty());
+}
+
 TEST(WindowPlanner, NothingToDoIsAWindowOfNoStep) {
   auto graph = std::make_shared<const Graph>(4, 1, std::vector<std::string>{"...."});
   WindowPlanner windows(graph, 1);

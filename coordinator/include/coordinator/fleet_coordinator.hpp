@@ -78,6 +78,7 @@ struct MissionSummary {
   int64_t steps_of_replaced_plans = 0;     // moves confirmed under plans replaced since
   int64_t windows = 0;                     // lifelong: windows the plans in hand grew by
   double window_ms_max = 0;                // lifelong: the longest time to plan one
+  int64_t tasks_reassigned = 0;            // lifelong: pooled tasks moved to a robot that got there sooner
 };
 
 struct CoordinatorOptions {
@@ -250,6 +251,9 @@ class FleetCoordinator {
   void extend_plan(fleet_transport::Transport& transport);
   void credit_visits_at_rest();  // the visits owed where robots that made every move stand
   std::vector<WindowAgent> window_agents() const;  // where each robot still has to go, and park
+  // Lifelong: tasks added at runtime that the plan has not reached go to robots that ran out of
+  // tasks and get there sooner (rebalance_pool, task_assignment.hpp); journaled before they count.
+  void rebalance_pool_tasks();
   void note_window(const PlanWindow& window, double planning_ms);
   void mark_planned_visits(const planner_core::Solution& steps);
   bool grows_by_windows(const std::string& robot_id) const;
@@ -325,6 +329,8 @@ class FleetCoordinator {
   // tasks added meanwhile (coordinator/src/fleet_coordinator_windows.cpp).
   std::unique_ptr<WindowPlanner> windows_;
   std::set<std::pair<int, size_t>> planned_visits_;  // (task, index in its roles) the plan in hand makes
+  std::set<int> pinned_tasks_;  // added for a robot the operator named: never rebalanced
+  std::unique_ptr<planner_core::DistTable> pool_distances_;  // to pooled tasks' cells, on the mission's map
   int first_plan_steps_ = 0;                         // the plan in hand's length before any window
   Clock::time_point next_window_check_{};            // when extend_plan next looks whether a window is due
   PlanningWorker planning_;              // makes the next plan on a thread of its own

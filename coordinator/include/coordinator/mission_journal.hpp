@@ -45,6 +45,7 @@ struct JournalResume {
   };
   std::vector<AddedTask> added_tasks;
   std::vector<int> cancelled_tasks;
+  std::vector<int> pinned_tasks;  // added for a robot the operator named (never rebalanced)
   // Rows the run once wrote that the file no longer holds (warned about at open).
   int lost_records = 0;
 };
@@ -71,6 +72,10 @@ class MissionJournal {
   // An operator's task, added to the run (task = its id) or cancelled.
   void record_task_added(int task, int x, int y, int role, const std::string& request_id);
   void record_task_cancelled(int task, const std::string& request_id);
+  // An added task stays with the robot the operator named; or goes to another role (lifelong
+  // mode's pool: a task the plan had not reached yet).
+  void record_task_pinned(int task);
+  void record_task_role(int task, int role);
   // The run ended: "completed", "timeout", "interrupted", "stood down"...
   void finish(const std::string& outcome);
   // Tests: the file may grow to `pages` pages at most, as on a disk that fills.
