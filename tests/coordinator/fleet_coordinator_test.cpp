@@ -982,13 +982,28 @@ TEST(FleetCoordinator, AStandbyTakesOverTheTasksAddedAtRuntime) {
   standby.on_coordinator_status(active);
   standby.on_fleet_status(progress);
   standby.on_mission_info(info);
-  const auto visited = run(standby, robots);
+  fleet_transport::MissionInfo published;  // the mission as the standby publishes it once active
+  const auto visited = run(standby, robots, {}, [&](FleetCoordinator& c, FakeTransport& wire, int iteration) {
+    if (iteration == 0) {
+      // The standby has mirrored the info above. Then the active one's pool (lifelong mode) moves
+      // the task at (28,2) to role 3; and its info names a role the mission does not have for the
+      // mission's own first task, which is not mirrored.
+      info.tasks[mission_tasks].roles = {3};
+      info.tasks[0].roles = {99};
+      c.on_mission_info(info);
+    }
+    published = wire.last_mission;
+    return true;
+  });
   const MissionSummary& summary = standby.summary();
   EXPECT_TRUE(summary.took_over);
   EXPECT_TRUE(summary.completed);
   EXPECT_EQ(summary.tasks_total, mission_tasks + 1);  // the cancelled one is not owed
-  const auto& robot5 = visited.at("robot5");
-  EXPECT_NE(std::find(robot5.begin(), robot5.end(), planner_core::Cell{28, 2}), robot5.end());
+  ASSERT_EQ(published.tasks.size(), static_cast<size_t>(mission_tasks + 2));
+  EXPECT_EQ(published.tasks[mission_tasks].roles, std::vector<int32_t>{3});
+  EXPECT_NE(published.tasks[0].roles, std::vector<int32_t>{99});
+  const auto& robot3 = visited.at("robot3");
+  EXPECT_NE(std::find(robot3.begin(), robot3.end(), planner_core::Cell{28, 2}), robot3.end());
 }
 
 TEST(FleetCoordinator, ARestartFromTheJournalKeepsTheTasksAddedAtRuntime) {
