@@ -259,7 +259,7 @@ void FleetCoordinator::step_executing(fleet_transport::Transport& transport, Clo
       phase_ = Phase::kDone;
       summary_.completed = true;
     }
-  } else if (plan_finished()) {
+  } else if (plan_finished() && !window_under_way()) {
     wait_for_a_robot_or_replan(now);
   } else if (plan_end_.waiting_for_robot) {
     plan_end_.waiting_for_robot.reset();  // a robot joined: the work goes on

@@ -1,14 +1,17 @@
 // FleetCoordinator in lifelong mode: the plan in hand grows window by window while its robots
-// carry it out. A task added at runtime goes to a robot by cheapest insertion (add_task) and is
-// taken up by the next window: the fleet never stops to replan for it. Robots lost or joining
-// still bring a whole replan (fleet_coordinator_planning.cpp), whose plan then grows in turn.
+// carry it out. A task added at runtime goes to the robot that gets there soonest (add_task); until
+// the plan reaches it, a robot that ran out of tasks and gets there sooner may take it (the pool,
+// rebalance_pool_tasks); a window takes it up: the fleet never stops to replan for it. Robots lost
+// or joining still bring a whole replan (fleet_coordinator_planning.cpp), whose plan then grows in
+// turn.
 //
 //   plan in hand:  [ first plan (CTS solver) | window | window | ... ]
 //                                                    ^ robots carry it out here (ADG)
 //   a window is planned once a robot still moving is within kLeadSteps of the plan's end, or one
-//   that has made every move has tasks to go to or is not parked; unless the slowest robot has kMaxLeadSteps of
-//   windows still ahead of it (windows never pile up far ahead of the fleet; the first plan's own
-//   length does not count).
+//   that has made every move has tasks to go to or is not parked; unless the slowest robot has
+//   kMaxLeadSteps of windows still ahead of it (windows never pile up far ahead of the fleet; the
+//   first plan's own length does not count). It is planned off the loop (WindowWorker) and
+//   appended once it comes back, if the plan still ends where it started.
 //
 // Windows are PIBT, which can lock (two robots head-on in a dead end); a robot that comes no
 // nearer where it heads for WindowPlanner::kStalledSteps planned steps brings a whole replan,
@@ -16,7 +19,7 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
-#include <stdexcept>
+#include <optional>
 
 #include "coordinator/fleet_coordinator.hpp"
 #include "planner_core/validator.hpp"
@@ -43,6 +46,8 @@ bool FleetCoordinator::grows_by_windows(const std::string& robot_id) const {
 
 void FleetCoordinator::extend_plan(fleet_transport::Transport& transport) {
   if (!config_.lifelong || !plan_ || !windows_ || plan_->agent_count() == 0) return;
+  if (std::optional<WindowOutcome> outcome = windows_->poll()) take_window(transport, *outcome);
+  if (!windows_->idle()) return;  // one window at a time
   // Looking through every robot's tasks costs more than a loop should, every loop (a few ms): at
   // most every kCheckPeriod, a tenth of a step at 5 steps a second; but at once when every robot
   // has run out of moves (else the loop would take the plan as finished and replan).
@@ -61,20 +66,28 @@ void FleetCoordinator::extend_plan(fleet_transport::Transport& transport) {
   if (end - std::max(slowest, first_plan_steps_) > kMaxLeadSteps) return;
   credit_visits_at_rest();
   rebalance_pool_tasks();
-  const std::vector<WindowAgent> agents = window_agents();
+  std::vector<WindowAgent> agents = window_agents();
   // Or a robot has made every move and has tasks to go to, or is not parked yet.
   const planner_core::Config& last = plan_->last_configuration();
   for (int a = 0; a < plan_->agent_count() && !near_the_end; ++a) {
     near_the_end = plan_->done(a) && (!agents[a].errands.empty() || last[a] != agents[a].park);
   }
   if (!near_the_end) return;
-  const Clock::time_point started = now;
-  PlanWindow window;
-  try {
-    window = windows_->plan({plan_->last_configuration(), plan_->last_headings()}, agents, kWindowSteps,
-                            planner_core::Deadline::in_seconds(kWindowBudgetS));
-  } catch (const std::logic_error& e) {
-    spdlog::critical("{}; it is not sent", e.what());
+  windows_->start({plan_->epoch(), end, {last, plan_->last_headings()}, std::move(agents), kWindowSteps, kWindowBudgetS});
+}
+
+bool FleetCoordinator::window_under_way() const { return config_.lifelong && plan_ && windows_ && !windows_->idle(); }
+
+void FleetCoordinator::take_window(fleet_transport::Transport& transport, const WindowOutcome& outcome) {
+  // Planned for the plan as it ended when the job started; robots lost meanwhile bring a replan.
+  if (outcome.job.epoch != plan_->epoch() || outcome.job.plan_steps != plan_->plan_steps()) return;
+  for (int a = 0; a < plan_->agent_count(); ++a) {
+    const RobotRecord* robot = robot_of_agent(a);
+    if (robot == nullptr || !robot->active) return;
+  }
+  const PlanWindow& window = outcome.window;
+  if (!outcome.error.empty()) {
+    spdlog::critical("{}; it is not sent", outcome.error);
     request_replan("an invalid lifelong window");
     return;
   }
@@ -108,9 +121,8 @@ void FleetCoordinator::extend_plan(fleet_transport::Transport& transport) {
   int64_t moves_after = 0;
   for (int a = 0; a < plan_->agent_count(); ++a) moves_after += plan_->move_count(a);
   summary_.steps_planned += moves_after - moves_before;
-  const double planning_ms = std::chrono::duration<double, std::milli>(Clock::now() - started).count();
-  note_window(window, planning_ms);
-  publish_plan(transport, 0, planning_ms);
+  note_window(window, outcome.planning_ms);
+  publish_plan(transport, 0, outcome.planning_ms);
 }
 
 void FleetCoordinator::credit_visits_at_rest() {

@@ -108,6 +108,7 @@ PlanWindow WindowPlanner::plan(const planner_core::Poses& start, const std::vect
     window.steps.push_back(at.cells);
     if (turning) window.headings.push_back(at.headings);
     note_gains(at.cells, goals);
+    if (deadline.expired()) break;  // a shorter window, every step of it whole
   }
   for (int a = 0; a < n; ++a) {
     aim(a);  // errands reached on the last step

@@ -43,6 +43,7 @@
 #include "coordinator/standby_follower.hpp"
 #include "coordinator/task_assignment.hpp"
 #include "coordinator/window_planner.hpp"
+#include "coordinator/window_worker.hpp"
 #include "fleet_transport/transport.hpp"
 #include "planner_core/instance.hpp"
 
@@ -249,6 +250,9 @@ class FleetCoordinator {
   // The robots of a new plan, its figures, its epoch in the journal; then it is carried out.
   void take_plan(const PlanningOutcome& outcome);
   void extend_plan(fleet_transport::Transport& transport);
+  // Lifelong: the window planned for the plan in hand is validated, appended and sent.
+  void take_window(fleet_transport::Transport& transport, const WindowOutcome& outcome);
+  bool window_under_way() const;
   void credit_visits_at_rest();  // the visits owed where robots that made every move stand
   std::vector<WindowAgent> window_agents() const;  // where each robot still has to go, and park
   // Lifelong: tasks added at runtime that the plan has not reached go to robots that ran out of
@@ -327,7 +331,7 @@ class FleetCoordinator {
   std::unique_ptr<PlanExecution> plan_;  // the plan being executed
   // Lifelong mode: the plan in hand grows window by window as its robots carry it out, taking up
   // tasks added meanwhile (coordinator/src/fleet_coordinator_windows.cpp).
-  std::unique_ptr<WindowPlanner> windows_;
+  std::unique_ptr<WindowWorker> windows_;  // lifelong: plans the next window off the loop
   std::set<std::pair<int, size_t>> planned_visits_;  // (task, index in its roles) the plan in hand makes
   std::set<int> pinned_tasks_;  // added for a robot the operator named: never rebalanced
   std::unique_ptr<planner_core::DistTable> pool_distances_;  // to pooled tasks' cells, on the mission's map

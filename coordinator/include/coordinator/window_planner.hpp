@@ -56,8 +56,9 @@ class WindowPlanner {
                 planner_core::ActionModel actions = planner_core::ActionModel::kMove4,
                 planner_core::PibtLifelongSettings pibt = {});
 
-  // Stops early once every agent is parked with no errand left; goes on past `steps` while nobody
-  // has moved or turned yet (a window of waits only would add nothing), up to kStalledSteps. `from` is where the last window
+  // Stops early once every agent is parked with no errand left, or after the step in which the
+  // deadline passed; goes on past `steps` while nobody has moved or turned yet (a window of waits
+  // only would add nothing), up to kStalledSteps. `from` is where the last window
   // ended (the same agents, in the same order; in the rotation model with their headings). Throws
   // std::logic_error when a step fails its check (a bug: nothing of it may be sent).
   PlanWindow plan(const planner_core::Poses& from, const std::vector<WindowAgent>& agents, int steps,
