@@ -148,8 +148,8 @@ StreamFigures run_fleet_of_processes(const TaskStreamSettings& settings, const p
 void print_task_stream_header(const TaskStreamSettings& settings) {
   if (settings.json) return;
   std::printf("| robots | step (s) | tasks/min, processes over DDS | tasks/min, in one process | ratio | windows | "
-              "longest window (ms) | replans | coordinator peak memory (MB) | collisions |\n"
-              "|---|---|---|---|---|---|---|---|---|---|\n");
+              "longest window (ms) | tasks moved by the pool | replans | coordinator peak memory (MB) | collisions |\n"
+              "|---|---|---|---|---|---|---|---|---|---|---|\n");
 }
 
 bool run_task_stream(const TaskStreamSettings& settings, int robots, int domain) {
@@ -194,9 +194,10 @@ bool run_task_stream(const TaskStreamSettings& settings, int robots, int domain)
                                 {"logs", settings.work.string()}};
     std::printf("%s\n", row.dump().c_str());
   } else {
-    std::printf("| %d | %.2f | %.1f | %.1f | %.3f | %lld | %.1f | %d | %.0f | %s |\n", robots, settings.step_s,
+    std::printf("| %d | %.2f | %.1f | %.1f | %.3f | %lld | %.1f | %lld | %d | %.0f | %s |\n", robots, settings.step_s,
                 processes.tasks_per_minute, in_process.tasks_per_minute, ratio, static_cast<long long>(processes.windows),
-                processes.window_ms_max, processes.replans, summary.value("peak_memory_mb", 0.0), collisions.c_str());
+                processes.window_ms_max, static_cast<long long>(processes.tasks_reassigned), processes.replans,
+                summary.value("peak_memory_mb", 0.0), collisions.c_str());
   }
   std::fflush(stdout);
   return true;

@@ -880,6 +880,7 @@ TEST(FleetCoordinator, ALifelongFleetThatLosesARobotReplansOnceAndGoesOnGrowingT
   FleetConfig config = config_for(mission.agent_count());
   config.lifelong = true;
   config.replacement_timeout_s.reset();  // the lost robot's own tasks wait for a robot
+  const int mission_tasks = mission.task_count();
   TaskStream stream(*mission.graph);
   FleetCoordinator coordinator(config, std::move(mission));
   int64_t windows_at_loss = -1;
@@ -902,6 +903,9 @@ TEST(FleetCoordinator, ALifelongFleetThatLosesARobotReplansOnceAndGoesOnGrowingT
   EXPECT_GT(summary.windows, windows_at_loss);  // the replanned plan grew by windows too
   for (const std::string& line : summary.pending) {
     EXPECT_NE(line.find("(no robot)"), std::string::npos) << "only the lost robot's tasks are left: " << line;
+    // ... and only the mission's own, bound to its role: the pool gave those added at runtime to
+    // the robots still here.
+    EXPECT_LT(std::stoi(line.substr(std::string("task ").size())), mission_tasks) << line;
   }
   expect_only_steps(visited);
 }
