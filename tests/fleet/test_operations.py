@@ -6,6 +6,7 @@ watches every fleet. Every wait is on a condition with a generous deadline."""
 import json
 import os
 import socket
+import sqlite3
 import statistics
 import threading
 import re
@@ -33,6 +34,7 @@ TESTS = [
     "test_hostile_ids_and_texts_run_no_script_in_the_dashboard",
     "test_the_dashboard_answers_with_idle_streams_and_slow_sockets_open",
     "test_a_lifelong_stream_grows_the_plan_and_outlives_a_restarted_robot",
+    "test_a_lifelong_pool_outlives_its_coordinator_killed_and_restarted_with_its_journal",
 ]
 
 # Markup an attacker may put in a robot id, an event kind or an event text: each would set
@@ -65,7 +67,9 @@ def summary_of(text):
 
 class OperationsTest(unittest.TestCase):
     def setUp(self):
-        self.fleet = Fleet(self._testMethodName, domain=84 + 2 * TESTS.index(self._testMethodName))
+        # Domains 84-98, then 200 and up: 100-198 are other files' tests'.
+        index = TESTS.index(self._testMethodName)
+        self.fleet = Fleet(self._testMethodName, domain=84 + 2 * index if index < 8 else 200 + 2 * (index - 8))
 
     def tearDown(self):
         self.fleet.close(keep_logs=failed(self))
@@ -194,6 +198,56 @@ class OperationsTest(unittest.TestCase):
         # The loss (and robot2's return) bring replans; the fourteen tasks bring none.
         self.assertLessEqual(summary["replans"], 4, summary)
         self.assertNotIn("replanning: task", text)
+        self.assert_safe()
+
+    def test_a_lifelong_pool_outlives_its_coordinator_killed_and_restarted_with_its_journal(self):
+        # Eighteen tasks at once, two of them for robot3: queues form, and robots that run out of
+        # tasks take queued ones (the pool), each move journaled first. The coordinator is SIGKILLed
+        # once a task has moved, and started again with its journal: every task is done once, by
+        # the role the journal holds it for; robot3's two by robot3; nobody collides.
+        journal = os.path.join(self.fleet.dir, "lifelong.journal")
+        config = self.config(lifelong=True)
+
+        def coordinator(name):
+            self.fleet.start(name, [f"{BIN}/ctsfleet-coordinator", "--config", config, "--dds", "cyclone", "--domain",
+                                    str(self.fleet.domain), "--json", "--journal", journal])
+            return self.fleet.log(name)
+
+        self.fleet.monitor()
+        self.fleet.agents()
+        first_log = coordinator("first")
+        wait_for(lambda: "plan epoch" in read(first_log), 120, "the first plan")
+        cells = free_cells_away_from_the_mission()
+        named = []
+        for k in range(18):
+            x, y = cells[k * 29 % len(cells)]
+            code, text = self.task("add", "--at", f"{x},{y}", *(["--robot", "robot3"] if k in (5, 11) else ["--any"]))
+            self.assertEqual(code, 0, text)
+            if k in (5, 11):
+                named.append(int(re.search(r"task (\d+) at", text).group(1)))
+        wait_for(lambda: "lifelong pool: task" in read(first_log), 180, "a queued task moved to a robot out of tasks")
+        first = self.fleet.processes["first"]
+        first.send_signal(signal.SIGKILL)
+        first.wait()
+        log = coordinator("restarted")
+        wait_for(lambda: "resuming run 1" in read(log), 60, "the restarted coordinator resuming from its journal")
+        wait_for(lambda: (lambda tasks: len(tasks) == 16 + 18 and all(s == "done" for s in tasks.values()))(self.listing()),
+                 300, "every task done")
+        self.fleet.processes["restarted"].send_signal(signal.SIGINT)
+        self.fleet.wait_exit("restarted", 60)
+        db = sqlite3.connect(journal)
+        try:
+            role_of = dict(db.execute("SELECT task, role FROM tasks_added"))
+            visits = db.execute("SELECT task, role, robot FROM visits WHERE task >= 16").fetchall()
+            pinned = [task for (task,) in db.execute("SELECT task FROM tasks_pinned ORDER BY task")]
+        finally:
+            db.close()
+        self.assertEqual(sorted(task for task, _, _ in visits), sorted(role_of))  # each once
+        for task, role, robot in visits:
+            self.assertEqual(role, role_of[task], f"task {task} visited by role {role}, journaled for {role_of[task]}")
+            if task in named:
+                self.assertEqual(robot, "robot3", f"task {task} was named for robot3")
+        self.assertEqual(pinned, sorted(named))
         self.assert_safe()
 
     def test_hostile_ids_and_texts_run_no_script_in_the_dashboard(self):
