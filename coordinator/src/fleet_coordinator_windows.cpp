@@ -161,9 +161,10 @@ void FleetCoordinator::rebalance_pool_tasks() {
     PoolRobot robot;
     const planner_core::Cell end = graph.cell_of(last[a]);
     robot.from = mission_vertex(end.x, end.y);
+    robot.out = robot.from == planner_core::kNoVertex;  // not on the mission's map: takes nothing
     for (const Vertex errand : agents[a].errands) {
       const planner_core::Cell cell = graph.cell_of(errand);
-      robot.errands.push_back(mission_vertex(cell.x, cell.y));
+      if (const Vertex at = mission_vertex(cell.x, cell.y); at != planner_core::kNoVertex) robot.errands.push_back(at);
     }
     robot_of_role[role] = static_cast<int>(robots.size());
     robots.push_back(std::move(robot));
