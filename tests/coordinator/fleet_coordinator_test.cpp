@@ -781,6 +781,9 @@ TEST(FleetCoordinator, ALifelongStreamOfTasksIsTakenUpByThePlanAsItGrowsWithoutS
   const int mission_tasks = mission.task_count();
   FleetConfig config = config_for(mission.agent_count());
   config.lifelong = true;
+  // Nobody goes silent here: a loaded machine that stalls the loop for 0.3 s must not take a robot
+  // out (and bring a replan this test is not about).
+  config.silence_timeout_s = 5;
   TaskStream stream(*mission.graph);
   FleetCoordinator coordinator(config, std::move(mission));
   int after_done = 0;
@@ -812,6 +815,7 @@ TEST(FleetCoordinator, ALifelongFleetMovesQueuedTasksToRobotsThatRunOutButNotTas
   for (planner_core::Vertex v = 0; v < mission.graph->vertex_count(); ++v) free_cells.push_back(mission.graph->cell_of(v));
   FleetConfig config = config_for(mission.agent_count());
   config.lifelong = true;
+  config.silence_timeout_s = 5;  // nobody goes silent: a stalled loop must not bring a replan
   std::map<int, std::string> robot_named;  // task -> the robot it was named for
   {
     MissionJournal journal(path, fingerprint, "test");

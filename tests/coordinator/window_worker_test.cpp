@@ -1,5 +1,6 @@
-// WindowWorker: a lifelong window planned on the worker's thread is the window the planner makes
-// on the caller's; one at a time; a worker destroyed mid-window cuts it short.
+// WorkerThread and WindowWorker: a job runs on the worker's thread, one at a time, and is cut short
+// by cancel(); a lifelong window planned there is the window the planner makes on the caller's; a
+// worker destroyed mid-window cuts it short.
 #include <gtest/gtest.h>
 
 #include "coordinator/window_worker.hpp"
@@ -9,6 +10,7 @@
 #include <optional>
 #include <stdexcept>
 #include <thread>
+#include <utility>
 
 namespace coordinator {
 namespace {
@@ -23,6 +25,33 @@ std::optional<WindowOutcome> outcome_of(WindowWorker& worker) {
     std::this_thread::sleep_for(std::chrono::milliseconds(1));
   }
   return std::nullopt;
+}
+
+TEST(WorkerThread, RunsOneJobAtATimeOffTheCallersThreadAndCancelCutsItShort) {
+  // A job that counts until cancelled (or 60 s pass), returning its count and its thread.
+  WorkerThread<int, std::pair<int, std::thread::id>> worker([](int& start, const std::atomic<bool>& cancel) {
+    const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+    int count = start;
+    while (!cancel.load() && std::chrono::steady_clock::now() < until) {
+      ++count;
+      std::this_thread::sleep_for(std::chrono::microseconds(100));
+    }
+    return std::make_pair(count, std::this_thread::get_id());
+  });
+  worker.start(5);
+  EXPECT_FALSE(worker.idle());
+  EXPECT_THROW(worker.start(6), std::logic_error);
+  EXPECT_FALSE(worker.wait_for(std::chrono::milliseconds(20)).has_value());  // still counting
+  const auto cancelled_at = std::chrono::steady_clock::now();
+  worker.cancel();
+  const std::optional<std::pair<int, std::thread::id>> outcome = worker.wait_for(std::chrono::seconds(30));
+  ASSERT_TRUE(outcome.has_value());
+  EXPECT_LT(std::chrono::steady_clock::now() - cancelled_at, std::chrono::seconds(30));
+  EXPECT_GT(outcome->first, 5);
+  EXPECT_NE(outcome->second, std::this_thread::get_id());
+  EXPECT_TRUE(worker.idle());
+  worker.start(0);  // the next job starts uncancelled
+  EXPECT_FALSE(worker.wait_for(std::chrono::milliseconds(20)).has_value());
 }
 
 TEST(WindowWorker, PlansTheSameWindowAsThePlannerOnTheCallersThreadOneAtATime) {

@@ -1,4 +1,4 @@
-// PlanningWorker: one solve at a time on a thread of its own, so that the coordinator's loop goes
+// PlanningWorker: one solve at a time on a thread of its own (worker_thread.hpp), so that the coordinator's loop goes
 // on meanwhile (heartbeats, robots' states, admissions, conformance) and a long plan never looks
 // like a dead coordinator. The loop hands over a self-contained request (the instance to solve and
 // the solver's settings), polls for the outcome, and checks the plan against the world as it is
@@ -7,14 +7,12 @@
 
 #include <atomic>
 #include <chrono>
-#include <condition_variable>
-#include <mutex>
 #include <optional>
 #include <string>
-#include <thread>
 
 #include "coordinator/plan_builder.hpp"
 #include "coordinator/window_planner.hpp"
+#include "coordinator/worker_thread.hpp"
 #include "planner_core/solver.hpp"
 #include "planner_core/validator.hpp"
 
@@ -43,34 +41,23 @@ struct PlanningOutcome {
 
 class PlanningWorker {
  public:
-  PlanningWorker();
-  ~PlanningWorker();  // cancels a solve under way and waits for its thread
-  PlanningWorker(const PlanningWorker&) = delete;
-  PlanningWorker& operator=(const PlanningWorker&) = delete;
+  PlanningWorker() : thread_(&PlanningWorker::plan) {}
 
-  // Starts solving `request`; only while idle().
-  void start(PlanningRequest request);
+  // Starts solving `request`; only while idle() (else std::logic_error).
+  void start(PlanningRequest request) { thread_.start(std::move(request)); }
   // The outcome once the solve has ended (then idle again), else nothing.
-  std::optional<PlanningOutcome> poll();
+  std::optional<PlanningOutcome> poll() { return thread_.poll(); }
   // As poll(), waiting up to `timeout` for the solve to end.
-  std::optional<PlanningOutcome> wait_for(std::chrono::milliseconds timeout);
+  std::optional<PlanningOutcome> wait_for(std::chrono::milliseconds timeout) { return thread_.wait_for(timeout); }
   // Cuts the solve under way short; its outcome comes back `cancelled`.
-  void cancel() { cancel_.store(true); }
-  bool idle() const;
+  void cancel() { thread_.cancel(); }
+  bool idle() const { return thread_.idle(); }
 
  private:
-  void run();
+  static PlanningOutcome plan(PlanningRequest& request, const std::atomic<bool>& cancel);
   static planner_core::SolveResult first_window(const PlanningRequest& request, const planner_core::Deadline& deadline);
 
-  mutable std::mutex mutex_;
-  std::condition_variable wake_;
-  std::condition_variable done_;  // an outcome was set
-  std::optional<PlanningRequest> request_;
-  std::optional<PlanningOutcome> outcome_;
-  bool busy_ = false;
-  bool quit_ = false;
-  std::atomic<bool> cancel_{false};
-  std::thread thread_;  // last: starts once the members above exist
+  WorkerThread<PlanningRequest, PlanningOutcome> thread_;
 };
 
 }  // namespace coordinator

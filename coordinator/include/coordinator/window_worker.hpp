@@ -1,21 +1,20 @@
-// WindowWorker: lifelong windows (window_planner.hpp) planned on a thread of their own, so that the
-// coordinator's loop goes on meanwhile (robots' states, commands, heartbeats): with hundreds of
-// robots a window takes tens of milliseconds, which the loop would otherwise spend not sending
-// moves. One window at a time. The loop hands over a self-contained job (where the plan ends, what
-// each robot heads for), polls for the window, and takes it only if the plan still ends where the
-// job started (fleet_coordinator_windows.cpp); a window for a plan replaced meanwhile is dropped.
+// WindowWorker: lifelong windows (window_planner.hpp) planned on a thread of their own
+// (worker_thread.hpp), so that the coordinator's loop goes on meanwhile (robots' states, commands,
+// heartbeats): with hundreds of robots a window takes tens of milliseconds, which the loop would
+// otherwise spend not sending moves. One window at a time. The loop hands over a self-contained
+// job (where the plan ends, what each robot heads for), polls for the window, and takes it only if
+// the plan still ends where the job started (fleet_coordinator_windows.cpp); a window for a plan
+// replaced meanwhile is dropped.
 #pragma once
 
 #include <atomic>
-#include <condition_variable>
 #include <memory>
-#include <mutex>
 #include <optional>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "coordinator/window_planner.hpp"
+#include "coordinator/worker_thread.hpp"
 
 namespace coordinator {
 
@@ -38,29 +37,19 @@ struct WindowOutcome {
 class WindowWorker {
  public:
   explicit WindowWorker(std::unique_ptr<WindowPlanner> planner);
-  ~WindowWorker();  // cuts the window under way short and waits for its thread
-  WindowWorker(const WindowWorker&) = delete;
-  WindowWorker& operator=(const WindowWorker&) = delete;
 
-  // Starts planning `job`; only while idle().
-  void start(WindowJob job);
+  // Starts planning `job`; only while idle() (else std::logic_error).
+  void start(WindowJob job) { thread_.start(std::move(job)); }
   // The outcome once the window is planned (then idle again), else nothing.
-  std::optional<WindowOutcome> poll();
+  std::optional<WindowOutcome> poll() { return thread_.poll(); }
   // No window under way and none uncollected.
-  bool idle() const;
+  bool idle() const { return thread_.idle(); }
 
  private:
-  void run();
+  static WindowOutcome plan(WindowPlanner& planner, WindowJob& job, const std::atomic<bool>& cancel);
 
-  std::unique_ptr<WindowPlanner> planner_;  // used by the worker's thread only
-  mutable std::mutex mutex_;
-  std::condition_variable wake_;
-  std::optional<WindowJob> job_;
-  std::optional<WindowOutcome> outcome_;
-  bool busy_ = false;
-  bool quit_ = false;
-  std::atomic<bool> cancel_{false};
-  std::thread thread_;  // last: starts once the members above exist
+  std::unique_ptr<WindowPlanner> planner_;         // used on the worker's thread only
+  WorkerThread<WindowJob, WindowOutcome> thread_;  // last: its thread ends before the planner goes
 };
 
 }  // namespace coordinator
