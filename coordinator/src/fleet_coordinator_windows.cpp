@@ -65,8 +65,8 @@ void FleetCoordinator::extend_plan(fleet_transport::Transport& transport) {
   }
   if (end - std::max(slowest, first_plan_steps_) > kMaxLeadSteps) return;
   credit_visits_at_rest();
-  rebalance_pool_tasks();
   std::vector<WindowAgent> agents = window_agents();
+  if (rebalance_pool_tasks(agents)) agents = window_agents();  // tasks moved: errands changed
   // Or a robot has made every move and has tasks to go to, or is not parked yet.
   const planner_core::Config& last = plan_->last_configuration();
   for (int a = 0; a < plan_->agent_count() && !near_the_end; ++a) {
@@ -135,7 +135,7 @@ void FleetCoordinator::credit_visits_at_rest() {
   }
 }
 
-void FleetCoordinator::rebalance_pool_tasks() {
+bool FleetCoordinator::rebalance_pool_tasks(const std::vector<WindowAgent>& agents) {
   // The pool: tasks added at runtime for any robot, neither done nor cancelled, whose visit the
   // plan has not reached.
   std::vector<PooledTask> pooled;
@@ -146,12 +146,11 @@ void FleetCoordinator::rebalance_pool_tasks() {
     }
     pooled.push_back({t, mission_.tasks[t].at, mission_.tasks[t].agents.front()});  // holder: a role for now
   }
-  if (pooled.empty()) return;
+  if (pooled.empty()) return false;
   // One pool robot per plan agent with a role, where its plan ends, with the task cells it still
   // heads for (window_agents' errands); then one per role holding a pooled task without a robot.
   const planner_core::Graph& graph = *plan_->graph();
   const planner_core::Config& last = plan_->last_configuration();
-  const std::vector<WindowAgent> agents = window_agents();
   std::vector<PoolRobot> robots;
   std::vector<int> role_of_robot;
   std::map<int, int> robot_of_role;
@@ -201,11 +200,12 @@ void FleetCoordinator::rebalance_pool_tasks() {
     spdlog::info("lifelong pool: {}", why);
     report("task_reassigned", robot_id, why, move.task);
   }
-  if (moves.empty()) return;
+  if (moves.empty()) return false;
   mission_.index_tasks();
   summary_.tasks_reassigned += static_cast<int64_t>(moves.size());
   desk_.mission_changed();
   schedule_.progress_changed();
+  return true;
 }
 
 std::vector<WindowAgent> FleetCoordinator::window_agents() const {

@@ -257,7 +257,8 @@ class FleetCoordinator {
   std::vector<WindowAgent> window_agents() const;  // where each robot still has to go, and park
   // Lifelong: tasks added at runtime that the plan has not reached go to robots that ran out of
   // tasks and get there sooner (rebalance_pool, task_assignment.hpp); journaled before they count.
-  void rebalance_pool_tasks();
+  // `agents`: window_agents() as they stand. Returns whether a task moved.
+  bool rebalance_pool_tasks(const std::vector<WindowAgent>& agents);
   void note_window(const PlanWindow& window, double planning_ms);
   void mark_planned_visits(const planner_core::Solution& steps);
   bool grows_by_windows(const std::string& robot_id) const;
