@@ -9,7 +9,10 @@
 //               new process's start to its first command, task visits planned twice;
 //   task-stream a lifelong fleet given a stream of tasks (about one waiting per robot): tasks done
 //               per minute against the same fleet in one process at the same step, the lifelong
-//               windows and their planning time, collisions (task_stream_scenario.hpp).
+//               windows and their planning time, collisions (task_stream_scenario.hpp);
+//   league      a League of Robot Runners problem (--problem) run by the fleet, beside the
+//               benchmark's lockstep run of it for as many steps, delays included: tasks finished by
+//               each and their ratio (league_scenario.hpp).
 #include <nlohmann/json.hpp>
 #include <signal.h>
 #include <sys/wait.h>
@@ -25,6 +28,7 @@
 #include <thread>
 
 #include "child_process.hpp"
+#include "league_scenario.hpp"
 #include "run_logs.hpp"
 #include "task_stream_scenario.hpp"
 #include "throwaway_fleet_ca.hpp"
@@ -131,8 +135,8 @@ int main(int argc, char** argv) {
   bool json = false;
   std::string scenario = "robot-loss";
   int kills = 1;
-  app.add_option("--scenario", scenario, "robot-loss, failover, restart or task-stream (see the program's header)")
-      ->check(CLI::IsMember({"robot-loss", "failover", "restart", "task-stream"}))
+  app.add_option("--scenario", scenario, "robot-loss, failover, restart, task-stream or league (see the program's header)")
+      ->check(CLI::IsMember({"robot-loss", "failover", "restart", "task-stream", "league"}))
       ->capture_default_str();
   app.add_option("--kills", kills, "failover: coordinators killed in a row in one mission (a soak)")
       ->check(ctsfleet::count_in(1, 1000))
@@ -161,16 +165,29 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   std::string lifelong_planner;
   app.add_option("--lifelong-planner", lifelong_planner,
-                 "task-stream: the window planner's settings (a file as config/lifelong.yaml; the fleet config's "
+                 "task-stream, league: the window planner's settings (a file as config/lifelong.yaml; the fleet config's "
                  "lifelong_planner); default: plain PIBT")
       ->check(CLI::ExistingFile);
   coordinator::StreamTimeline timeline;
   app.add_option("--warmup", timeline.warmup_s, "task-stream: seconds from the first plan before tasks are counted")
       ->check(ctsfleet::number_in(0, 3600))
       ->capture_default_str();
-  app.add_option("--measure", timeline.measure_s, "task-stream: seconds over which tasks done are counted")
+  app.add_option("--measure", timeline.measure_s, "task-stream: seconds over which tasks done are counted; league: seconds from the fleet's first plan")
       ->check(ctsfleet::positive_seconds(86400))
       ->capture_default_str();
+  coordinator::LeagueScenarioSettings league;
+  app.add_option("--problem", league.problem,
+                 "league: a League of Robot Runners problem (JSON) of single-errand tasks, as the 2023 rounds' "
+                 "(benchmarks/lorr-2023)")
+      ->check(CLI::ExistingFile);
+  app.add_option("--delays", league.delays,
+                 "league: sim robots delayed as the problem's delayConfig draws (on), never (off), or on when there "
+                 "is one (auto)")
+      ->check(CLI::IsMember({"auto", "on", "off"}))
+      ->capture_default_str();
+  app.add_option("--delay-config", league.delay_config,
+                 "league: a delayConfig (the object itself, or a problem holding one) instead of the problem's")
+      ->check(CLI::ExistingFile);
   bool secure = false;
   app.add_flag("--secure", secure, "DDS Security on every process, with a throw-away fleet CA made for the run");
   std::string discovery;
@@ -183,9 +200,22 @@ int main(int argc, char** argv) {
       throw planner_core::InputError("--domain: " + std::to_string(domain) + " + " + std::to_string(sizes.size()) +
                                      " fleet sizes run past DDS domain 232");
     }
-    if (scenario == "task-stream" && (secure || discovery == "server")) {
-      throw planner_core::InputError(std::string(secure ? "--secure" : "--discovery server") +
-                                     ": the task-stream scenario runs open fleets with simple discovery only");
+    if ((scenario == "task-stream" || scenario == "league") && (secure || discovery == "server")) {
+      throw planner_core::InputError(std::string(secure ? "--secure" : "--discovery server") + ": the " + scenario +
+                                     " scenario runs open fleets with simple discovery only");
+    }
+    if ((scenario == "league") != !league.problem.empty()) {
+      throw planner_core::InputError(scenario == "league" ? "--scenario league: give the problem (--problem F.json)"
+                                                          : "--problem: only the league scenario runs a problem");
+    }
+    if (scenario != "league" && (league.delays != "auto" || !league.delay_config.empty())) {
+      throw planner_core::InputError("--delays, --delay-config: only the league scenario delays its robots");
+    }
+    if (scenario == "league" && (actions != "move4" || turn_s != 0)) {
+      throw planner_core::InputError("--actions, --turn: the league scenario plans turns, a quarter turn taking an action");
+    }
+    if (scenario == "league") {
+      for (int n : sizes) coordinator::check_league_scenario(league, n);  // refused before any fleet starts
     }
     if (discovery.empty()) discovery = "simple";
     if (discovery == "server" && secure) {
@@ -213,6 +243,26 @@ int main(int argc, char** argv) {
       args.insert(args.end(), discovery_options.begin(), discovery_options.end());
       return args;
     };
+    if (scenario == "league") {
+      league.programs = here;
+      league.work = work;
+      league.vendor = vendor;
+      league.dds_config_dir = dds_config_dir;
+      league.step_s = step;
+      if (!lifelong_planner.empty()) {
+        planner_core::load_lifelong_config(lifelong_planner);
+        league.lifelong_planner = fs::absolute(lifelong_planner).string();
+      }
+      league.measure_s = timeline.measure_s;
+      league.json = json;
+      coordinator::print_league_header(league);
+      for (int n : sizes) {
+        league.extra_options = with_security({});
+        if (!coordinator::run_league_scenario(league, n, domain++)) return ctsfleet::kExitInterrupted;
+      }
+      if (!json) std::printf("\nlogs: %s\n", work.c_str());
+      return 0;
+    }
     if (scenario == "task-stream") {
       coordinator::TaskStreamSettings settings;
       settings.programs = here;

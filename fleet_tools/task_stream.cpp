@@ -8,6 +8,14 @@ TaskStream::TaskStream(const planner_core::Graph& graph, int waiting, int missio
   for (planner_core::Vertex v = 0; v < graph.vertex_count(); ++v) cells_.push_back(graph.cell_of(v));
 }
 
+TaskStream::TaskStream(std::vector<planner_core::Cell> cells_in_order, int waiting, int mission_tasks,
+                       std::string id_prefix)
+    : cells_(std::move(cells_in_order)),
+      in_order_(true),
+      waiting_(waiting),
+      mission_tasks_(mission_tasks),
+      id_prefix_(std::move(id_prefix)) {}
+
 std::vector<fleet_transport::TaskRequest> TaskStream::due(int tasks_done, Clock::time_point now) {
   std::vector<fleet_transport::TaskRequest> requests;
   for (auto& [id, asked] : unanswered_) {
@@ -18,7 +26,7 @@ std::vector<fleet_transport::TaskRequest> TaskStream::due(int tasks_done, Clock:
   }
   const int not_done = mission_tasks_ + accepted_ - tasks_done;
   for (int k = not_done + static_cast<int>(unanswered_.size()); k < waiting_ && !cells_.empty(); ++k) {
-    const planner_core::Cell cell = cells_[rng_() % cells_.size()];
+    const planner_core::Cell cell = cells_[(in_order_ ? next_id_ : rng_()) % cells_.size()];
     fleet_transport::TaskRequest request;
     request.request_id = id_prefix_ + "-" + std::to_string(next_id_++);
     request.action = fleet_transport::TaskAction::kAdd;

@@ -1,6 +1,7 @@
 // TaskStream: the work a warehouse gives a lifelong fleet, for the fleet benchmark. Keeps
 // `waiting` tasks the fleet has not done yet (accepted and not done, or asked and not answered),
-// each at a random free cell of the map, for whichever robot suits it best. A request not answered
+// each at a random free cell of the map (or the next cell of a list, in its order and over again,
+// as the league reveals a problem's tasks), for whichever robot suits it best. A request not answered
 // within a second is asked again (the same id: the coordinator answers a repeat without adding
 // twice). Not thread-safe: the caller holds a lock when replies arrive on another thread.
 #pragma once
@@ -23,6 +24,8 @@ class TaskStream {
 
   // `mission_tasks`: the tasks the fleet's mission came with, counted as given.
   TaskStream(const planner_core::Graph& graph, int waiting, int mission_tasks, uint32_t seed, std::string id_prefix);
+  // Tasks at `cells_in_order`, the first first; after the last, the first again.
+  TaskStream(std::vector<planner_core::Cell> cells_in_order, int waiting, int mission_tasks, std::string id_prefix);
 
   // The requests to send now, given how many tasks the fleet has done (its status's tasks_done,
   // which may lag): new ones up to `waiting` not done, and unanswered ones again.
@@ -39,6 +42,7 @@ class TaskStream {
     Clock::time_point last_sent;
   };
   std::vector<planner_core::Cell> cells_;
+  bool in_order_ = false;
   int waiting_;
   int mission_tasks_;
   std::mt19937 rng_;

@@ -23,7 +23,7 @@ import urllib.request
 import yaml
 
 sys.path.insert(0, os.path.dirname(__file__))
-from test_fleet import BIN, CONFIG, DDS_DIR, MISSION, Fleet, failed, read, wait_for  # noqa: E402
+from test_fleet import BIN, CONFIG, DDS_DIR, MISSION, ROOT, Fleet, failed, read, wait_for  # noqa: E402
 
 TESTS = [
     "test_tasks_added_mid_mission_are_done_and_bad_ones_refused",
@@ -35,6 +35,7 @@ TESTS = [
     "test_the_dashboard_answers_with_idle_streams_and_slow_sockets_open",
     "test_a_lifelong_stream_grows_the_plan_and_outlives_a_restarted_robot",
     "test_a_lifelong_pool_outlives_its_coordinator_killed_and_restarted_with_its_journal",
+    "test_the_league_scenario_runs_a_problem_beside_its_lockstep_run_and_refuses_what_it_cannot",
 ]
 
 # Markup an attacker may put in a robot id, an event kind or an event text: each would set
@@ -249,6 +250,51 @@ class OperationsTest(unittest.TestCase):
                 self.assertEqual(robot, "robot3", f"task {task} was named for robot3")
         self.assertEqual(pinned, sorted(named))
         self.assert_safe()
+
+    def test_the_league_scenario_runs_a_problem_beside_its_lockstep_run_and_refuses_what_it_cannot(self):
+        problem = os.path.join(ROOT, "benchmarks/lorr-2023/warehouse.domain/warehouse_small_10.json")
+        room = os.path.join(ROOT, "benchmarks/lorr-2026/room.domain/room-example_150.json")  # 2 errands a task
+        bad_delays = os.path.join(self.fleet.dir, "bad-delays.json")
+        with open(bad_delays, "w") as f:
+            json.dump({"seed": 0, "minDelay": -3, "maxDelay": 5, "eventModel": "bernoulli", "pDelay": 0.1,
+                       "durationModel": "uniform"}, f)
+        work = os.path.join(self.fleet.dir, "work")  # the bench's TMPDIR: where its work folder goes
+        os.makedirs(work)
+        env = dict(os.environ, TMPDIR=work)
+        bench = [f"{BIN}/ctsfleet-fleetbench", "--scenario", "league", "--domain", str(self.fleet.domain)]
+        for args, says in ((["--problem", room, "-n", "4"], "task 0 has 2 errands"),
+                           (["--problem", problem, "-n", "11"], "has a team of 10"),
+                           (["--problem", problem, "-n", "4", "--delays", "on"], "has no delayConfig"),
+                           (["--problem", problem, "-n", "4", "--delay-config", bad_delays], "minDelay"),
+                           (["--problem", problem, "-n", "4", "--actions", "move4", "--turn", "1"], "plans turns"),
+                           (["-n", "4"], "give the problem")):
+            result = subprocess.run(bench + args, capture_output=True, text=True, timeout=60, env=env)
+            self.assertEqual(result.returncode, 2, f"{args}: {result.stdout}{result.stderr}")
+            self.assertIn(says, result.stderr, args)
+            self.assertEqual(os.listdir(work), [], f"{args}: left a partial run")
+        # 4 robot processes on the 2023 warehouse problem, delayed as the 2026 room problem draws.
+        result = subprocess.run(bench + ["--problem", problem, "-n", "4", "--measure", "25", "--step", "0.2",
+                                         "--delay-config", room, "--json"],
+                                capture_output=True, text=True, timeout=900, env=env)
+        self.assertEqual(result.returncode, 0, result.stdout + result.stderr)
+        row = summary_of(result.stdout)
+        self.assertEqual(row["delays"], "on")
+        self.assertEqual(row["collisions"], "0", row)
+        self.assertGreater(row["fleet"]["tasks_done"], 0, row)
+        self.assertGreater(row["steps"], 0, row)
+        self.assertTrue(row["lockstep"]["ran"], read(os.path.join(row["logs"], "league-lockstep-4.log")))
+        self.assertEqual(row["lockstep"]["ticks"], row["steps"], "the 2023 problem's action is a tick")
+        self.assertGreater(row["lockstep"]["tasks"], 0, row)
+        self.assertEqual(row["lockstep"]["faults"], 0, row)
+        self.assertGreater(row["lockstep"]["delayed_share"], 0, row)
+        self.assertAlmostEqual(row["ratio"], row["fleet"]["tasks_done"] / row["lockstep"]["tasks"], places=6)
+        with open(os.path.join(row["logs"], "league-problem-4.json")) as f:
+            cut = json.load(f)
+        with open(room) as f:
+            self.assertEqual(cut["delayConfig"], json.load(f)["delayConfig"])
+        self.assertEqual(cut["teamSize"], 4)
+        robot_logs = "".join(read(os.path.join(row["logs"], f"league-robot{r}.log")) for r in range(4))
+        self.assertIn("this move delayed", robot_logs, "no sim robot was delayed")
 
     def test_hostile_ids_and_texts_run_no_script_in_the_dashboard(self):
         # Whatever reaches the dashboard (a forged state, an event) is shown as text: a replayed
