@@ -117,15 +117,18 @@ ProcessFleetRun run_fleet_of_processes(const ProcessFleetSettings& settings, con
     const Clock::time_point started = Clock::now();
     std::optional<Clock::time_point> first_plan, counting_from;
     int done_at_start = 0;
+    int64_t steps_at_start = 0;
     const auto seconds = [](double s) { return std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(s)); };
     while (!stop.load()) {
       const Clock::time_point now = Clock::now();
       std::vector<fleet_transport::TaskRequest> requests;
       int done = 0;
+      int64_t steps_done = 0;
       {
         const std::lock_guard<std::mutex> lock(observer.mutex);
         if (!first_plan && observer.heard && observer.status.plan_epoch >= 1) first_plan = now;
         done = observer.status.tasks_done;
+        steps_done = observer.status.steps_done;
         if (first_plan) requests = stream.due(observer.status.tasks_done, now);
       }
       for (const fleet_transport::TaskRequest& request : requests) transport->request_task(request);
@@ -134,9 +137,11 @@ ProcessFleetRun run_fleet_of_processes(const ProcessFleetSettings& settings, con
       if (first_plan && !counting_from && now >= *first_plan + seconds(timeline.warmup_s)) {
         counting_from = now;
         done_at_start = done;
+        steps_at_start = steps_done;
       }
       if (counting_from && now >= *counting_from + seconds(timeline.measure_s)) {
         figures.tasks_done = done - done_at_start;
+        figures.robot_steps = steps_done - steps_at_start;
         figures.seconds = std::chrono::duration<double>(now - *counting_from).count();
         break;
       }
@@ -153,6 +158,7 @@ ProcessFleetRun run_fleet_of_processes(const ProcessFleetSettings& settings, con
   figures.tasks_per_minute = figures.seconds > 0 ? 60 * figures.tasks_done / figures.seconds : 0;
   figures.accepted = stream.accepted();
   figures.refused = stream.refused();
+  figures.deferred = stream.deferred();
   figures.windows = run.coordinator_summary.value("windows", int64_t{0});
   figures.window_ms_max = run.coordinator_summary.value("window_ms_max", 0.0);
   figures.tasks_reassigned = run.coordinator_summary.value("tasks_reassigned", int64_t{0});

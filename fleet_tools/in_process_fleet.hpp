@@ -23,10 +23,12 @@ struct StreamFigures {
   double tasks_per_minute = 0;
   int accepted = 0;            // tasks the stream gave, over the whole run
   int refused = 0;
+  int deferred = 0;            // refused as a duplicate of a task waiting at that cell, asked again
   int64_t windows = 0;         // lifelong windows the plan grew by
   double window_ms_max = 0;
   int64_t tasks_reassigned = 0;  // pooled tasks moved to a robot that got there sooner
   int replans = 0;
+  int64_t robot_steps = 0;     // plan steps the robots carried out within the counted time, all robots'
   bool interrupted = false;
 };
 

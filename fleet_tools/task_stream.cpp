@@ -19,14 +19,14 @@ TaskStream::TaskStream(std::vector<planner_core::Cell> cells_in_order, int waiti
 std::vector<fleet_transport::TaskRequest> TaskStream::due(int tasks_done, Clock::time_point now) {
   std::vector<fleet_transport::TaskRequest> requests;
   for (auto& [id, asked] : unanswered_) {
-    if (now - asked.last_sent >= std::chrono::seconds(1)) {
+    if (now - asked.last_sent >= asked.again_after) {
       asked.last_sent = now;
       requests.push_back(asked.request);
     }
   }
   const int not_done = mission_tasks_ + accepted_ - tasks_done;
   for (int k = not_done + static_cast<int>(unanswered_.size()); k < waiting_ && !cells_.empty(); ++k) {
-    const planner_core::Cell cell = cells_[(in_order_ ? next_id_ : rng_()) % cells_.size()];
+    const planner_core::Cell cell = cells_[(in_order_ ? next_in_order_++ : rng_()) % cells_.size()];
     fleet_transport::TaskRequest request;
     request.request_id = id_prefix_ + "-" + std::to_string(next_id_++);
     request.action = fleet_transport::TaskAction::kAdd;
@@ -39,7 +39,19 @@ std::vector<fleet_transport::TaskRequest> TaskStream::due(int tasks_done, Clock:
 }
 
 void TaskStream::answered(const fleet_transport::TaskReply& reply) {
-  if (unanswered_.erase(reply.request_id) == 0) return;  // another's, or a repeat's answer
+  const auto asked = unanswered_.find(reply.request_id);
+  if (asked == unanswered_.end()) return;  // another's, or a repeat's answer
+  if (!reply.accepted && reply.reason.starts_with("duplicate")) {
+    Asked again = asked->second;
+    unanswered_.erase(asked);
+    again.request.request_id = id_prefix_ + "-" + std::to_string(next_id_++);  // a repeat would get the same answer
+    again.last_sent = Clock::now();
+    again.again_after = std::chrono::milliseconds(250);
+    unanswered_[again.request.request_id] = again;
+    ++deferred_;
+    return;
+  }
+  unanswered_.erase(asked);
   if (reply.accepted) {
     ++accepted_;
   } else {

@@ -3,7 +3,9 @@
 // each at a random free cell of the map (or the next cell of a list, in its order and over again,
 // as the league reveals a problem's tasks), for whichever robot suits it best. A request not answered
 // within a second is asked again (the same id: the coordinator answers a repeat without adding
-// twice). Not thread-safe: the caller holds a lock when replies arrive on another thread.
+// twice). A task refused because its cell has a task waiting already (the coordinator's
+// "duplicate") is asked again a quarter of a second later, under a new id, until it is taken: it
+// still waits, so the list's tasks are all given, in their order. Not thread-safe: the caller holds a lock when replies arrive on another thread.
 #pragma once
 
 #include <chrono>
@@ -34,12 +36,14 @@ class TaskStream {
 
   int accepted() const { return accepted_; }
   int refused() const { return refused_; }
+  int deferred() const { return deferred_; }  // refusals of a cell with a task waiting, asked again
   const std::string& last_refusal() const { return last_refusal_; }
 
  private:
   struct Asked {
     fleet_transport::TaskRequest request;
     Clock::time_point last_sent;
+    Clock::duration again_after = std::chrono::seconds(1);
   };
   std::vector<planner_core::Cell> cells_;
   bool in_order_ = false;
@@ -48,9 +52,11 @@ class TaskStream {
   std::mt19937 rng_;
   std::string id_prefix_;
   int64_t next_id_ = 0;
+  uint64_t next_in_order_ = 0;  // the list's next cell
   std::map<std::string, Asked> unanswered_;
   int accepted_ = 0;
   int refused_ = 0;
+  int deferred_ = 0;
   std::string last_refusal_;
 };
 

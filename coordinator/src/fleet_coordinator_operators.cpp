@@ -141,7 +141,9 @@ std::string FleetCoordinator::add_task_refusal(const TaskRequest& request, std::
     if (tours.empty()) return "robot " + request.robot_id + " has not reported a cell yet";
   }
   if (tours.empty()) return "no robot with a role is active to take it";
-  // The same cell pending for the same robot (or, for any robot, for anyone) is a duplicate.
+  // The same cell pending for the same robot (or, for any robot, for anyone) is a duplicate. Not
+  // in a lifelong fleet: there a task is an order of its own, and a station gets many at once.
+  if (config_.lifelong) return "";
   const Vertex cell = mission_vertex(request.x, request.y);
   for (int t = 0; t < mission_.task_count(); ++t) {
     if (mission_.tasks[t].at != cell || progress_.cancelled(t) || progress_.task_done(t)) continue;

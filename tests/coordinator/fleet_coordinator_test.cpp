@@ -723,8 +723,49 @@ TEST(FleetCoordinator, ALifelongMissionWaitsForTasksGivenInWaves) {
   EXPECT_EQ(summary.tasks_done, mission_tasks + 4);
 }
 
+// A station gets many orders: in a lifelong fleet every task is its own, even at a cell with one
+// pending (a one-shot mission refuses that as a duplicate: TasksAddedWhileItRuns...).
+TEST(FleetCoordinator, ALifelongFleetTakesEveryTaskAtACellThatHasOnePendingAndDoesThemAll) {
+  using namespace runtime_tasks;
+  planner_core::Instance mission = planner_core::load_instance(CTSFLEET_CONFIG_DIR "/default/mission-8.yaml");
+  std::vector<FakeRobot> robots = robots_on_their_starts(mission);
+  const int mission_tasks = mission.task_count();
+  FleetConfig config = config_for(mission.agent_count());
+  config.lifelong = true;
+  config.silence_timeout_s = 5;
+  FleetCoordinator coordinator(config, std::move(mission));
+  const std::vector<std::string> ids{"order-any", "order-robot2", "order-any-again", "order-robot2-again"};
+  bool asked = false;
+  int after_done = 0;
+  std::map<std::string, fleet_transport::TaskReply> replies;
+  run(coordinator, robots, {}, [&](FleetCoordinator& c, FakeTransport& wire, int) {
+    if (!asked && wire.last_plan.plan_epoch >= 1) {
+      asked = true;
+      c.on_task_request(add(ids[0], 28, 2));
+      c.on_task_request(add(ids[1], 28, 2, "robot2"));
+      c.on_task_request(add(ids[2], 28, 2));
+      c.on_task_request(add(ids[3], 28, 2, "robot2"));
+    }
+    for (const fleet_transport::TaskReply& reply : wire.replies) replies[reply.request_id] = reply;
+    const MissionSummary& summary = c.summary();
+    return summary.tasks_total < mission_tasks + 4 || summary.tasks_done < summary.tasks_total || ++after_done < 50;
+  });
+  ASSERT_TRUE(asked);
+  std::set<int> tasks;
+  for (const std::string& id : ids) {
+    ASSERT_TRUE(replies[id].accepted) << id << ": " << replies[id].reason;
+    tasks.insert(replies[id].task);
+  }
+  EXPECT_EQ(tasks.size(), 4u) << "four tasks, not one";
+  EXPECT_EQ(replies["order-robot2"].robot_id, "robot2");
+  const MissionSummary& summary = coordinator.summary();
+  EXPECT_EQ(summary.tasks_total, mission_tasks + 4);
+  EXPECT_EQ(summary.tasks_done, summary.tasks_total);
+  EXPECT_EQ(summary.replans, 0);
+}
+
 // Lifelong: a stream of tasks at random free cells keeps `pending` tasks waiting, until `total`
-// were accepted (a cell already pending is refused as a duplicate, and another is drawn).
+// were accepted.
 struct TaskStream {
   int total = 60;
   int pending = 8;

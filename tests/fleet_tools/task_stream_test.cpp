@@ -51,4 +51,23 @@ TEST(TaskStream, AsksAgainWhatWasNotAnsweredWithinASecondAndCountsARefusalOnce) 
   EXPECT_EQ(cells_of(next), (std::vector<planner_core::Cell>{{2, 2}})) << "a refused task is not waiting: the next comes";
 }
 
+TEST(TaskStream, AsksAgainUnderANewIdForATaskRefusedBecauseItsCellHasOneWaitingAndKeepsItWaiting) {
+  TaskStream stream(std::vector<planner_core::Cell>{{1, 1}, {2, 2}}, 1, 0, "league");
+  const auto now = TaskStream::Clock::now();
+  const std::vector<TaskRequest> asked = stream.due(0, now);
+  ASSERT_EQ(asked.size(), 1u);
+  stream.answered(TaskReply{.request_id = asked[0].request_id, .accepted = false,
+                            .reason = "duplicate: task 3 at (1,1) is already pending for robot robot2"});
+  EXPECT_EQ(stream.refused(), 0);
+  EXPECT_EQ(stream.deferred(), 1);
+  EXPECT_TRUE(stream.due(0, TaskStream::Clock::now()).empty()) << "it still waits: nothing new, not yet again";
+  const std::vector<TaskRequest> again = stream.due(0, TaskStream::Clock::now() + std::chrono::milliseconds(300));
+  ASSERT_EQ(again.size(), 1u);
+  EXPECT_NE(again[0].request_id, asked[0].request_id) << "a repeated id would be answered as before";
+  EXPECT_EQ(cells_of(again), (std::vector<planner_core::Cell>{{1, 1}})) << "the list's order is kept";
+  accept_all(stream, again);
+  EXPECT_EQ(stream.accepted(), 1);
+  EXPECT_EQ(cells_of(stream.due(1, now)), (std::vector<planner_core::Cell>{{2, 2}}));
+}
+
 }  // namespace
