@@ -177,13 +177,7 @@ bool FleetCoordinator::rebalance_pool_tasks(const std::vector<WindowAgent>& agen
     }
     task.holder = robot_of_role[task.holder];
   }
-  // Searches from task cells, kept between windows; started afresh once they hold much memory
-  // (a lifelong stream reaches every cell of a large map in time).
-  constexpr size_t kMostPoolSearchBytes = size_t{256} << 20;
-  if (!pool_distances_ || pool_distances_->memory_bytes() > kMostPoolSearchBytes) {
-    pool_distances_ = std::make_unique<planner_core::DistTable>(*mission_.graph);
-  }
-  const std::vector<TaskMove> moves = rebalance_pool(*pool_distances_, robots, pooled);
+  const std::vector<TaskMove> moves = rebalance_pool(task_distances(), robots, pooled);
   for (const TaskMove& move : moves) {
     const int role = role_of_robot[move.to];
     const std::string& robot_id = progress_.robot_of(role);

@@ -259,6 +259,7 @@ class FleetCoordinator {
   // tasks and get there sooner (rebalance_pool, task_assignment.hpp); journaled before they count.
   // `agents`: window_agents() as they stand. Returns whether a task moved.
   bool rebalance_pool_tasks(const std::vector<WindowAgent>& agents);
+  planner_core::DistTable& task_distances();
   void note_window(const PlanWindow& window, double planning_ms);
   void mark_planned_visits(const planner_core::Solution& steps);
   bool grows_by_windows(const std::string& robot_id) const;
@@ -335,7 +336,8 @@ class FleetCoordinator {
   std::unique_ptr<WindowWorker> windows_;  // lifelong: plans the next window off the loop
   std::set<std::pair<int, size_t>> planned_visits_;  // (task, index in its roles) the plan in hand makes
   std::set<int> pinned_tasks_;  // added for a robot the operator named: never rebalanced
-  std::unique_ptr<planner_core::DistTable> pool_distances_;  // to pooled tasks' cells, on the mission's map
+  // Searches from task cells on the mission's map, for placing added tasks and the pool: task_distances().
+  std::unique_ptr<planner_core::DistTable> task_distances_;
   int first_plan_steps_ = 0;                         // the plan in hand's length before any window
   Clock::time_point next_window_check_{};            // when extend_plan next looks whether a window is due
   PlanningWorker planning_;              // makes the next plan on a thread of its own
