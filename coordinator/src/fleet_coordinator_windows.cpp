@@ -114,10 +114,6 @@ void FleetCoordinator::take_window(fleet_transport::Transport& transport, const 
     request_replan("an invalid lifelong window");
     return;
   }
-  // Late: a robot with tasks to go to stood waiting for this window, having made every move.
-  bool late = false;
-  for (int a = 0; a < plan_->agent_count() && !late; ++a) late = plan_->done(a) && !outcome.job.agents[a].errands.empty();
-  summary_.windows_late += late ? 1 : 0;
   int64_t moves_before = 0;
   for (int a = 0; a < plan_->agent_count(); ++a) moves_before += plan_->move_count(a);
   plan_->extend(window.steps, window.headings);

@@ -79,7 +79,6 @@ struct MissionSummary {
   int64_t steps_of_replaced_plans = 0;     // moves confirmed under plans replaced since
   int64_t windows = 0;                     // lifelong: windows the plans in hand grew by
   double window_ms_max = 0;                // lifelong: the longest time to plan one
-  int64_t windows_late = 0;                // lifelong: windows that came after a robot with tasks had run out of moves
   int64_t tasks_reassigned = 0;            // lifelong: pooled tasks moved to a robot that got there sooner
 };
 
