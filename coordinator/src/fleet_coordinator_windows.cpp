@@ -114,6 +114,10 @@ void FleetCoordinator::take_window(fleet_transport::Transport& transport, const 
     request_replan("an invalid lifelong window");
     return;
   }
+  // A robot at rest where the window starts makes there the visits of tasks added while it was
+  // planned: the window counts them reached at its first step, and the robot reports no arrival
+  // there again (else such a task was taken as planned and never done: the plan ran out with it).
+  credit_visits_at_rest();
   int64_t moves_before = 0;
   for (int a = 0; a < plan_->agent_count(); ++a) moves_before += plan_->move_count(a);
   plan_->extend(window.steps, window.headings);
