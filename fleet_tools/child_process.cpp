@@ -1,11 +1,15 @@
 #include "child_process.hpp"
 
 #include <fcntl.h>
+#include <signal.h>
 #include <spawn.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <cstring>
 #include <stdexcept>
+#include <thread>
 
 extern char** environ;
 
@@ -29,6 +33,21 @@ pid_t start_child(const std::vector<std::string>& args, const std::string& log_f
   posix_spawn_file_actions_destroy(&actions);
   if (rc != 0) throw std::runtime_error("cannot start " + args[0] + ": " + std::strerror(rc));
   return pid;
+}
+
+void stop_child(pid_t pid, double grace_s) {
+  using Clock = std::chrono::steady_clock;
+  if (pid <= 0) return;
+  kill(pid, SIGINT);
+  const Clock::time_point until = Clock::now() + std::chrono::milliseconds(static_cast<int>(1000 * grace_s));
+  while (waitpid(pid, nullptr, WNOHANG) == 0) {
+    if (Clock::now() > until) {
+      kill(pid, SIGKILL);
+      waitpid(pid, nullptr, 0);
+      return;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
 }
 
 }  // namespace coordinator

@@ -14,4 +14,7 @@ namespace coordinator {
 pid_t start_child(const std::vector<std::string>& args, const std::string& log_file,
                   const std::string& results_file = "");
 
+// Sends SIGINT (then SIGKILL after `grace_s`) and reaps the process.
+void stop_child(pid_t pid, double grace_s);
+
 }  // namespace coordinator

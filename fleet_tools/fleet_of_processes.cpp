@@ -21,21 +21,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-// Sends SIGINT (then SIGKILL after `grace_s`) and reaps the process.
-void stop_child(pid_t pid, double grace_s) {
-  if (pid <= 0) return;
-  kill(pid, SIGINT);
-  const Clock::time_point until = Clock::now() + std::chrono::milliseconds(static_cast<int>(1000 * grace_s));
-  while (waitpid(pid, nullptr, WNOHANG) == 0) {
-    if (Clock::now() > until) {
-      kill(pid, SIGKILL);
-      waitpid(pid, nullptr, 0);
-      return;
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  }
-}
-
 // What the fleet of processes did, seen from outside: its fleet status and the stream's answers.
 struct Observer {
   std::mutex mutex;

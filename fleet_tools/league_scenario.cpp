@@ -1,7 +1,6 @@
 #include "league_scenario.hpp"
 
 #include <nlohmann/json.hpp>
-#include <signal.h>
 #include <sys/wait.h>
 
 #include <cmath>
@@ -112,8 +111,7 @@ LockstepFigures run_lockstep(const LeagueScenarioSettings& settings, const fs::p
   int status = 0;
   while (waitpid(bench, &status, WNOHANG) == 0) {
     if (ctsfleet::stop_requested().load()) {
-      kill(bench, SIGINT);
-      waitpid(bench, &status, 0);
+      stop_child(bench, 10);
       return {};
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
