@@ -72,6 +72,20 @@ void FleetView::on_state(const fleet_transport::RobotState& state, int64_t heard
   Robot& robot = robots_[state.robot_id];
   // Within one process, sequence numbers only grow; a new process (restart) starts afresh.
   if (robot.state && robot.state->incarnation == state.incarnation && state.seq_number <= robot.state->seq_number) return;
+  // A move lasts from the first state heard moving to the first heard arrived, of the same command.
+  const bool same_command = robot.state && robot.state->incarnation == state.incarnation &&
+                            robot.state->plan_epoch == state.plan_epoch &&
+                            robot.state->action_index == state.action_index;
+  if (state.status == RobotStatus::kMoving) {
+    if (!same_command || robot.moving_since_ms < 0) robot.moving_since_ms = heard_ms;
+  } else {
+    if (same_command && robot.moving_since_ms >= 0 && state.status == RobotStatus::kArrived) {
+      move_ms_.push_back(heard_ms - robot.moving_since_ms);
+      if (move_ms_.size() > kMovesKept) move_ms_.pop_front();
+      typical_move_ms_.reset();
+    }
+    robot.moving_since_ms = -1;
+  }
   robot.state = state;
   robot.heard_ms = heard_ms;
   if (robot.gone == fleet_transport::GoneReason::kLivelinessLost) robot.gone.reset();  // it is back
@@ -178,13 +192,34 @@ std::string FleetView::robot_status(const std::string& robot_id, int64_t now_ms)
   if (!robot.state) return "joining";
   if (robot.state->status == RobotStatus::kFault) return "fault";
   if (robot.off_plan) return "off_plan";
-  if (robot.state->status == RobotStatus::kMoving) return "moving";
+  if (robot.state->status == RobotStatus::kMoving) {
+    const int64_t typical = typical_move_ms();
+    const bool late = typical > 0 && robot.moving_since_ms >= 0 &&
+                      static_cast<double>(now_ms - robot.moving_since_ms) > kLateFactor * static_cast<double>(typical);
+    return late ? "delayed" : "moving";
+  }
   const fleet_transport::RobotPlan* plan = plan_of(robot_id);
   if (plan != nullptr && path_from(robot_id) < static_cast<int>(plan->path.size())) return "waiting";
   return "parked";
 }
 
+int64_t FleetView::typical_move_ms() const {
+  if (move_ms_.size() < kMovesForTypical) return -1;
+  if (!typical_move_ms_) {  // asked for by every moving robot of every frame: once per new move
+    std::vector<int64_t> sorted(move_ms_.begin(), move_ms_.end());
+    std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2), sorted.end());
+    typical_move_ms_ = sorted[sorted.size() / 2];
+  }
+  return *typical_move_ms_;
+}
+
 std::vector<int> FleetView::next_tasks(const std::string& robot_id) const {
+  std::vector<int> order;
+  for (const Due& due : schedule(robot_id)) order.push_back(due.task);
+  return order;
+}
+
+std::vector<FleetView::Due> FleetView::schedule(const std::string& robot_id) const {
   const Coordinator* c = followed();
   const int role = role_of(robot_id);
   if (c == nullptr || !c->mission || role < 0) return {};
@@ -203,8 +238,10 @@ std::vector<int> FleetView::next_tasks(const std::string& robot_id) const {
     due.emplace_back(std::find(ahead.begin(), ahead.end(), cell) - ahead.begin(), t);
   }
   std::stable_sort(due.begin(), due.end());
-  std::vector<int> order;
-  for (const auto& [place, task] : due) order.push_back(task);
+  std::vector<Due> order;
+  for (const auto& [place, task] : due) {
+    order.push_back({task, place < ahead.size() ? static_cast<int>(place) : kNotPlanned});
+  }
   return order;
 }
 
@@ -252,9 +289,25 @@ Json FleetView::frame_json(int64_t now_ms) const {
                             {"heard_ago_ms", now_ms - c->heard_ms}};
   }
   Json robots = Json::array();
+  std::set<int> planned_tasks;  // pending tasks some robot's plan reaches
+  Json delayed = Json::array();
   for (const auto& [id, robot] : robots_) {
-    Json r = {{"id", id}, {"status", robot_status(id, now_ms)}, {"role", role_of(id)}, {"backend", robot.backend},
-              {"heard_ms", robot.heard_ms}, {"path_from", path_from(id)}, {"next_tasks", next_tasks(id)}};
+    const std::vector<Due> due = schedule(id);
+    std::vector<int> next;
+    int planned = 0;
+    for (const Due& d : due) {
+      next.push_back(d.task);
+      if (d.steps != kNotPlanned) {
+        ++planned;
+        planned_tasks.insert(d.task);
+      }
+    }
+    const std::string status = robot_status(id, now_ms);
+    if (status == "delayed") delayed.push_back(id);
+    Json r = {{"id", id}, {"status", status}, {"role", role_of(id)}, {"backend", robot.backend},
+              {"heard_ms", robot.heard_ms}, {"path_from", path_from(id)}, {"next_tasks", next},
+              {"planned_tasks", planned}, {"task_steps", due.empty() ? kNotPlanned : due.front().steps}};
+    if (robot.moving_since_ms >= 0) r["moving_ms"] = now_ms - robot.moving_since_ms;
     if (robot.state) {
       const fleet_transport::RobotState& s = *robot.state;
       r.update({{"x", s.cell_x}, {"y", s.cell_y}, {"pose_x", s.pose_x}, {"pose_y", s.pose_y}, {"theta", s.pose_theta},
@@ -265,6 +318,7 @@ Json FleetView::frame_json(int64_t now_ms) const {
   }
   frame["robots"] = std::move(robots);
   Json task_states = Json::array();
+  int in_plans = 0, in_pool = 0, unassigned_tasks = 0;
   if (c != nullptr && c->mission) {
     std::map<int, bool> bound;  // roles with a robot
     if (c->progress) {
@@ -279,10 +333,27 @@ Json FleetView::frame_json(int64_t now_ms) const {
           if (!bound.count(role)) unassigned = true;
         }
       }
-      task_states.push_back(task.cancelled ? "cancelled" : done ? "done" : unassigned ? "unassigned" : "pending");
+      // Lifelong, a pending task no plan reaches yet waits in the pool (the coordinator may still
+      // give it to another robot); a one-shot mission's next plan takes every task.
+      const bool pooled = c->mission->lifelong && !planned_tasks.count(t);
+      const char* state = task.cancelled ? "cancelled"
+                          : done         ? "done"
+                          : unassigned   ? "unassigned"
+                          : pooled       ? "pool"
+                                         : "pending";
+      task_states.push_back(state);
+      if (!task.cancelled && !done) {
+        if (unassigned) ++unassigned_tasks;
+        else if (pooled) ++in_pool;
+        else ++in_plans;
+      }
     }
   }
   frame["tasks"] = std::move(task_states);
+  const int64_t typical = typical_move_ms();
+  frame["schedule"] = {{"in_plans", in_plans}, {"pool", in_pool}, {"unassigned", unassigned_tasks},
+                       {"delayed", std::move(delayed)}, {"typical_move_ms", typical > 0 ? Json(typical) : Json()},
+                       {"late_after_ms", typical > 0 ? Json(kLateFactor * static_cast<double>(typical)) : Json()}};
   frame["progress"] = nullptr;
   frame["figures"] = nullptr;
   if (c != nullptr && c->progress) {

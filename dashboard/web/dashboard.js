@@ -26,10 +26,10 @@ const plans = document.getElementById("map-plans");
 const canvas = document.getElementById("map");
 const context = canvas.getContext("2d");
 const statusColours = {
-  moving: "#1b873f", waiting: "#e0a100", parked: "#2d5bd3", fault: "#c62828", off_plan: "#d81b60",
+  moving: "#1b873f", delayed: "#e64a19", waiting: "#e0a100", parked: "#2d5bd3", fault: "#c62828", off_plan: "#d81b60",
   lost: "#9e9e9e", left: "#9e9e9e", joining: "#607d8b",
 };
-const taskColours = { pending: "#ff9800", done: "#43a047", cancelled: "#bdbdbd", unassigned: "#e53935" };
+const taskColours = { pending: "#ff9800", pool: "#fdd835", done: "#43a047", cancelled: "#bdbdbd", unassigned: "#e53935" };
 
 function robotColour(id) {
   let hash = 0;
@@ -236,6 +236,7 @@ function renderPanels() {
     for (const cell of [name, value]) row.insertCell().textContent = cell;
     return row;
   }));
+  renderSchedule(f.schedule);
   // A fleet of thousands (a big plan shown) lists its first robots only: a table or a menu of
   // ten thousand rows helps nobody and costs the page most of a core.
   const listed = f.robots.slice(0, kRobotsListed);
@@ -265,6 +266,36 @@ function renderPanels() {
   }));
 }
 
+// Where the fleet's tasks stand, and which robots are late now.
+const kDelayedListed = 20;
+function renderSchedule(schedule) {
+  const table = document.getElementById("schedule");
+  if (!schedule) {
+    table.replaceChildren();
+    return;
+  }
+  const delayed = schedule.delayed.slice(0, kDelayedListed).join(", ") +
+                  (schedule.delayed.length > kDelayedListed ? ", …" : "");
+  const rows = [
+    ["tasks in robots' plans", String(schedule.in_plans)],
+    ["tasks waiting in the pool", String(schedule.pool)],
+    ["tasks without a robot for their role", String(schedule.unassigned)],
+    [`robots delayed now (a move over ${text(schedule.late_after_ms)} ms)`,
+     schedule.delayed.length ? `${schedule.delayed.length}: ${delayed}` : "0"],
+    ["typical move", `${text(schedule.typical_move_ms)} ms`],
+  ];
+  table.replaceChildren(...rows.map(([name, value]) => {
+    const row = document.createElement("tr");
+    for (const cell of [name, value]) row.insertCell().textContent = cell;
+    return row;
+  }));
+}
+
+function firstTaskIn(r) {
+  if (r.next_tasks.length === 0) return "–";
+  return r.task_steps >= 0 ? `${r.task_steps} steps` : "pool";
+}
+
 // One row per robot, kept from frame to frame: only the cells whose text changed are touched (a
 // table rebuilt twice a second for a hundred robots cost the page a tenth of a core).
 const robotRows = new Map();  // robot id -> [td...]
@@ -277,11 +308,12 @@ function renderRobotTable(robots) {
     if (!cells) {
       const row = body.insertRow();
       row.dataset.robot = r.id;
-      cells = [...Array(7)].map(() => row.insertCell());
+      cells = [...Array(8)].map(() => row.insertCell());
       robotRows.set(r.id, cells);
     }
     const values = [r.id, r.status, r.role >= 0 ? String(r.role) : "–", r.x === undefined ? "–" : `(${r.x},${r.y})`,
-                    r.battery >= 0 ? `${r.battery}%` : "–", String(r.next_tasks.length), r.next_tasks.slice(0, 6).join(", ")];
+                    r.battery >= 0 ? `${r.battery}%` : "–", String(r.next_tasks.length), firstTaskIn(r),
+                    r.next_tasks.slice(0, 6).join(", ")];
     values.forEach((value, i) => {
       if (cells[i].textContent !== value) cells[i].textContent = value;
     });

@@ -166,6 +166,81 @@ TEST_F(ViewTest, TheHighestRankedActiveCoordinatorIsFollowed) {
   EXPECT_EQ(view.frame_json(2000)["coordinator"]["term"], 2);
 }
 
+// The schedule of a lifelong fleet: a task its robot's plan reaches is in the plan, with the steps to
+// it; one it does not reach yet waits in the pool; a role without a robot leaves its task unassigned.
+TEST_F(ViewTest, ALifelongFleetsTasksAreInAPlanWithTheirStepsInThePoolOrUnassigned) {
+  // Lifelong, and task 3 at (0,0) for role 0 was added: robot a, already at (1,0) on its path
+  // (0,0)..(3,0), has left that cell behind.
+  view.on_mission({kCoordinator, "m", 4, 1, "....", {{3, 0}, {0, 0}},
+                   {{2, 0, {0}, false}, {3, 0, {0}, false}, {1, 0, {1}, false}, {0, 0, {0}, false}}, true},
+                  1000);
+  view.on_state(state("a", 1, 0, RobotStatus::kArrived, 1), 1000);  // at (1,0): (0,0) is behind it
+  const std::vector<FleetView::Due> due = view.schedule("a");
+  ASSERT_EQ(due.size(), 3u);
+  EXPECT_EQ(due[0].task, 0);  // (2,0): one step on from the cell it stands on
+  EXPECT_EQ(due[0].steps, 1);
+  EXPECT_EQ(due[1].task, 1);  // (3,0): two
+  EXPECT_EQ(due[1].steps, 2);
+  EXPECT_EQ(due[2].task, 3);  // (0,0): behind it, not in its plan
+  EXPECT_EQ(due[2].steps, FleetView::kNotPlanned);
+  Json frame = view.frame_json(1000);
+  EXPECT_EQ(frame["tasks"], Json({"pending", "pending", "unassigned", "pool"}));
+  EXPECT_EQ(frame["schedule"]["in_plans"], 2);
+  EXPECT_EQ(frame["schedule"]["pool"], 1);
+  EXPECT_EQ(frame["schedule"]["unassigned"], 1);
+  EXPECT_EQ(frame["robots"][0]["planned_tasks"], 2);
+  EXPECT_EQ(frame["robots"][0]["task_steps"], 1);
+  // The same tasks in a one-shot mission: the next plan takes every task, none waits in a pool.
+  view.on_mission({kCoordinator, "m", 4, 1, "....", {{3, 0}, {0, 0}},
+                   {{2, 0, {0}, false}, {3, 0, {0}, false}, {1, 0, {1}, false}, {0, 0, {0}, false}}, false},
+                  1100);
+  frame = view.frame_json(1100);
+  EXPECT_EQ(frame["tasks"][3], "pending");
+  EXPECT_EQ(frame["schedule"]["pool"], 0);
+}
+
+// A robot is delayed when its move has lasted more than kLateFactor times the fleet's typical move
+// (the median of the moves the dashboard saw, from first state moving to first state arrived);
+// never before enough moves were seen, never once it has arrived, and not a robot waiting its turn.
+TEST_F(ViewTest, ARobotMovingForLongerThanTwiceTheTypicalMoveIsDelayed) {
+  int64_t t = 1000;
+  uint64_t seq = 0;
+  auto move = [&](const std::string& id, int action, int64_t lasting_ms) {
+    view.on_state(state(id, 0, action, RobotStatus::kMoving, ++seq), t);
+    view.on_state(state(id, 0, action, RobotStatus::kMoving, ++seq), t + lasting_ms / 2);  // a state mid-move
+    t += lasting_ms;
+    view.on_state(state(id, 0, action, RobotStatus::kArrived, ++seq), t);
+  };
+  // Too few moves seen: a long move is not called delayed.
+  view.on_state(state("a", 0, 0, RobotStatus::kMoving, ++seq), t);
+  EXPECT_EQ(view.robot_status("a", t + 1500), "moving");
+  EXPECT_EQ(view.typical_move_ms(), -1);
+  view.on_state(state("a", 0, 0, RobotStatus::kArrived, ++seq), t + 200);
+  t += 200;
+  for (int k = 1; static_cast<size_t>(k) <= FleetView::kMovesForTypical; ++k) move("a", k, k % 2 ? 190 : 210);
+  EXPECT_EQ(view.typical_move_ms(), 200);
+  const int next = static_cast<int>(FleetView::kMovesForTypical) + 1;
+  view.on_state(state("a", 0, next, RobotStatus::kMoving, ++seq), t);
+  EXPECT_EQ(view.robot_status("a", t + 350), "moving");
+  EXPECT_EQ(view.robot_status("a", t + 450), "delayed");
+  Json frame = view.frame_json(t + 450);
+  EXPECT_EQ(frame["schedule"]["delayed"], Json({"a"}));
+  EXPECT_EQ(frame["schedule"]["typical_move_ms"], 200);
+  EXPECT_EQ(frame["schedule"]["late_after_ms"], 400.0);
+  EXPECT_EQ(frame["robots"][0]["moving_ms"], 450);
+  // A state of the same move mid-way does not restart its clock; arriving ends it.
+  view.on_state(state("a", 0, next, RobotStatus::kMoving, ++seq), t + 460);
+  EXPECT_EQ(view.robot_status("a", t + 470), "delayed");
+  view.on_state(state("a", 1, next, RobotStatus::kArrived, ++seq), t + 500);
+  EXPECT_EQ(view.robot_status("a", t + 1500), "parked");  // action 21 is past its 3-action plan
+  EXPECT_EQ(view.frame_json(t + 500)["schedule"]["delayed"], Json::array());
+  // A restarted process (a new incarnation) with the same command starts a move of its own.
+  fleet_transport::RobotState restarted = state("a", 1, next, RobotStatus::kMoving, 1);
+  restarted.incarnation = 6;
+  view.on_state(restarted, t + 1000);
+  EXPECT_EQ(view.robot_status("a", t + 1100), "moving");
+}
+
 struct HistoryTest : ::testing::Test {
   fs::path dir = fs::temp_directory_path() / ("ctsfleet-history-" + std::to_string(::getpid()) + "-" +
                                               ::testing::UnitTest::GetInstance()->current_test_info()->name());

@@ -480,6 +480,11 @@ class OperationsTest(unittest.TestCase):
                  "the clicked task done on the page")
         events = [e["kind"] for e in frame_now()["events"]]
         self.assertIn("task_added", events)
+        # The schedule panel: every task done, none waits; the fleet's typical move is measured.
+        schedule = lambda: browser.find_element("id", "schedule").text
+        wait_for(lambda: "tasks waiting in the pool 0" in schedule() and re.search(r"typical move \d+ ms", schedule()),
+                 30, "the schedule panel with a typical move")
+        self.assertIn("tasks in robots' plans 0", schedule())
         # A robot that dies turns "lost" on the page.
         victim = "robot5" if robot != "robot5" else "robot6"
         self.fleet.processes[victim].send_signal(signal.SIGKILL)

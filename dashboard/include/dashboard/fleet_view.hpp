@@ -26,6 +26,10 @@ using Json = nlohmann::json;
 
 class FleetView {
  public:
+  static constexpr double kLateFactor = 2.0;
+  static constexpr size_t kMovesKept = 200;
+  static constexpr size_t kMovesForTypical = 20;
+
   // A robot heard of nothing for `lost_after_s` is shown lost.
   explicit FleetView(double lost_after_s = 2.0) : lost_after_ms_(static_cast<int64_t>(lost_after_s * 1000)) {}
 
@@ -49,13 +53,26 @@ class FleetView {
   // The live picture at `now_ms` (see docs/DASHBOARD.md for the fields).
   Json frame_json(int64_t now_ms) const;
 
-  // What a robot is doing, as the page shows it: moving, waiting (on the plan's order), parked
-  // (plan done), fault, off_plan, lost, left.
+  // What a robot is doing, as the page shows it: moving, delayed (moving, for longer than
+  // kLateFactor times the fleet's typical move), waiting (on the plan's order), parked (plan done),
+  // fault, off_plan, lost, left.
   std::string robot_status(const std::string& robot_id, int64_t now_ms) const;
+  // The median of the fleet's last kMovesKept moves, from a robot's first state moving to its first
+  // state arrived (times the dashboard heard them); -1 until kMovesForTypical moves were seen.
+  int64_t typical_move_ms() const;
   // Index into the robot's plan path of the next cell it goes to (path.size() when done; -1 when it
   // is in no plan).
   int path_from(const std::string& robot_id) const;
-  // The robot's pending tasks in the order its plan visits them.
+  // A pending task of a robot's role, and how many steps ahead its plan reaches it (0: the cell it
+  // stands on or leaves); kNotPlanned when the plan does not reach it yet (lifelong: it waits in
+  // the pool, and the coordinator may still give it to another robot).
+  struct Due {
+    int task;
+    int steps;
+  };
+  static constexpr int kNotPlanned = -1;
+  // The robot's pending tasks in the order its plan visits them, those its plan does not reach last.
+  std::vector<Due> schedule(const std::string& robot_id) const;
   std::vector<int> next_tasks(const std::string& robot_id) const;
   size_t robot_count() const { return robots_.size(); }
 
@@ -66,6 +83,7 @@ class FleetView {
     std::string backend;
     std::optional<fleet_transport::GoneReason> gone;
     bool off_plan = false;
+    int64_t moving_since_ms = -1;  // heard time of the first state of the move under way, -1: none
   };
   struct Coordinator {
     fleet_transport::CoordinatorStatus status;
@@ -94,6 +112,8 @@ class FleetView {
   int mission_version_ = 0;
   int plan_version_ = 0;
   std::deque<Json> events_;  // newest last
+  std::deque<int64_t> move_ms_;  // the fleet's last moves' durations, newest last
+  mutable std::optional<int64_t> typical_move_ms_;  // their median, computed when first asked for
   int64_t events_total_ = 0;
 };
 
