@@ -46,7 +46,7 @@ fs::path write_lifelong_fleet_config(const ProcessFleetSettings& settings, const
 
 ProcessFleetRun run_fleet_of_processes(const ProcessFleetSettings& settings, const planner_core::Instance& mission,
                                        const fs::path& config_file, int domain, TaskStream& stream,
-                                       const StreamTimeline& timeline) {
+                                       const StreamTimeline& timeline, FleetTrace* trace) {
   const std::string tag = std::to_string(mission.agent_count());
   const auto with_extra = [&settings](std::vector<std::string> args) {
     args.insert(args.end(), settings.extra_options.begin(), settings.extra_options.end());
@@ -94,6 +94,16 @@ ProcessFleetRun run_fleet_of_processes(const ProcessFleetSettings& settings, con
     const std::lock_guard<std::mutex> lock(observer.mutex);
     observer.stream.answered(reply);
   };
+  if (trace != nullptr) {
+    handlers.on_state = [&observer, trace](const fleet_transport::RobotState& state) {
+      const std::lock_guard<std::mutex> lock(observer.mutex);
+      trace->heard_state(state);
+    };
+    handlers.on_fleet_event = [&observer, trace](const fleet_transport::FleetEvent& event) {
+      const std::lock_guard<std::mutex> lock(observer.mutex);
+      trace->heard_event(event);
+    };
+  }
   ProcessFleetRun run;
   StreamFigures& figures = run.figures;
   {
@@ -121,6 +131,7 @@ ProcessFleetRun run_fleet_of_processes(const ProcessFleetSettings& settings, con
       if (waitpid(coordinator, nullptr, WNOHANG) == coordinator) break;      // it ended: see its log
       if (first_plan && !counting_from && now >= *first_plan + seconds(timeline.warmup_s)) {
         counting_from = now;
+        run.counted_from_ms = fleet_transport::wall_clock_ms();
         done_at_start = done;
         steps_at_start = steps_done;
       }
@@ -128,6 +139,7 @@ ProcessFleetRun run_fleet_of_processes(const ProcessFleetSettings& settings, con
         figures.tasks_done = done - done_at_start;
         figures.robot_steps = steps_done - steps_at_start;
         figures.seconds = std::chrono::duration<double>(now - *counting_from).count();
+        run.counted_until_ms = fleet_transport::wall_clock_ms();
         break;
       }
       std::this_thread::sleep_for(std::chrono::milliseconds(20));

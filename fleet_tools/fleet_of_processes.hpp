@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "fleet_trace.hpp"
 #include "in_process_fleet.hpp"
 #include "planner_core/instance.hpp"
 #include "task_stream.hpp"
@@ -34,6 +35,8 @@ struct ProcessFleetRun {
   StreamFigures figures;
   nlohmann::json coordinator_summary;  // its --json summary
   std::string collisions;              // the safety monitor's overlaps ("-": it did not finish)
+  int64_t counted_from_ms = 0;         // the counted stretch, wall clock (0: it never began)
+  int64_t counted_until_ms = 0;
 };
 
 // Writes the fleet config such a run starts its coordinator with: lifelong, `mission_file`, a
@@ -46,8 +49,9 @@ std::filesystem::path write_lifelong_fleet_config(const ProcessFleetSettings& se
 
 // Runs `mission` (its starts are the robots') with the fleet config `config_file` (lifelong, on
 // `domain`): tasks are counted from the first plan plus timeline.warmup_s, for timeline.measure_s.
+// `trace` (optional) records the robots' states and the task events heard meanwhile.
 ProcessFleetRun run_fleet_of_processes(const ProcessFleetSettings& settings, const planner_core::Instance& mission,
                                        const std::filesystem::path& config_file, int domain, TaskStream& stream,
-                                       const StreamTimeline& timeline);
+                                       const StreamTimeline& timeline, FleetTrace* trace = nullptr);
 
 }  // namespace coordinator

@@ -13,6 +13,7 @@
 #include "fleet_of_processes.hpp"
 #include "ctsfleet/program.hpp"
 #include "planner_core/input_error.hpp"
+#include "planner_core/league_output.hpp"
 #include "planner_core/lorr_problem.hpp"
 
 namespace coordinator {
@@ -106,7 +107,7 @@ LockstepFigures run_lockstep(const LeagueScenarioSettings& settings, const fs::p
                                    "--problem", cut_problem.string(), "--ticks", std::to_string(ticks), "--tick-ms",
                                    std::to_string(tick_ms), "--plan-period-ms", std::to_string(plan_period_ms),
                                    "--delays", delays ? "on" : "off", "--scheduler", "whole-task-reassign",
-                                   "--out-dir", out_dir.string()},
+                                   "--league-output", "--out-dir", out_dir.string()},
                                   (settings.work / ("league-lockstep-" + std::to_string(robots) + ".log")).string());
   int status = 0;
   while (waitpid(bench, &status, WNOHANG) == 0) {
@@ -181,12 +182,21 @@ bool run_league_scenario(const LeagueScenarioSettings& settings, int robots, int
   for (const std::vector<planner_core::Vertex>& task : problem.tasks) task_cells.push_back(problem.graph->cell_of(task[0]));
   const int waiting = std::max(1, static_cast<int>(std::ceil(problem.tasks_revealed_per_agent * robots)));
   TaskStream stream(task_cells, waiting, 0, "league");
-  const ProcessFleetRun run = run_fleet_of_processes(fleet, mission, config_file, domain, stream, {0, settings.measure_s});
+  FleetTrace trace;
+  const ProcessFleetRun run =
+      run_fleet_of_processes(fleet, mission, config_file, domain, stream, {0, settings.measure_s}, &trace);
   if (run.figures.interrupted) return false;
   const StreamFigures& figures = run.figures;
+  // The fleet's run as the league's output file, beside the lockstep run's (league-lockstep-N/).
+  const fs::path fleet_output = settings.work / ("league-fleet-" + std::to_string(robots) + ".lorr.json");
+  const int tick_ms = std::max(1, static_cast<int>(std::lround(1000 * settings.step_s / ticks_per_action)));
+  const FleetLeagueRun fleet_run = league_log_of_fleet(trace, problem, robots, run.counted_from_ms,
+                                                       run.counted_until_ms, tick_ms, stream.list_number_of_task());
+  planner_core::LeagueRunSettings output_settings;
+  output_settings.delays = delays;
+  planner_core::write_league_output(fleet_output.string(), problem, output_settings, fleet_run.result, fleet_run.log);
 
   const int steps = static_cast<int>(std::lround(figures.seconds / settings.step_s));
-  const int tick_ms = std::max(1, static_cast<int>(std::lround(1000 * settings.step_s / ticks_per_action)));
   const LockstepFigures lockstep =
       steps > 0 ? run_lockstep(settings, cut_problem, robots, steps * ticks_per_action, tick_ms, delays) : LockstepFigures{};
   if (ctsfleet::stop_requested().load()) return false;
@@ -202,6 +212,8 @@ bool run_league_scenario(const LeagueScenarioSettings& settings, int robots, int
                    {"tasks_reassigned", figures.tasks_reassigned}, {"replans", figures.replans}}},
         {"lockstep", {{"ran", lockstep.ran}, {"ticks", steps * ticks_per_action}, {"tasks", lockstep.tasks},
                       {"delayed_share", lockstep.delayed_share}, {"faults", lockstep.faults}}},
+        {"fleet_output", {{"file", fleet_output.string()}, {"tasks", fleet_run.result.tasks_finished},
+                          {"shifted", fleet_run.shifted}, {"jumps", fleet_run.jumps}}},
         {"ratio", ratio}, {"collisions", run.collisions}, {"summary", run.coordinator_summary},
         {"logs", settings.work.string()}};
     std::printf("%s\n", row.dump().c_str());

@@ -26,13 +26,14 @@ std::vector<fleet_transport::TaskRequest> TaskStream::due(int tasks_done, Clock:
   }
   const int not_done = mission_tasks_ + accepted_ - tasks_done;
   for (int k = not_done + static_cast<int>(unanswered_.size()); k < waiting_ && !cells_.empty(); ++k) {
+    const int64_t list_number = in_order_ ? static_cast<int64_t>(next_in_order_) : -1;
     const planner_core::Cell cell = cells_[(in_order_ ? next_in_order_++ : rng_()) % cells_.size()];
     fleet_transport::TaskRequest request;
     request.request_id = id_prefix_ + "-" + std::to_string(next_id_++);
     request.action = fleet_transport::TaskAction::kAdd;
     request.x = cell.x;
     request.y = cell.y;
-    unanswered_[request.request_id] = {request, now};
+    unanswered_[request.request_id] = {request, now, std::chrono::seconds(1), list_number};
     requests.push_back(request);
   }
   return requests;
@@ -51,9 +52,11 @@ void TaskStream::answered(const fleet_transport::TaskReply& reply) {
     ++deferred_;
     return;
   }
+  const int64_t list_number = asked->second.list_number;
   unanswered_.erase(asked);
   if (reply.accepted) {
     ++accepted_;
+    if (list_number >= 0) list_number_of_task_[reply.task] = list_number;
   } else {
     ++refused_;  // e.g. a duplicate of a task still waiting at that cell
     last_refusal_ = reply.reason;

@@ -38,12 +38,16 @@ class TaskStream {
   int refused() const { return refused_; }
   int deferred() const { return deferred_; }  // refusals of a cell with a task waiting, asked again
   const std::string& last_refusal() const { return last_refusal_; }
+  // In order (the list's constructor): the fleet's id of each task accepted -> its number in the
+  // list's order (the first cell 0, the next 1, ... counting on over again after the last).
+  const std::map<int, int64_t>& list_number_of_task() const { return list_number_of_task_; }
 
  private:
   struct Asked {
     fleet_transport::TaskRequest request;
     Clock::time_point last_sent;
     Clock::duration again_after = std::chrono::seconds(1);
+    int64_t list_number = -1;  // in order: the cell's number in the list's order
   };
   std::vector<planner_core::Cell> cells_;
   bool in_order_ = false;
@@ -58,6 +62,7 @@ class TaskStream {
   int refused_ = 0;
   int deferred_ = 0;
   std::string last_refusal_;
+  std::map<int, int64_t> list_number_of_task_;
 };
 
 }  // namespace coordinator

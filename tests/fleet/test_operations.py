@@ -295,6 +295,20 @@ class OperationsTest(unittest.TestCase):
         self.assertEqual(cut["teamSize"], 4)
         robot_logs = "".join(read(os.path.join(row["logs"], f"league-robot{r}.log")) for r in range(4))
         self.assertIn("this move delayed", robot_logs, "no sim robot was delayed")
+        # Both runs as the league's output files. The fleet's, replayed on its ticks by the
+        # independent checker: no cell held by two robots at a tick, every task done with its robot
+        # on it, as many tasks as the fleet counted (give or take those done as the count ended).
+        self.assertTrue(os.path.exists(os.path.join(row["logs"], "league-lockstep-4", "league-problem-4.lorr.json")))
+        output = row["fleet_output"]
+        replay = subprocess.run(["python3", os.path.join(ROOT, "tests", "lorr_2026_replay.py"), output["file"],
+                                 cut["mapFile"]], capture_output=True, text=True, timeout=120)
+        self.assertEqual(replay.returncode, 0, replay.stdout + replay.stderr)
+        self.assertEqual(output["jumps"], 0, output)
+        self.assertLessEqual(abs(output["tasks"] - row["fleet"]["tasks_done"]), 3, row)
+        with open(output["file"]) as f:
+            written = json.load(f)
+        self.assertEqual((written["teamSize"], written["delaysOn"]), (4, True))
+        self.assertGreater(sum(path.count("F") for path in written["actualPaths"]), 0)
 
     def test_hostile_ids_and_texts_run_no_script_in_the_dashboard(self):
         # Whatever reaches the dashboard (a forged state, an event) is shown as text: a replayed
