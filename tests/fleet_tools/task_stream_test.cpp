@@ -71,3 +71,26 @@ TEST(TaskStream, AsksAgainUnderANewIdForATaskRefusedBecauseItsCellHasOneWaitingA
 }
 
 }  // namespace
+
+namespace {
+
+// The fleet's id of each task taken -> its number in the list's order, counting on after the last
+// cell; a task asked again after a duplicate refusal keeps its number.
+TEST(TaskStream, KnowsTheListNumberOfEachTaskTheFleetTook) {
+  TaskStream stream(std::vector<planner_core::Cell>{{1, 1}, {2, 2}}, 2, 0, "league");
+  const auto now = TaskStream::Clock::now();
+  const std::vector<TaskRequest> first = stream.due(0, now);
+  ASSERT_EQ(first.size(), 2u);
+  stream.answered(TaskReply{.request_id = first[0].request_id, .accepted = true, .task = 40});
+  stream.answered(TaskReply{.request_id = first[1].request_id, .accepted = false, .reason = "duplicate: task 40"});
+  const std::vector<TaskRequest> again = stream.due(0, now + std::chrono::seconds(1));
+  ASSERT_EQ(again.size(), 1u);
+  EXPECT_EQ(cells_of(again), (std::vector<planner_core::Cell>{{2, 2}}));
+  stream.answered(TaskReply{.request_id = again[0].request_id, .accepted = true, .task = 41});
+  const std::vector<TaskRequest> third = stream.due(1, now + std::chrono::seconds(1));
+  ASSERT_EQ(third.size(), 1u);
+  stream.answered(TaskReply{.request_id = third[0].request_id, .accepted = true, .task = 42});
+  EXPECT_EQ(stream.list_number_of_task(), (std::map<int, int64_t>{{40, 0}, {41, 1}, {42, 2}}));
+}
+
+}  // namespace
