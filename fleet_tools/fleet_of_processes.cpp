@@ -158,6 +158,8 @@ ProcessFleetRun run_fleet_of_processes(const ProcessFleetSettings& settings, con
   figures.deferred = stream.deferred();
   figures.windows = run.coordinator_summary.value("windows", int64_t{0});
   figures.window_ms_max = run.coordinator_summary.value("window_ms_max", 0.0);
+  figures.windows_late = run.coordinator_summary.value("windows_late", int64_t{0});
+  figures.robot_s_waiting_for_windows = run.coordinator_summary.value("robot_s_waiting_for_windows", 0.0);
   figures.tasks_reassigned = run.coordinator_summary.value("tasks_reassigned", int64_t{0});
   figures.replans = run.coordinator_summary.value("replans", 0);
   return run;

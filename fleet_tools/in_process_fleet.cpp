@@ -115,6 +115,8 @@ StreamFigures run_in_process_fleet(const FleetConfig& config, const planner_core
   figures.refused = stream.refused();
   figures.windows = summary.windows;
   figures.window_ms_max = summary.window_ms_max;
+  figures.windows_late = summary.windows_late;
+  figures.robot_s_waiting_for_windows = summary.robot_s_waiting_for_windows;
   figures.tasks_reassigned = summary.tasks_reassigned;
   figures.replans = summary.replans;
   return figures;

@@ -26,6 +26,8 @@ struct StreamFigures {
   int deferred = 0;            // refused as a duplicate of a task waiting at that cell, asked again
   int64_t windows = 0;         // lifelong windows the plan grew by
   double window_ms_max = 0;
+  int64_t windows_late = 0;    // windows some robot stood still for (FleetSummary::windows_late)
+  double robot_s_waiting_for_windows = 0;
   int64_t tasks_reassigned = 0;  // pooled tasks moved to a robot that got there sooner
   int replans = 0;
   int64_t robot_steps = 0;     // plan steps the robots carried out within the counted time, all robots'

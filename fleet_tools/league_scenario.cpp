@@ -146,8 +146,9 @@ void check_league_scenario(const LeagueScenarioSettings& settings, int robots) {
 void print_league_header(const LeagueScenarioSettings& settings) {
   if (settings.json) return;
   std::printf("| robots | delays | steps | fleet tasks | fleet tasks/min | lockstep tasks | ratio | lockstep "
-              "delayed %% | fleet actions per robot | windows | longest window (ms) | tasks moved by the pool | replans | collisions |\n"
-              "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+              "delayed %% | fleet actions per robot | windows (late) | longest window (ms) | robot time waiting for windows %% | "
+              "tasks moved by the pool | replans | collisions |\n"
+              "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
 }
 
 bool run_league_scenario(const LeagueScenarioSettings& settings, int robots, int domain) {
@@ -209,6 +210,7 @@ bool run_league_scenario(const LeagueScenarioSettings& settings, int robots, int
         {"fleet", {{"tasks_done", figures.tasks_done}, {"seconds", figures.seconds},
                    {"tasks_per_minute", figures.tasks_per_minute}, {"accepted", figures.accepted},
                    {"refused", figures.refused}, {"deferred", figures.deferred}, {"robot_actions", figures.robot_steps}, {"windows", figures.windows}, {"window_ms_max", figures.window_ms_max},
+                   {"windows_late", figures.windows_late}, {"robot_s_waiting_for_windows", figures.robot_s_waiting_for_windows},
                    {"tasks_reassigned", figures.tasks_reassigned}, {"replans", figures.replans}}},
         {"lockstep", {{"ran", lockstep.ran}, {"ticks", steps * ticks_per_action}, {"tasks", lockstep.tasks},
                       {"delayed_share", lockstep.delayed_share}, {"faults", lockstep.faults}}},
@@ -219,10 +221,13 @@ bool run_league_scenario(const LeagueScenarioSettings& settings, int robots, int
     std::printf("%s\n", row.dump().c_str());
   } else {
     const std::string lockstep_tasks = lockstep.ran ? std::to_string(lockstep.tasks) : "failed (see its log)";
-    std::printf("| %d | %s | %d | %d | %.1f | %s | %.3f | %.1f | %.1f | %lld | %.1f | %lld | %d | %s |\n", robots,
-                delay_name.c_str(), steps, figures.tasks_done, figures.tasks_per_minute, lockstep_tasks.c_str(), ratio,
-                100 * lockstep.delayed_share, static_cast<double>(figures.robot_steps) / robots,
-                static_cast<long long>(figures.windows), figures.window_ms_max,
+    const double waiting_share =
+        figures.seconds > 0 ? figures.robot_s_waiting_for_windows / (robots * figures.seconds) : 0;
+    std::printf("| %d | %s | %d | %d | %.1f | %s | %.3f | %.1f | %.1f | %lld (%lld) | %.1f | %.1f | %lld | %d | %s |\n",
+                robots, delay_name.c_str(), steps, figures.tasks_done, figures.tasks_per_minute, lockstep_tasks.c_str(),
+                ratio, 100 * lockstep.delayed_share, static_cast<double>(figures.robot_steps) / robots,
+                static_cast<long long>(figures.windows), static_cast<long long>(figures.windows_late),
+                figures.window_ms_max, 100 * waiting_share,
                 static_cast<long long>(figures.tasks_reassigned), figures.replans, run.collisions.c_str());
   }
   std::fflush(stdout);

@@ -49,7 +49,8 @@ bool run_task_stream(const TaskStreamSettings& settings, int robots, int domain)
     const auto figures = [](const StreamFigures& f) {
       return nlohmann::json{{"tasks_done", f.tasks_done}, {"seconds", f.seconds}, {"tasks_per_minute", f.tasks_per_minute},
                             {"accepted", f.accepted}, {"refused", f.refused}, {"windows", f.windows},
-                            {"window_ms_max", f.window_ms_max}, {"tasks_reassigned", f.tasks_reassigned},
+                            {"window_ms_max", f.window_ms_max}, {"windows_late", f.windows_late},
+                            {"robot_s_waiting_for_windows", f.robot_s_waiting_for_windows}, {"tasks_reassigned", f.tasks_reassigned},
                             {"replans", f.replans}};
     };
     const nlohmann::json row = {{"robots", robots}, {"scenario", "task-stream"}, {"step_s", settings.step_s},

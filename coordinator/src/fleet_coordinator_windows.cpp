@@ -119,8 +119,13 @@ void FleetCoordinator::take_window(fleet_transport::Transport& transport, const 
   // there again (else such a task was taken as planned and never done: the plan ran out with it).
   credit_visits_at_rest();
   int64_t moves_before = 0;
-  for (int a = 0; a < plan_->agent_count(); ++a) moves_before += plan_->move_count(a);
+  std::vector<int> out_of_moves;  // robots with tasks that had made every move
+  for (int a = 0; a < plan_->agent_count(); ++a) {
+    moves_before += plan_->move_count(a);
+    if (plan_->done(a) && !outcome.job.agents[a].errands.empty()) out_of_moves.push_back(a);
+  }
   plan_->extend(window.steps, window.headings);
+  note_waits_for_window(out_of_moves);
   mark_planned_visits(window.steps);
   int64_t moves_after = 0;
   for (int a = 0; a < plan_->agent_count(); ++a) moves_after += plan_->move_count(a);
@@ -245,6 +250,20 @@ void FleetCoordinator::mark_planned_visits(const planner_core::Solution& steps) 
       }
     }
   }
+}
+
+void FleetCoordinator::note_waits_for_window(const std::vector<int>& out_of_moves) {
+  // Those whose next move may go at once stood still only for want of this window.
+  const Clock::time_point now = Clock::now();
+  bool late = false;
+  for (const int a : out_of_moves) {
+    if (!plan_->ready_to_move(a)) continue;  // it waits on another robot's move: the plan's order
+    const double waited_ms = std::chrono::duration<double, std::milli>(now - plan_->agent(a).finished_at).count();
+    summary_.robot_s_waiting_for_windows += waited_ms / 1000;
+    summary_.wait_for_window_ms_max = std::max(summary_.wait_for_window_ms_max, waited_ms);
+    late = true;
+  }
+  if (late) ++summary_.windows_late;
 }
 
 void FleetCoordinator::note_window(const PlanWindow& window, double planning_ms) {

@@ -9,7 +9,11 @@ PlanExecution::PlanExecution(int epoch, std::shared_ptr<const planner_core::Grap
                              const planner_core::HeadingPlan& headings)
     : epoch_(epoch), coordinator_(coordinator), graph_(std::move(graph)), adg_(plan, headings), starts_(plan.empty() ? planner_core::Config{} : plan[0]) {
   agents_.resize(robots.size());
-  for (size_t a = 0; a < robots.size(); ++a) agents_[a].robot_id = std::move(robots[a]);
+  const Clock::time_point now = Clock::now();
+  for (size_t a = 0; a < robots.size(); ++a) {
+    agents_[a].robot_id = std::move(robots[a]);
+    agents_[a].finished_at = now;
+  }
 }
 
 int PlanExecution::agent_of(const std::string& robot_id) const {
@@ -51,6 +55,7 @@ std::optional<planner_core::Cell> PlanExecution::confirm(int a, const fleet_tran
     return std::nullopt;
   }
   agent.finished = agent.sent + 1;  // with the turns folded into it, if any
+  agent.finished_at = Clock::now();
   adg_.forget_before(a, agent.finished - 1);  // the last one confirmed is where the agent stands
   return cell;
 }

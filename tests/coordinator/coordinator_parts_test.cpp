@@ -284,7 +284,9 @@ TEST(PlanExecution, SendsWhenReadyResendsWhenSilentAndConfirmsOnTheTarget) {
   PlanExecution execution(3, graph, plan, {"front", "back"}, 77);
   const auto t0 = PlanExecution::Clock::now();
   EXPECT_EQ(execution.agent_of("back"), 1);
-  EXPECT_FALSE(execution.due_command(1, t0, 1.0, 0).has_value());  // waits on the ADG
+  EXPECT_TRUE(execution.ready_to_move(0));
+  EXPECT_FALSE(execution.ready_to_move(1));  // waits on the ADG
+  EXPECT_FALSE(execution.due_command(1, t0, 1.0, 0).has_value());
   const auto first = execution.due_command(0, t0, 1.0, 99);
   ASSERT_TRUE(first.has_value());
   EXPECT_EQ(first->robot_id, "front");
@@ -294,6 +296,7 @@ TEST(PlanExecution, SendsWhenReadyResendsWhenSilentAndConfirmsOnTheTarget) {
   EXPECT_EQ(first->deadline_ms, 99);
   EXPECT_EQ(first->coordinator, 77u);
   EXPECT_TRUE(execution.in_flight(0));
+  EXPECT_FALSE(execution.ready_to_move(0));  // its move is under way
   EXPECT_FALSE(execution.due_command(0, t0 + std::chrono::milliseconds(500), 1.0, 0).has_value());
   EXPECT_TRUE(execution.due_command(0, t0 + std::chrono::seconds(2), 1.0, 0).has_value());  // resent
 
@@ -316,10 +319,15 @@ TEST(PlanExecution, SendsWhenReadyResendsWhenSilentAndConfirmsOnTheTarget) {
   state.coordinator = 78;
   EXPECT_FALSE(execution.confirm(0, state).has_value());          // another coordinator's epoch 3
   state.coordinator = 77;
+  const auto before_confirming = PlanExecution::Clock::now();
   const auto reached = execution.confirm(0, state);
   ASSERT_TRUE(reached.has_value());
   EXPECT_EQ(*reached, (Cell{2, 0}));
   EXPECT_TRUE(execution.done(0));
+  EXPECT_FALSE(execution.ready_to_move(0));  // no move left
+  EXPECT_GE(execution.agent(0).finished_at, before_confirming);  // from when it has stood with nothing to do
+  EXPECT_LT(execution.agent(1).finished_at, before_confirming);  // the plan's start
+  EXPECT_TRUE(execution.ready_to_move(1));
   EXPECT_TRUE(execution.due_command(1, t0, 1.0, 0).has_value());  // now back may move
 }
 

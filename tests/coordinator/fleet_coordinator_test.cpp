@@ -837,6 +837,11 @@ TEST(FleetCoordinator, ALifelongStreamOfTasksIsTakenUpByThePlanAsItGrowsWithoutS
   EXPECT_EQ(summary.tasks_done, summary.tasks_total);
   EXPECT_EQ(summary.replans, 0);   // no task stopped the fleet to replan
   EXPECT_GT(summary.windows, 10);  // the plan grew instead
+  // Robots that stood still for want of a window: counted once per window, each wait bounded by it.
+  EXPECT_LE(summary.windows_late, summary.windows);
+  EXPECT_GE(summary.robot_s_waiting_for_windows, 0);
+  EXPECT_LE(summary.robot_s_waiting_for_windows,
+            static_cast<double>(summary.windows_late) * 8 * summary.wait_for_window_ms_max / 1000 + 1e-9);
   expect_only_steps(visited);
 }
 

@@ -79,6 +79,12 @@ struct MissionSummary {
   int64_t steps_of_replaced_plans = 0;     // moves confirmed under plans replaced since
   int64_t windows = 0;                     // lifelong: windows the plans in hand grew by
   double window_ms_max = 0;                // lifelong: the longest time to plan one
+  // Lifelong: robots that stood still for want of a window. A robot with tasks that had made every
+  // move of the plan, whose next move (in the window appended) the ADG let go at once: it waited
+  // from its last move's confirmation to the window. Windows with at least one such robot are late.
+  int64_t windows_late = 0;
+  double robot_s_waiting_for_windows = 0;
+  double wait_for_window_ms_max = 0;
   int64_t tasks_reassigned = 0;            // lifelong: pooled tasks moved to a robot that got there sooner
 };
 
@@ -261,6 +267,7 @@ class FleetCoordinator {
   bool rebalance_pool_tasks(const std::vector<WindowAgent>& agents);
   planner_core::DistTable& task_distances();
   void note_window(const PlanWindow& window, double planning_ms);
+  void note_waits_for_window(const std::vector<int>& out_of_moves);
   void mark_planned_visits(const planner_core::Solution& steps);
   bool grows_by_windows(const std::string& robot_id) const;
   void update_progress();

@@ -29,6 +29,7 @@ class PlanExecution {
     Clock::time_point sent_at;       // when that move was last (re)sent
     Clock::time_point first_sent_at; // when it was first sent, for the round trip
     bool acknowledged = false;       // the robot reported that move (round trip measured)
+    Clock::time_point finished_at;   // when its last move was confirmed (the plan's start before one)
   };
 
   // `robots[a]` carries plan agent a of `plan` (on `graph`, the plan's own map). Commands carry
@@ -53,6 +54,8 @@ class PlanExecution {
   bool done(int a) const { return agents_[a].finished >= move_count(a); }
   // A move of agent a was sent and not yet confirmed.
   bool in_flight(int a) const { return !done(a) && agents_[a].sent >= agents_[a].finished; }
+  // Agent a has no move in flight and the ADG lets its next one go now.
+  bool ready_to_move(int a) const { return !done(a) && !in_flight(a) && move_to_send(a) >= 0; }
   // A move in flight that the robot has not reported yet (not even as started).
   bool unacknowledged(int a) const { return in_flight(a) && !agents_[a].acknowledged; }
   // Where the plan has agent a now: its start, or the end of its last confirmed move.
