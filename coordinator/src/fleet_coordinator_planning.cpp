@@ -140,6 +140,7 @@ bool FleetCoordinator::finish_planning(PlanningOutcome outcome, fleet_transport:
 }
 
 void FleetCoordinator::take_plan(const PlanningOutcome& outcome) {
+  plan_grew_at_ = Clock::now();
   const PlanInstance& built = outcome.built;
   const planner_core::Instance& instance = built.instance;
   for (auto& [id, robot] : robots_) robot.plan_agent = -1;

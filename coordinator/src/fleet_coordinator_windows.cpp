@@ -8,10 +8,13 @@
 //   plan in hand:  [ first plan (CTS solver) | window | window | ... ]
 //                                                    ^ robots carry it out here (ADG)
 //   a window is planned once a robot still moving is within kLeadSteps of the plan's end, or one
-//   that has made every move has tasks to go to or is not parked; unless the slowest robot has
-//   kMaxLeadSteps of windows still ahead of it (windows never pile up far ahead of the fleet; the
-//   first plan's own length does not count). It is planned off the loop (WindowWorker) and
-//   appended once it comes back, if the plan still ends where it started.
+//   that has made every move has tasks to go to or is not parked; unless the laggard (the robot a
+//   quarter of the fleet is behind) has kMaxLeadSteps of windows still ahead of it (the first
+//   plan's own length does not count). Windows far ahead of the fleet order fast robots behind
+//   slow ones at the cells they share (the ADG orders moves at a cell by plan time); gating on the
+//   slowest robot instead stalls the whole fleet behind one robot delayed for long. It is planned
+//   off the loop (WindowWorker) and appended once it comes back, if the plan still ends where it
+//   started.
 //
 // Windows are PIBT, which can lock (two robots head-on in a dead end); a robot that comes no
 // nearer where it heads for WindowPlanner::kStalledSteps planned steps brings a whole replan,
@@ -34,7 +37,8 @@ namespace {
 
 constexpr int kWindowSteps = 5;      // steps a window adds at most
 constexpr int kLeadSteps = 5;        // a window once a robot still moving is this close to the end
-constexpr int kMaxLeadSteps = 40;    // ... unless the slowest robot has this many window steps ahead
+constexpr int kMaxLeadSteps = 10;    // ... unless the laggard has this many window steps ahead:
+constexpr double kLaggardShare = 0.25;  // the robot a quarter of the fleet is behind (docs/RESULTS.md)
 constexpr double kWindowBudgetS = 0.25;
 constexpr std::chrono::milliseconds kCheckPeriod{20};  // between two looks at whether a window is due
 
@@ -55,15 +59,19 @@ void FleetCoordinator::extend_plan(fleet_transport::Transport& transport) {
   if (now < next_window_check_ && !plan_finished()) return;
   next_window_check_ = now + kCheckPeriod;
   const int end = plan_->plan_steps();
-  int slowest = end;
+  std::vector<int> carried_out;
   bool near_the_end = false;
   for (int a = 0; a < plan_->agent_count(); ++a) {
     const RobotRecord* robot = robot_of_agent(a);
     if (robot == nullptr || !robot->active) return;  // a replan is due: its robot cannot be moved
-    slowest = std::min(slowest, plan_->carried_out_until(a));
+    carried_out.push_back(plan_->carried_out_until(a));
     near_the_end = near_the_end || (!plan_->done(a) && end - plan_->carried_out_until(a) <= kLeadSteps);
   }
-  if (end - std::max(slowest, first_plan_steps_) > kMaxLeadSteps) return;
+  // The plan keeps at most kMaxLeadSteps ahead of the robot a quarter of the fleet is behind.
+  const auto laggard = carried_out.begin() +
+                       static_cast<std::ptrdiff_t>(kLaggardShare * static_cast<double>(carried_out.size() - 1));
+  std::nth_element(carried_out.begin(), laggard, carried_out.end());
+  if (end - std::max(*laggard, first_plan_steps_) > kMaxLeadSteps) return;
   credit_visits_at_rest();
   std::vector<WindowAgent> agents = window_agents();
   if (rebalance_pool_tasks(agents)) agents = window_agents();  // tasks moved: errands changed
@@ -258,12 +266,14 @@ void FleetCoordinator::note_waits_for_window(const std::vector<int>& out_of_move
   bool late = false;
   for (const int a : out_of_moves) {
     if (!plan_->ready_to_move(a)) continue;  // it waits on another robot's move: the plan's order
-    const double waited_ms = std::chrono::duration<double, std::milli>(now - plan_->agent(a).finished_at).count();
+    const Clock::time_point since = std::max(plan_->agent(a).finished_at, plan_grew_at_);
+    const double waited_ms = std::chrono::duration<double, std::milli>(now - since).count();
     summary_.robot_s_waiting_for_windows += waited_ms / 1000;
     summary_.wait_for_window_ms_max = std::max(summary_.wait_for_window_ms_max, waited_ms);
     late = true;
   }
   if (late) ++summary_.windows_late;
+  plan_grew_at_ = now;
 }
 
 void FleetCoordinator::note_window(const PlanWindow& window, double planning_ms) {

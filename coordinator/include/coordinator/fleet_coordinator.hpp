@@ -81,7 +81,8 @@ struct MissionSummary {
   double window_ms_max = 0;                // lifelong: the longest time to plan one
   // Lifelong: robots that stood still for want of a window. A robot with tasks that had made every
   // move of the plan, whose next move (in the window appended) the ADG let go at once: it waited
-  // from its last move's confirmation to the window. Windows with at least one such robot are late.
+  // from its last move's confirmation, or the plan's last growth if later (before, the plan had no
+  // move for it: PIBT's choice), to the window. Windows with at least one such robot are late.
   int64_t windows_late = 0;
   double robot_s_waiting_for_windows = 0;
   double wait_for_window_ms_max = 0;
@@ -347,6 +348,7 @@ class FleetCoordinator {
   std::unique_ptr<planner_core::DistTable> task_distances_;
   int first_plan_steps_ = 0;                         // the plan in hand's length before any window
   Clock::time_point next_window_check_{};            // when extend_plan next looks whether a window is due
+  Clock::time_point plan_grew_at_{};                 // when the plan in hand was taken or last grew
   PlanningWorker planning_;              // makes the next plan on a thread of its own
   PlanUnderWay plan_under_way_;
   PlanRetry plan_retry_;
