@@ -1,6 +1,7 @@
 #include "fleet_trace.hpp"
 
 #include <algorithm>
+#include <limits>
 #include <set>
 
 #include "planner_core/action_model.hpp"
@@ -21,6 +22,8 @@ void FleetTrace::heard_state(const fleet_transport::RobotState& state) {
 
 void FleetTrace::heard_event(const fleet_transport::FleetEvent& event) {
   if (event.kind != "task_added" && event.kind != "task_reassigned" && event.kind != "task_done") return;
+  // The task id comes as a double off the wire: one that is no task id (NaN, past int) is dropped.
+  if (!(event.value >= 0 && event.value <= std::numeric_limits<int>::max())) return;
   task_events_.push_back({event.stamp_ms, event.kind, event.robot_id, static_cast<int>(event.value)});
 }
 
@@ -101,7 +104,6 @@ FleetLeagueRun league_log_of_fleet(const FleetTrace& trace, const planner_core::
   planner_core::LeagueLog& log = run.log;
   log.starts.assign(problem.starts.begin(), problem.starts.begin() + robots);
   log.start_headings.assign(static_cast<size_t>(robots), 0);
-  log.actual.assign(static_cast<size_t>(robots), std::string(static_cast<size_t>(ticks), 'W'));
   log.delay_intervals.resize(static_cast<size_t>(robots));
   log.schedule.resize(static_cast<size_t>(robots));
   int longest = ticks;
@@ -173,10 +175,9 @@ FleetLeagueRun league_log_of_fleet(const FleetTrace& trace, const planner_core::
       }
     }
   }
-  for (int r = 0; r < robots; ++r) {
-    std::string& letters = of_robot[static_cast<size_t>(r)].letters;
-    letters.resize(static_cast<size_t>(longest), 'W');
-    log.actual[static_cast<size_t>(r)] = std::move(letters);
+  for (Letters& letters : of_robot) {
+    letters.letters.resize(static_cast<size_t>(longest), 'W');
+    log.actual.push_back(std::move(letters.letters));
   }
   // The output's makespan is the actions' length; an event may fall on the tick just after.
   run.result.tasks_per_tick.assign(static_cast<size_t>(longest), 0);

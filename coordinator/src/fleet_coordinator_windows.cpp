@@ -134,6 +134,7 @@ void FleetCoordinator::take_window(fleet_transport::Transport& transport, const 
   }
   plan_->extend(window.steps, window.headings);
   note_waits_for_window(out_of_moves);
+  plan_grew_at_ = Clock::now();
   mark_planned_visits(window.steps);
   int64_t moves_after = 0;
   for (int a = 0; a < plan_->agent_count(); ++a) moves_after += plan_->move_count(a);
@@ -273,7 +274,6 @@ void FleetCoordinator::note_waits_for_window(const std::vector<int>& out_of_move
     late = true;
   }
   if (late) ++summary_.windows_late;
-  plan_grew_at_ = now;
 }
 
 void FleetCoordinator::note_window(const PlanWindow& window, double planning_ms) {

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <memory>
 
 namespace {
@@ -49,6 +50,8 @@ TEST_F(FleetTraceTest, ARunBecomesTheLeaguesActionsPerTickWithEachTaskDoneTheTic
   event("task_added", 11, 1010);
   event("task_done", 11, 1262);                          // robot0 arrived at (1,0) on tick 1
   event("task_added", 99, 1300);                         // not one of the problem's
+  trace.heard_event({1, 1300, "task_done", "robot0", "", std::nan("")});  // no task id: dropped
+  trace.heard_event({1, 1300, "task_done", "robot0", "", 1e300});
   event("task_done", 10, 2060);                          // ... at (3,0) on tick 5
   event("task_done", 10, 2500);                          // after the end: left out
   const coordinator::FleetLeagueRun run =
@@ -58,6 +61,7 @@ TEST_F(FleetTraceTest, ARunBecomesTheLeaguesActionsPerTickWithEachTaskDoneTheTic
   EXPECT_EQ(run.shifted, 1);
   EXPECT_EQ(run.jumps, 0);
   EXPECT_TRUE(run.log.errors.empty());
+  EXPECT_EQ(trace.task_events().size(), 6u);  // the two without a task id dropped as heard
   ASSERT_EQ(run.log.events.size(), 2u);
   EXPECT_EQ((std::vector<int>{run.log.events[0].tick, run.log.events[1].tick}), (std::vector<int>{2, 6}));
   EXPECT_EQ((std::vector<int64_t>{run.log.events[0].task, run.log.events[1].task}), (std::vector<int64_t>{1, 0}));
