@@ -163,11 +163,9 @@ void FleetCoordinator::take_plan(const PlanningOutcome& outcome) {
   plan_ = std::make_unique<PlanExecution>(epoch_, instance.graph, outcome.result.solution, built.robots,
                                           identity_.incarnation, outcome.result.headings);
   for (int a = 0; a < plan_->agent_count(); ++a) summary_.steps_planned += plan_->move_count(a);
+  agents_out_.clear();
   if (config_.lifelong) {  // the plan will grow by windows, which take up what it does not do
-    windows_.reset();  // a window under way for the plan replaced is cut short
-    windows_ = std::make_unique<WindowWorker>(std::make_unique<WindowPlanner>(
-        instance.graph, static_cast<uint32_t>(config_.seed) + static_cast<uint32_t>(epoch_), instance.actions,
-        window_settings(config_.lifelong_planner, *instance.graph, instance.agent_count(), instance.actions)));
+    restart_window_planner();  // a window under way for the plan replaced is cut short
     planned_visits_.clear();
     first_plan_steps_ = plan_->plan_steps();
     plan_retry_.complete_solver = false;

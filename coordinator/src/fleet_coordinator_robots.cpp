@@ -69,7 +69,7 @@ void FleetCoordinator::lose(RobotRecord& robot, const std::string& why, const ch
     unbind_role(robot.role);
     robot.role = -1;
   }
-  if (robot.plan_agent >= 0) request_replan("robot " + robot.id + " lost");
+  if (robot.plan_agent >= 0 && !plan_around(robot, kind)) request_replan("robot " + robot.id + " lost");
 }
 
 // A robot whose states arrive but that has not acknowledged its move for timing.command_timeout_s
@@ -239,6 +239,7 @@ bool FleetCoordinator::took_out_off_plan(RobotRecord& robot, const fleet_transpo
 }
 
 void FleetCoordinator::rejoin(RobotRecord& robot, Vertex cell) {
+  if (take_back(robot, {robot.last.cell_x, robot.last.cell_y})) return;
   robot.active = true;
   // The current plan was made without it (or with it elsewhere): its reports are not checked
   // against that plan, nor is it commanded by it, until the replan places it.

@@ -16,6 +16,14 @@
 //   off the loop (WindowWorker) and appended once it comes back, if the plan still ends where it
 //   started.
 //
+// A robot lost mid-plan (silent, restarted, in fault, deaf to its commands) where the plan has it
+// does not stop the others: the plan is cut around it (the moves that would wait on it for ever
+// go, PlanExecution::cut_around) and windows go on from where the rest of the plan ends, with the
+// robot held where it stands and its cells (its own, and its move's target if one was in flight)
+// walled in the window planner's map. Its role's tasks in the pool go to others at the next window.
+// Back on one of those cells, it takes its place in the plan again (take_back); anywhere else, or
+// off its plan, it brings a whole replan.
+//
 // Windows are PIBT, which can lock (two robots head-on in a dead end); a robot that comes no
 // nearer where it heads for WindowPlanner::kStalledSteps planned steps brings a whole replan,
 // whose solver is complete.
@@ -23,6 +31,7 @@
 
 #include <algorithm>
 #include <optional>
+#include <string_view>
 
 #include "coordinator/fleet_coordinator.hpp"
 #include "planner_core/validator.hpp"
@@ -62,11 +71,13 @@ void FleetCoordinator::extend_plan(fleet_transport::Transport& transport) {
   std::vector<int> carried_out;
   bool near_the_end = false;
   for (int a = 0; a < plan_->agent_count(); ++a) {
+    if (agents_out_.count(a)) continue;  // held where it is
     const RobotRecord* robot = robot_of_agent(a);
     if (robot == nullptr || !robot->active) return;  // a replan is due: its robot cannot be moved
     carried_out.push_back(plan_->carried_out_until(a));
     near_the_end = near_the_end || (!plan_->done(a) && end - plan_->carried_out_until(a) <= kLeadSteps);
   }
+  if (carried_out.empty()) return;  // every robot is out
   // The plan keeps at most kMaxLeadSteps ahead of the robot a quarter of the fleet is behind.
   const auto laggard = carried_out.begin() +
                        static_cast<std::ptrdiff_t>(kLaggardShare * static_cast<double>(carried_out.size() - 1));
@@ -78,7 +89,7 @@ void FleetCoordinator::extend_plan(fleet_transport::Transport& transport) {
   // Or a robot has made every move and has tasks to go to, or is not parked yet.
   const planner_core::Config& last = plan_->last_configuration();
   for (int a = 0; a < plan_->agent_count() && !near_the_end; ++a) {
-    near_the_end = plan_->done(a) && (!agents[a].errands.empty() || last[a] != agents[a].park);
+    near_the_end = !agents[a].held && plan_->done(a) && (!agents[a].errands.empty() || last[a] != agents[a].park);
   }
   if (!near_the_end) return;
   windows_->start({plan_->epoch(), end, {last, plan_->last_headings()}, std::move(agents), kWindowSteps, kWindowBudgetS});
@@ -91,7 +102,7 @@ void FleetCoordinator::take_window(fleet_transport::Transport& transport, const 
   if (outcome.job.epoch != plan_->epoch() || outcome.job.plan_steps != plan_->plan_steps()) return;
   for (int a = 0; a < plan_->agent_count(); ++a) {
     const RobotRecord* robot = robot_of_agent(a);
-    if (robot == nullptr || !robot->active) return;
+    if (!agents_out_.count(a) && (robot == nullptr || !robot->active)) return;
   }
   const PlanWindow& window = outcome.window;
   if (!outcome.error.empty()) {
@@ -143,12 +154,83 @@ void FleetCoordinator::take_window(fleet_transport::Transport& transport, const 
   publish_plan(transport, 0, outcome.planning_ms);
 }
 
+int FleetCoordinator::role_of_agent(int a) const {
+  const RobotRecord* robot = robot_of_agent(a);
+  return robot == nullptr || agents_out_.count(a) ? -1 : robot->role;
+}
+
+bool FleetCoordinator::plan_around(const RobotRecord& robot, const char* kind) {
+  const int a = robot.plan_agent;
+  if (!config_.lifelong || phase_ != Phase::kExecuting || !plan_ || !windows_ || a < 0 || a >= plan_->agent_count() ||
+      plan_->agent(a).robot_id != robot.id || agents_out_.count(a)) {
+    return false;
+  }
+  // Its cells must be the plan's: a robot found elsewhere may stand in anyone's way.
+  if (robot.has_state && !plan_->allows(a, {robot.last.cell_x, robot.last.cell_y})) return false;
+  int64_t dropped = 0;
+  try {
+    dropped = plan_->cut_around(a);
+  } catch (const std::logic_error& e) {
+    spdlog::critical("{}; replanning whole instead", e.what());
+    return false;
+  }
+  agents_out_[a] = std::string_view(kind) != "fault";
+  // Visits the dropped moves made are not planned any more; those of moves kept still are.
+  planned_visits_.clear();
+  for (int other = 0; other < plan_->agent_count(); ++other) {
+    const int role = role_of_agent(other);
+    if (role < 0) continue;
+    for (int index = plan_->agent(other).finished; index < plan_->move_count(other); ++index) {
+      const planner_core::Cell cell = plan_->target(other, index);
+      mark_planned_visit(role, mission_vertex(cell.x, cell.y));
+    }
+  }
+  restart_window_planner();
+  ++summary_.robots_planned_around;
+  summary_.moves_cut += dropped;
+  spdlog::info("lifelong: the plan goes on around robot {} ({} moves that waited on it dropped; its cells kept clear)",
+               robot.id, dropped);
+  return true;
+}
+
+bool FleetCoordinator::take_back(RobotRecord& robot, planner_core::Cell cell) {
+  if (!plan_ || phase_ != Phase::kExecuting) return false;
+  const int a = plan_->agent_of(robot.id);
+  if (a < 0 || !agents_out_.count(a) || !agents_out_[a] || robot.plan_agent != a || !plan_->take_back(a, cell)) return false;
+  robot.active = true;
+  agents_out_.erase(a);
+  std::erase_if(blocked_, [&](const auto& entry) { return entry.second == robot.id; });
+  ++summary_.robots_joined;
+  ++summary_.robots_taken_back;
+  bind_roles({&robot});
+  report("join", robot.id, "back on the grid at " + planner_core::to_string(cell) + ", where the plan left it");
+  spdlog::info("lifelong: robot {} is back at {}, where the plan left it: it goes on with the plan", robot.id,
+               planner_core::to_string(cell));
+  restart_window_planner();
+  return true;
+}
+
+void FleetCoordinator::restart_window_planner() {
+  const std::shared_ptr<const planner_core::Graph>& graph = plan_->graph();
+  std::set<Vertex> walls;
+  for (const auto& [a, may_take_back] : agents_out_) {
+    walls.insert(graph->vertex_at(plan_->position(a)));
+    if (plan_->in_flight(a)) walls.insert(graph->vertex_at(plan_->target(a, plan_->agent(a).sent)));
+  }
+  walls.erase(planner_core::kNoVertex);
+  const auto map = walls.empty() ? graph : std::make_shared<const planner_core::Graph>(graph->with_walls(walls));
+  windows_.reset();  // a window under way is cut short
+  windows_ = std::make_unique<WindowWorker>(std::make_unique<WindowPlanner>(
+      map, static_cast<uint32_t>(config_.seed) + static_cast<uint32_t>(epoch_), mission_.actions,
+      window_settings(config_.lifelong_planner, *map, static_cast<size_t>(plan_->agent_count()), mission_.actions)));
+}
+
 void FleetCoordinator::credit_visits_at_rest() {
   // A robot that ended its moves on the cell of a task added since: that is its visit.
   for (int a = 0; a < plan_->agent_count(); ++a) {
-    const RobotRecord& robot = *robot_of_agent(a);
-    if (robot.role >= 0 && plan_->done(a)) {
-      credit_visits(robot.role, mission_vertex(robot.last.cell_x, robot.last.cell_y), robot.id);
+    const RobotRecord* robot = robot_of_agent(a);
+    if (robot != nullptr && robot->active && robot->role >= 0 && plan_->done(a)) {
+      credit_visits(robot->role, mission_vertex(robot->last.cell_x, robot->last.cell_y), robot->id);
     }
   }
 }
@@ -173,7 +255,7 @@ bool FleetCoordinator::rebalance_pool_tasks(const std::vector<WindowAgent>& agen
   std::vector<int> role_of_robot;
   std::map<int, int> robot_of_role;
   for (int a = 0; a < plan_->agent_count(); ++a) {
-    const int role = robot_of_agent(a)->role;
+    const int role = role_of_agent(a);
     if (role < 0) continue;
     PoolRobot robot;
     const planner_core::Cell end = graph.cell_of(last[a]);
@@ -226,8 +308,9 @@ std::vector<WindowAgent> FleetCoordinator::window_agents() const {
   std::vector<WindowAgent> agents(plan_->agent_count());
   for (int a = 0; a < plan_->agent_count(); ++a) {
     agents[a].park = last[a];
-    const int role = robot_of_agent(a)->role;
-    if (role < 0) continue;  // an extra robot stays where it is
+    agents[a].held = agents_out_.count(a) > 0;
+    const int role = role_of_agent(a);
+    if (role < 0 || agents[a].held) continue;  // an extra robot stays where it is
     const Vertex goal = graph.vertex_at(mission_.graph->cell_of(mission_.goals[role]));
     if (goal != planner_core::kNoVertex) agents[a].park = goal;
     for (int t : mission_.tasks_of_agent[role]) {
@@ -246,17 +329,20 @@ void FleetCoordinator::mark_planned_visits(const planner_core::Solution& steps) 
   // A robot reaching a cell under the plan makes every visit its role owes there (credit_visits).
   const planner_core::Graph& graph = *plan_->graph();
   for (int a = 0; a < plan_->agent_count(); ++a) {
-    const int role = robot_of_agent(a)->role;
+    const int role = role_of_agent(a);
     if (role < 0) continue;
     for (const planner_core::Config& configuration : steps) {
       const planner_core::Cell cell = graph.cell_of(configuration[a]);
-      const Vertex at = mission_vertex(cell.x, cell.y);
-      for (int t : mission_.tasks_of_agent[role]) {
-        const std::vector<int>& roles = mission_.tasks[t].agents;
-        for (size_t k = 0; k < roles.size(); ++k) {
-          if (roles[k] == role && mission_.tasks[t].at == at && !progress_.visited(t, k)) planned_visits_.insert({t, k});
-        }
-      }
+      mark_planned_visit(role, mission_vertex(cell.x, cell.y));
+    }
+  }
+}
+
+void FleetCoordinator::mark_planned_visit(int role, Vertex at) {
+  for (int t : mission_.tasks_of_agent[role]) {
+    const std::vector<int>& roles = mission_.tasks[t].agents;
+    for (size_t k = 0; k < roles.size(); ++k) {
+      if (roles[k] == role && mission_.tasks[t].at == at && !progress_.visited(t, k)) planned_visits_.insert({t, k});
     }
   }
 }

@@ -1,6 +1,8 @@
 #include "coordinator/plan_execution.hpp"
 
 #include <algorithm>
+#include <stdexcept>
+#include <string>
 
 namespace coordinator {
 
@@ -58,6 +60,38 @@ std::optional<planner_core::Cell> PlanExecution::confirm(int a, const fleet_tran
   agent.finished_at = Clock::now();
   adg_.forget_before(a, agent.finished - 1);  // the last one confirmed is where the agent stands
   return cell;
+}
+
+int64_t PlanExecution::cut_around(int a) {
+  const Agent& lost = agents_[a];
+  const auto finished_of = [this](int other) { return agents_[other].finished; };
+  const std::vector<int> kept =
+      adg_.moves_kept_around(a, lost.finished, in_flight(a) ? lost.sent + 1 : lost.finished, finished_of);
+  int64_t dropped = 0;
+  for (int other = 0; other < agent_count(); ++other) {
+    if (in_flight(other) && kept[other] <= agents_[other].sent) {
+      throw std::logic_error("cutting the plan around agent " + std::to_string(a) + " would drop move " +
+                             std::to_string(agents_[other].sent) + " of agent " + std::to_string(other) +
+                             ", already sent");
+    }
+    dropped += move_count(other) - kept[other];
+  }
+  adg_.keep_moves(kept);
+  return dropped;
+}
+
+bool PlanExecution::take_back(int a, planner_core::Cell cell) {
+  Agent& agent = agents_[a];
+  if (in_flight(a) && cell == target(a, agent.sent)) {
+    agent.finished = agent.sent + 1;
+    agent.finished_at = Clock::now();
+    adg_.forget_before(a, agent.finished - 1);
+    return true;
+  }
+  if (cell != position(a)) return false;
+  agent.sent = agent.finished - 1;  // the move in flight, if any, goes again as a new one
+  agent.acknowledged = false;
+  return true;
 }
 
 int PlanExecution::move_to_send(int a) const {

@@ -1,6 +1,7 @@
 #include "coordinator/window_planner.hpp"
 
 #include <stdexcept>
+#include <string>
 
 namespace coordinator {
 
@@ -33,6 +34,44 @@ WindowPlanner::WindowPlanner(std::shared_ptr<const planner_core::Graph> graph, u
 
 PlanWindow WindowPlanner::plan(const planner_core::Poses& start, const std::vector<WindowAgent>& agents, int steps,
                                const planner_core::Deadline& deadline) {
+  const bool turning = actions_ == planner_core::ActionModel::kRotate;
+  if (agents.size() != start.cells.size()) throw std::invalid_argument("a window needs one WindowAgent per agent");
+  std::vector<int> planned;  // the agents not held, in order
+  for (size_t a = 0; a < agents.size(); ++a) {
+    if (agents[a].held) continue;
+    if (!graph_->is_open(start.cells[a])) {
+      throw std::logic_error("agent " + std::to_string(a) + " starts the window on a cell kept clear for a robot that is out");
+    }
+    planned.push_back(static_cast<int>(a));
+  }
+  if (planned.size() == agents.size()) return plan_all(start, agents, steps, deadline);
+  planner_core::Poses some;
+  std::vector<WindowAgent> their_errands;
+  for (const int a : planned) {
+    some.cells.push_back(start.cells[a]);
+    if (turning && a < static_cast<int>(start.headings.size())) some.headings.push_back(start.headings[a]);
+    their_errands.push_back(agents[a]);
+  }
+  const PlanWindow part = plan_all(some, their_errands, steps, deadline);
+  // Every agent, the held ones standing where they are.
+  PlanWindow window;
+  window.unreachable = part.unreachable;
+  window.reached.resize(agents.size());
+  for (size_t step = 0; step < part.steps.size(); ++step) {
+    window.steps.push_back(start.cells);
+    if (turning) window.headings.push_back(start.headings);
+    for (size_t k = 0; k < planned.size(); ++k) {
+      window.steps.back()[planned[k]] = part.steps[step][k];
+      if (turning) window.headings.back()[planned[k]] = part.headings[step][k];
+    }
+  }
+  for (size_t k = 0; k < planned.size(); ++k) window.reached[planned[k]] = part.reached[k];
+  for (const int k : part.stalled) window.stalled.push_back(planned[k]);
+  return window;
+}
+
+PlanWindow WindowPlanner::plan_all(const planner_core::Poses& start, const std::vector<WindowAgent>& agents, int steps,
+                                   const planner_core::Deadline& deadline) {
   const Config& from = start.cells;
   const bool turning = actions_ == planner_core::ActionModel::kRotate;
   if (turning && start.headings.size() != from.size()) {

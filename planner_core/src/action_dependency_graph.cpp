@@ -1,5 +1,6 @@
 #include "planner_core/action_dependency_graph.hpp"
 
+#include <algorithm>
 #include <stdexcept>
 #include <string>
 
@@ -9,7 +10,8 @@ ActionDependencyGraph::ActionDependencyGraph(const Solution& plan, const Heading
   if (plan.empty()) return;
   moves_.assign(plan[0].size(), {});
   forgotten_.assign(plan[0].size(), 0);
-  last_ = plan[0];
+  first_ = last_ = plan[0];
+  if (!headings.empty()) first_headings_ = headings[0];
   extend(plan, headings);
 }
 
@@ -51,6 +53,28 @@ void ActionDependencyGraph::extend(const Solution& more, const HeadingPlan& head
   steps_ += static_cast<int>(more.size()) - 1;
   last_ = more.back();
   if (!headings.empty()) last_headings_ = headings.back();
+}
+
+void ActionDependencyGraph::keep_moves(const std::vector<int>& keep) {
+  last_departures_.clear();
+  std::vector<std::pair<int, std::pair<int, int>>> departures;  // (plan time, (robot, move))
+  for (int r = 0; r < robot_count(); ++r) {
+    while (move_count(r) > std::max(keep[r], forgotten_[r])) moves_[r].pop_back();
+    if (moves_[r].empty()) {  // never moved (a robot keeps the last move it finished)
+      last_[r] = first_[r];
+      if (!first_headings_.empty()) last_headings_[r] = first_headings_[r];
+      continue;
+    }
+    last_[r] = moves_[r].back().to;
+    if (!last_headings_.empty() && moves_[r].back().heading >= 0) last_headings_[r] = moves_[r].back().heading;
+    for (int index = forgotten_[r]; index < move_count(r); ++index) {
+      const Move& kept = move(r, index);
+      if (kept.from != kept.to) departures.push_back({kept.plan_time, {r, index}});
+    }
+  }
+  // Each cell's latest departure among the moves kept (a finished one forgotten holds nobody back).
+  std::sort(departures.begin(), departures.end());
+  for (const auto& [time, departure] : departures) last_departures_[move(departure.first, departure.second).from] = departure;
 }
 
 void ActionDependencyGraph::forget_before(int robot, int index) {

@@ -232,5 +232,113 @@ TEST(ActionDependencyGraph, FollowerWaitsForTheLeader) {
   EXPECT_TRUE(adg.ready(1, 0, finished));
 }
 
+TEST(ActionDependencyGraph, ALostLeaderTakesItsFollowersMovesAndNobodyElses) {
+  // A corridor 3-0-1-2 and, apart, 5-6: robot 0 moves 0->1->2, robot 1 follows it from 3, robot 2
+  // moves 5->6. Robot 0 is lost on its first move (sent, never confirmed).
+  const planner_core::Solution plan = {{0, 3, 5}, {1, 0, 6}, {2, 1, 6}};
+  ActionDependencyGraph adg(plan);
+  const std::vector<int> finished{0, 0, 0};
+  const auto finished_of = [&](int r) { return finished[r]; };
+  const std::vector<int> kept = adg.moves_kept_around(0, 0, 1, finished_of);
+  EXPECT_EQ(kept, (std::vector<int>{1, 0, 1}));  // its move in flight; none of the follower's; robot 2's
+  adg.keep_moves(kept);
+  EXPECT_EQ(adg.last_configuration(), (planner_core::Config{1, 3, 6}));
+  EXPECT_EQ(adg.plan_steps(), 2);
+  EXPECT_EQ(adg.move_count(1), 0);
+  // The plan grows from there: the follower's way into 0 waits on robot 0's move in flight, which
+  // is never confirmed while it is lost (so the window planner keeps others off its cells).
+  adg.extend({{1, 3, 6}, {1, 0, 6}});
+  EXPECT_EQ(adg.move(1, 0).after, (std::vector<std::pair<int, int>>{{0, 0}}));
+  // Lost before its first move: only its own moves go, and its follower's.
+  ActionDependencyGraph again(plan);
+  EXPECT_EQ(again.moves_kept_around(0, 0, 0, finished_of), (std::vector<int>{0, 0, 1}));
+}
+
+// Random delays, then a robot lost (its move in flight, if any, never ends): the plan cut around it
+// keeps every move sent, and the rest runs without a collision (the lost robot holding both its
+// cells) or a deadlock, ending on distinct cells from which the plan can grow.
+TEST(ActionDependencyGraph, APlanCutAroundALostRobotRunsWithoutIt) {
+  const planner_core::Solution plan = rotation_free_plan("maze-32-32-2-N50-M60-00.yaml", "cts-pibt");
+  ASSERT_FALSE(plan.empty());
+  int64_t dropped = 0;
+  for (uint32_t seed = 0; seed < 12; ++seed) {
+    ActionDependencyGraph adg(plan);
+    const int robots = adg.robot_count();
+    std::mt19937 rng(seed);
+    std::vector<int> finished(robots, 0);
+    std::vector<double> busy_until(robots, -1);
+    std::vector<Vertex> at = plan[0];
+    std::vector<Vertex> entering(robots, planner_core::kNoVertex);
+    double now = 0;
+    int lost = -1;
+    const int lose_after = 40 + static_cast<int>(rng() % 200);
+    for (int event = 0; event < 1000000; ++event) {
+      if (event == lose_after) {  // a robot with moves left is lost, preferably mid-move
+        std::vector<int> candidates;
+        for (int r = 0; r < robots; ++r) {
+          if (busy_until[r] >= 0) candidates.push_back(r);
+        }
+        for (int r = 0; r < robots && candidates.empty(); ++r) {
+          if (finished[r] < adg.move_count(r)) candidates.push_back(r);
+        }
+        if (candidates.empty()) break;
+        lost = candidates[rng() % candidates.size()];
+        const int keep = busy_until[lost] >= 0 ? finished[lost] + 1 : finished[lost];
+        const std::vector<int> kept =
+            adg.moves_kept_around(lost, finished[lost], keep, [&](int r) { return finished[r]; });
+        for (int r = 0; r < robots; ++r) {
+          ASSERT_GE(kept[r], finished[r] + (busy_until[r] >= 0 ? 1 : 0)) << "a move under way dropped";
+          dropped += adg.move_count(r) - kept[r];
+        }
+        adg.keep_moves(kept);
+        for (int r = 0; r < robots; ++r) ASSERT_EQ(adg.move_count(r), kept[r]);
+      }
+      int next = -1;
+      for (int r = 0; r < robots; ++r) {
+        if (r != lost && busy_until[r] >= 0 && (next < 0 || busy_until[r] < busy_until[next])) next = r;
+      }
+      std::vector<int> order(robots);
+      for (int r = 0; r < robots; ++r) order[r] = r;
+      std::shuffle(order.begin(), order.end(), rng);
+      bool started = false;
+      for (int r : order) {
+        if (r == lost || busy_until[r] >= 0 || finished[r] >= adg.move_count(r)) continue;
+        if (!adg.ready(r, finished[r], finished)) continue;
+        const Vertex target = adg.move(r, finished[r]).to;
+        for (int other = 0; other < robots; ++other) {
+          if (other == r) continue;
+          ASSERT_NE(at[other], target) << "robot " << r << " enters a cell robot " << other << " stands on";
+          ASSERT_NE(entering[other], target) << "robots " << r << " and " << other << " enter one cell";
+        }
+        entering[r] = target;
+        busy_until[r] = now + std::uniform_real_distribution<double>(1.0, 4.0)(rng);
+        started = true;
+      }
+      if (next < 0 && !started && event >= lose_after) break;
+      if (next < 0) continue;
+      now = busy_until[next];
+      at[next] = entering[next];
+      entering[next] = planner_core::kNoVertex;
+      busy_until[next] = -1;
+      ++finished[next];
+    }
+    ASSERT_GE(lost, 0);
+    const planner_core::Config& end = adg.last_configuration();
+    for (int r = 0; r < robots; ++r) {
+      if (r == lost) {
+        EXPECT_EQ(end[r], busy_until[r] >= 0 ? entering[r] : at[r]);
+        continue;
+      }
+      EXPECT_EQ(finished[r], adg.move_count(r)) << "robot " << r << " deadlocked (seed " << seed << ")";
+      EXPECT_EQ(at[r], end[r]);
+    }
+    std::vector<Vertex> cells = end;
+    std::sort(cells.begin(), cells.end());
+    EXPECT_EQ(std::adjacent_find(cells.begin(), cells.end()), cells.end()) << "two robots end on one cell";
+    EXPECT_NO_THROW(adg.extend({end, end}));
+  }
+  EXPECT_GT(dropped, 0);  // the cut did cut
+}
+
 }  // namespace
 }  // namespace coordinator

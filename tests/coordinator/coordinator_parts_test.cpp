@@ -331,6 +331,40 @@ TEST(PlanExecution, SendsWhenReadyResendsWhenSilentAndConfirmsOnTheTarget) {
   EXPECT_TRUE(execution.due_command(1, t0, 1.0, 0).has_value());  // now back may move
 }
 
+// A robot lost with a move in flight: the move of the robot following it goes (it would wait for
+// ever), the lost robot's move stays; back on that move's start it is sent the move again, and on
+// its target the move is done; anywhere else it cannot take its place again.
+TEST(PlanExecution, CutAroundALostRobotAndTakenBackWhereItWas) {
+  const auto graph = std::make_shared<const planner_core::Graph>(4, 1, std::vector<std::string>{"...."});
+  const Vertex v0 = graph->vertex_at({0, 0}), v1 = graph->vertex_at({1, 0}), v2 = graph->vertex_at({2, 0}),
+               v3 = graph->vertex_at({3, 0});
+  // "front" 1 -> 2 -> 3, "back" follows 0 -> 1 -> 2.
+  const planner_core::Solution plan = {{v1, v0}, {v2, v1}, {v3, v2}};
+  for (const Cell back_at : {Cell{1, 0}, Cell{2, 0}, Cell{0, 0}}) {
+    SCOPED_TRACE("front back at " + planner_core::to_string(back_at));
+    PlanExecution execution(1, graph, plan, {"front", "back"}, 5);
+    const auto t0 = PlanExecution::Clock::now();
+    ASSERT_TRUE(execution.due_command(0, t0, 1.0, 0).has_value());  // front's first move, then lost
+    EXPECT_EQ(execution.cut_around(0), 3);  // front's second move; both of back's
+    EXPECT_TRUE(execution.in_flight(0));
+    EXPECT_TRUE(execution.done(1));
+    EXPECT_EQ(execution.last_configuration(), (planner_core::Config{v2, v0}));
+    EXPECT_EQ(execution.plan_steps(), 2);
+    const bool taken = execution.take_back(0, back_at);
+    EXPECT_EQ(taken, back_at != Cell{0, 0});
+    if (back_at == Cell{1, 0}) {  // where it was: the move goes again, from the start
+      EXPECT_FALSE(execution.in_flight(0));
+      const auto again = execution.due_command(0, t0, 1.0, 0);
+      ASSERT_TRUE(again.has_value());
+      EXPECT_EQ(again->action_index, 0);
+      EXPECT_EQ(again->target_x, 2);
+    } else if (back_at == Cell{2, 0}) {  // on its target: done
+      EXPECT_TRUE(execution.done(0));
+      EXPECT_EQ(execution.position(0), (Cell{2, 0}));
+    }
+  }
+}
+
 // A state of robot "r" standing still after the move `action` of coordinator 5's epoch 1.
 fleet_transport::RobotState arrived_state(int action, int heading) {
   fleet_transport::RobotState state;

@@ -87,6 +87,12 @@ struct MissionSummary {
   double robot_s_waiting_for_windows = 0;
   double wait_for_window_ms_max = 0;
   int64_t tasks_reassigned = 0;            // lifelong: pooled tasks moved to a robot that got there sooner
+  // Lifelong: robots lost whose plan was cut around them rather than replanned whole (the others
+  // went on), the moves that cut dropped, and robots back where they were lost that took their
+  // place in the plan again without a replan.
+  int robots_planned_around = 0;
+  int64_t moves_cut = 0;
+  int robots_taken_back = 0;
 };
 
 struct CoordinatorOptions {
@@ -257,6 +263,15 @@ class FleetCoordinator {
   // The robots of a new plan, its figures, its epoch in the journal; then it is carried out.
   void take_plan(const PlanningOutcome& outcome);
   void extend_plan(fleet_transport::Transport& transport);
+  // Lifelong: a robot lost mid-plan (where the plan has it) is planned around instead of a whole
+  // replan: the plan is cut around it (PlanExecution::cut_around) and windows go on with its cells
+  // walled. False when that cannot be done here (the caller replans). `kind`: why it is out (lose()).
+  bool plan_around(const RobotRecord& robot, const char* kind);
+  // Lifelong: a robot planned around is back, standing still on `cell`: it takes its place in the
+  // plan again (PlanExecution::take_back). False when it cannot (the caller replans).
+  bool take_back(RobotRecord& robot, planner_core::Cell cell);
+  // Lifelong: a new window planner, on the plan's map with the cells of robots planned around walled.
+  void restart_window_planner();
   // Lifelong: the window planned for the plan in hand is validated, appended and sent.
   void take_window(fleet_transport::Transport& transport, const WindowOutcome& outcome);
   bool window_under_way() const;
@@ -270,6 +285,7 @@ class FleetCoordinator {
   void note_window(const PlanWindow& window, double planning_ms);
   void note_waits_for_window(const std::vector<int>& out_of_moves);
   void mark_planned_visits(const planner_core::Solution& steps);
+  void mark_planned_visit(int role, planner_core::Vertex at);  // the visits `role` owes at `at` (mission ids)
   bool grows_by_windows(const std::string& robot_id) const;
   void update_progress();
   // Sends every command that is due. With `resend_only`, only the repeats of moves already sent
@@ -309,6 +325,7 @@ class FleetCoordinator {
   }
   RobotRecord* robot_of_agent(int a);
   const RobotRecord* robot_of_agent(int a) const;
+  int role_of_agent(int a) const;  // its robot's role; -1 without one, or while the robot is out
 
   FleetConfig config_;
   planner_core::Instance mission_;
@@ -342,6 +359,9 @@ class FleetCoordinator {
   // Lifelong mode: the plan in hand grows window by window as its robots carry it out, taking up
   // tasks added meanwhile (coordinator/src/fleet_coordinator_windows.cpp).
   std::unique_ptr<WindowWorker> windows_;  // lifelong: plans the next window off the loop
+  // Lifelong: plan agents whose robots are lost, planned around (held), and whether each may take
+  // its place again (not after a fault: the robot then takes no command of a plan made before it).
+  std::map<int, bool> agents_out_;
   std::set<std::pair<int, size_t>> planned_visits_;  // (task, index in its roles) the plan in hand makes
   std::set<int> pinned_tasks_;  // added for a robot the operator named: never rebalanced
   // Searches from task cells on the mission's map, for placing added tasks and the pool: task_distances().

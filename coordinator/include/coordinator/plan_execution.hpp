@@ -68,6 +68,17 @@ class PlanExecution {
   void extend(const planner_core::Solution& more, const planner_core::HeadingPlan& headings = {}) {
     adg_.extend(more, headings);
   }
+  // Agent a's robot is lost: it will make no move after the one in flight (if any). Drops its
+  // moves after that one and every move of the others that waits on its moves not finished,
+  // directly or through other moves (ActionDependencyGraph::moves_kept_around), so the others
+  // carry out what they can; the plan then ends where each kept move ends. Returns the moves
+  // dropped. Throws std::logic_error (and drops nothing) if a move already sent would go, which
+  // the graph's order rules out.
+  int64_t cut_around(int a);
+  // Agent a's robot is back (a new process, or heard again) standing still on `cell`: on the target
+  // of its move in flight, that move is done; on its position, that move is sent again once due
+  // (it waited only on moves finished). False when `cell` is neither.
+  bool take_back(int a, planner_core::Cell cell);
   int plan_steps() const { return adg_.plan_steps(); }
   // The plan's last configuration, in the vertices of its own map (graph()).
   const planner_core::Config& last_configuration() const { return adg_.last_configuration(); }

@@ -25,6 +25,9 @@ namespace coordinator {
 struct WindowAgent {
   std::vector<planner_core::Vertex> errands;  // cells to visit, in any order (repeats allowed)
   planner_core::Vertex park = planner_core::kNoVertex;  // where it waits once it has none
+  // A robot that is out (lost mid-plan): it stands where the window starts, and its cells are
+  // walls of the planner's map, so nobody else comes near; errands and park are ignored.
+  bool held = false;
 };
 
 struct PlanWindow {
@@ -60,11 +63,16 @@ class WindowPlanner {
   // deadline passed; goes on past `steps` while nobody has moved or turned yet (a window of waits
   // only would add nothing), up to kStalledSteps. `from` is where the last window
   // ended (the same agents, in the same order; in the rotation model with their headings). Throws
-  // std::logic_error when a step fails its check (a bug: nothing of it may be sent).
+  // std::logic_error when a step fails its check (a bug: nothing of it may be sent). Held agents
+  // stand still through the window and are left out of the search; the planner's map must have
+  // their cells walled, and no other agent may start on a wall (else std::logic_error).
   PlanWindow plan(const planner_core::Poses& from, const std::vector<WindowAgent>& agents, int steps,
                   const planner_core::Deadline& deadline);
 
  private:
+  // plan() for agents none of which is held.
+  PlanWindow plan_all(const planner_core::Poses& from, const std::vector<WindowAgent>& agents, int steps,
+                      const planner_core::Deadline& deadline);
   // Counts, per agent, the steps since it last came nearer its goal.
   void note_gains(const planner_core::Config& at, const planner_core::Config& goals);
 

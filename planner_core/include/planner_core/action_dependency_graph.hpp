@@ -13,11 +13,16 @@
 // It is the product's one executor: the coordinator sends robots their moves by it
 // (coordinator/plan_execution.hpp), and a lockstep run can carry staged plans out by it as well.
 //
+// A robot that stops for good (a robot lost mid-plan) would hold back every move that waits on its
+// next ones, and those that wait on them in turn: moves_kept_around() finds exactly those moves,
+// keep_moves() drops them, and the rest of the plan goes on and can grow from where it then ends.
+//
 // Plans with turns (the rotation model) give each robot's heading at every step: a turn in place
 // is a move of its own (from and to the same cell, a new heading) that waits only for the robot's
 // own previous moves, since it neither enters nor leaves a cell.
 #pragma once
 
+#include <algorithm>
 #include <deque>
 #include <unordered_map>
 #include <vector>
@@ -45,6 +50,22 @@ class ActionDependencyGraph {
   // configuration must be the plan's last (else std::invalid_argument); its moves become each
   // robot's next moves.
   void extend(const Solution& more, const HeadingPlan& headings = {});
+
+  // Robot `stuck` will finish none of its moves from `unfinished` on: how many moves each robot
+  // keeps when its moves from `keep` on go (keep >= unfinished: a move in flight stays, its target
+  // still the robot's) and every move of the others that waits on one of its moves from
+  // `unfinished` on, directly or through other moves, with every later move of the same robot.
+  // keep_moves() then drops the rest. The plan then ends on each robot's last kept move (its start
+  // if it has none), at the same step as before: what is kept was a valid prefix of each robot's moves in the plan's order, and no
+  // kept move enters a cell after the robot standing on it at its last kept move (that would
+  // have waited on the robot's next move, which is dropped), so each robot may wait where its
+  // moves now end until the plan goes on. Moves already started are never dropped (they waited
+  // only on finished ones) as long as `finished(robot)` is what each robot finished.
+  template <typename FinishedOf>
+  std::vector<int> moves_kept_around(int stuck, int unfinished, int keep, FinishedOf finished_of) const;
+  // Drops robot r's moves from kept[r] on (forgotten ones stay forgotten); the plan ends on each
+  // robot's last kept move, at the same step.
+  void keep_moves(const std::vector<int>& kept);
 
   int robot_count() const { return static_cast<int>(moves_.size()); }
   // Robot r's moves so far, forgotten ones included.
@@ -82,9 +103,37 @@ class ActionDependencyGraph {
   // before, so the cell's whole order follows (and a long lifelong plan keeps one entry per cell,
   // not one per robot that ever left it).
   std::unordered_map<Vertex, std::pair<int, int>> last_departures_;
-  Config last_;
-  Headings last_headings_;
+  Config first_, last_;
+  Headings first_headings_, last_headings_;
   int steps_ = 0;
 };
+
+template <typename FinishedOf>
+std::vector<int> ActionDependencyGraph::moves_kept_around(int stuck, int unfinished, int keep,
+                                                         FinishedOf finished_of) const {
+  const int robots = robot_count();
+  std::vector<int> kept(robots);
+  for (int r = 0; r < robots; ++r) kept[r] = r == stuck ? std::min(keep, move_count(r)) : move_count(r);
+  // A move goes when it waits on a stuck move or a dropped one; dependencies point back in plan
+  // time (or to the same step, a robot leaving the cell another enters), so a few passes settle it.
+  for (bool changed = true; changed;) {
+    changed = false;
+    for (int r = 0; r < robots; ++r) {
+      for (int index = std::max(forgotten_[r], finished_of(r)); index < kept[r]; ++index) {
+        const auto waits_in_vain = [&](const std::pair<int, int>& on) {
+          const auto [other, move] = on;
+          return move >= kept[other] || (other == stuck && move >= unfinished && move >= finished_of(other));
+        };
+        const std::vector<std::pair<int, int>>& after = this->move(r, index).after;
+        if (std::any_of(after.begin(), after.end(), waits_in_vain)) {
+          kept[r] = index;
+          changed = true;
+          break;
+        }
+      }
+    }
+  }
+  return kept;
+}
 
 }  // namespace planner_core
