@@ -27,7 +27,11 @@ struct Observer {
   TaskStream& stream;
   fleet_transport::FleetStatus status;
   bool heard = false;
+  std::string watched_robot;               // the robot to restart, if any:
+  std::optional<fleet_transport::RobotState> watched_at_rest;  // its last state standing still
 };
+
+constexpr double kRestartPauseS = 2;  // between a robot's kill and its new process
 
 }  // namespace
 
@@ -57,18 +61,22 @@ ProcessFleetRun run_fleet_of_processes(const ProcessFleetSettings& settings, con
   };
   const std::vector<std::string> dds = {"--dds", settings.vendor, "--domain", std::to_string(domain),
                                         "--dds-config-dir", settings.dds_config_dir};
-  std::vector<pid_t> agents;
-  for (int r = 0; r < mission.agent_count(); ++r) {
-    const planner_core::Cell start = mission.graph->cell_of(mission.starts[r]);
+  // Robot r's process, standing on `start` (facing `heading`, -1: the agent's default).
+  const auto start_agent = [&](int r, planner_core::Cell start, int heading, const std::string& log_name) {
     std::vector<std::string> args{(settings.programs / "ctsfleet-agent").string(), "--id", "robot" + std::to_string(r),
                                   "--start", std::to_string(start.x) + "," + std::to_string(start.y), "--step",
                                   std::to_string(settings.step_s), "--jitter", std::to_string(settings.jitter),
                                   "--turn", std::to_string(settings.turn_s)};
+    if (heading >= 0) args.insert(args.end(), {"--heading", std::to_string(heading)});
     args.insert(args.end(), dds.begin(), dds.end());
     if (static_cast<size_t>(r) < settings.robot_options.size()) {
       args.insert(args.end(), settings.robot_options[r].begin(), settings.robot_options[r].end());
     }
-    agents.push_back(start_child(with_extra(args), log("robot" + std::to_string(r))));
+    return start_child(with_extra(args), log(log_name));
+  };
+  std::vector<pid_t> agents;
+  for (int r = 0; r < mission.agent_count(); ++r) {
+    agents.push_back(start_agent(r, mission.graph->cell_of(mission.starts[r]), -1, "robot" + std::to_string(r)));
   }
   std::vector<std::string> monitor_args{(settings.programs / "ctsfleet-monitor").string()};
   monitor_args.insert(monitor_args.end(), dds.begin(), dds.end());
@@ -80,6 +88,8 @@ ProcessFleetRun run_fleet_of_processes(const ProcessFleetSettings& settings, con
       log("coordinator-" + tag), summary_file.string());
 
   Observer observer{.stream = stream};
+  const int restarted = timeline.restart_robot_at_s >= 0 ? mission.agent_count() / 2 : -1;
+  if (restarted >= 0) observer.watched_robot = "robot" + std::to_string(restarted);
   fleet_transport::TransportConfig transport_config;
   transport_config.vendor = fleet_transport::parse_vendor(settings.vendor);
   transport_config.domain_id = domain;
@@ -94,11 +104,16 @@ ProcessFleetRun run_fleet_of_processes(const ProcessFleetSettings& settings, con
     const std::lock_guard<std::mutex> lock(observer.mutex);
     observer.stream.answered(reply);
   };
-  if (trace != nullptr) {
+  if (trace != nullptr || restarted >= 0) {
     handlers.on_state = [&observer, trace](const fleet_transport::RobotState& state) {
       const std::lock_guard<std::mutex> lock(observer.mutex);
-      trace->heard_state(state);
+      if (trace != nullptr) trace->heard_state(state);
+      if (state.robot_id == observer.watched_robot && state.status != fleet_transport::RobotStatus::kMoving) {
+        observer.watched_at_rest = state;
+      }
     };
+  }
+  if (trace != nullptr) {
     handlers.on_fleet_event = [&observer, trace](const fleet_transport::FleetEvent& event) {
       const std::lock_guard<std::mutex> lock(observer.mutex);
       trace->heard_event(event);
@@ -113,6 +128,8 @@ ProcessFleetRun run_fleet_of_processes(const ProcessFleetSettings& settings, con
     std::optional<Clock::time_point> first_plan, counting_from;
     int done_at_start = 0;
     int64_t steps_at_start = 0;
+    std::optional<Clock::time_point> killed_at;
+    bool restart_done = false;
     const auto seconds = [](double s) { return std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(s)); };
     while (!stop.load()) {
       const Clock::time_point now = Clock::now();
@@ -134,6 +151,23 @@ ProcessFleetRun run_fleet_of_processes(const ProcessFleetSettings& settings, con
         run.counted_from_ms = fleet_transport::wall_clock_ms();
         done_at_start = done;
         steps_at_start = steps_done;
+      }
+      if (restarted >= 0 && counting_from && !killed_at && now >= *counting_from + seconds(timeline.restart_robot_at_s)) {
+        kill(agents[restarted], SIGKILL);
+        waitpid(agents[restarted], nullptr, 0);
+        killed_at = now;
+      }
+      if (killed_at && !restart_done && now >= *killed_at + seconds(kRestartPauseS)) {
+        // Where it last stood still: a robot killed mid-move is put back where that move began.
+        fleet_transport::RobotState last;
+        {
+          const std::lock_guard<std::mutex> lock(observer.mutex);
+          if (observer.watched_at_rest) last = *observer.watched_at_rest;
+        }
+        run.restarted_robot = observer.watched_robot;
+        run.restarted_at = {last.cell_x, last.cell_y};
+        agents[restarted] = start_agent(restarted, run.restarted_at, last.heading, "robot" + std::to_string(restarted) + "-restarted");
+        restart_done = true;
       }
       if (counting_from && now >= *counting_from + seconds(timeline.measure_s)) {
         figures.tasks_done = done - done_at_start;

@@ -37,6 +37,8 @@ struct ProcessFleetRun {
   std::string collisions;              // the safety monitor's overlaps ("-": it did not finish)
   int64_t counted_from_ms = 0;         // the counted stretch, wall clock (0: it never began)
   int64_t counted_until_ms = 0;
+  std::string restarted_robot;         // timeline.restart_robot_at_s: the robot killed and started again
+  planner_core::Cell restarted_at{};   // ... where it stood
 };
 
 // Writes the fleet config such a run starts its coordinator with: lifelong, `mission_file`, a
@@ -49,7 +51,10 @@ std::filesystem::path write_lifelong_fleet_config(const ProcessFleetSettings& se
 
 // Runs `mission` (its starts are the robots') with the fleet config `config_file` (lifelong, on
 // `domain`): tasks are counted from the first plan plus timeline.warmup_s, for timeline.measure_s.
-// `trace` (optional) records the robots' states and the task events heard meanwhile.
+// `trace` (optional) records the robots' states and the task events heard meanwhile. With
+// timeline.restart_robot_at_s, robot N/2 is SIGKILLed then and started again where it was last
+// heard standing, 2 s later (a supervisor's restart; the coordinator misses it by its lease or
+// silence, and a process heard within a second of the last one would be refused as a duplicate).
 ProcessFleetRun run_fleet_of_processes(const ProcessFleetSettings& settings, const planner_core::Instance& mission,
                                        const std::filesystem::path& config_file, int domain, TaskStream& stream,
                                        const StreamTimeline& timeline, FleetTrace* trace = nullptr);

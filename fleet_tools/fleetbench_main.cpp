@@ -14,6 +14,7 @@
 //               benchmark's lockstep run of it for as many steps, delays included: tasks finished by
 //               each and their ratio (league_scenario.hpp).
 #include <nlohmann/json.hpp>
+#include <spdlog/fmt/fmt.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -175,6 +176,10 @@ int main(int argc, char** argv) {
   app.add_option("--measure", timeline.measure_s, "task-stream: seconds over which tasks done are counted; league: seconds from the fleet's first plan")
       ->check(ctsfleet::positive_seconds(86400))
       ->capture_default_str();
+  app.add_option("--restart-robot-at", timeline.restart_robot_at_s,
+                 "task-stream, league: seconds into the counted time when robot N/2's process is SIGKILLed; it is "
+                 "started again where it last stood 2 s later")
+      ->check(ctsfleet::number_in(0, 86400));
   coordinator::LeagueScenarioSettings league;
   app.add_option("--problem", league.problem,
                  "league: a League of Robot Runners problem (JSON) of single-errand tasks, as the 2023 rounds' "
@@ -203,6 +208,13 @@ int main(int argc, char** argv) {
     if ((scenario == "task-stream" || scenario == "league") && (secure || discovery == "server")) {
       throw planner_core::InputError(std::string(secure ? "--secure" : "--discovery server") + ": the " + scenario +
                                      " scenario runs open fleets with simple discovery only");
+    }
+    if (timeline.restart_robot_at_s >= 0 && scenario != "league" && scenario != "task-stream") {
+      throw planner_core::InputError("--restart-robot-at: only the task-stream and league scenarios restart a robot");
+    }
+    if (timeline.restart_robot_at_s >= 0 && timeline.restart_robot_at_s + 2 >= timeline.measure_s) {
+      throw planner_core::InputError(fmt::format("--restart-robot-at {}: the robot must be back (2 s later) within "
+                                                 "--measure {}", timeline.restart_robot_at_s, timeline.measure_s));
     }
     if ((scenario == "league") != !league.problem.empty()) {
       throw planner_core::InputError(scenario == "league" ? "--scenario league: give the problem (--problem F.json)"
@@ -254,6 +266,7 @@ int main(int argc, char** argv) {
         league.lifelong_planner = fs::absolute(lifelong_planner).string();
       }
       league.measure_s = timeline.measure_s;
+      league.restart_robot_at_s = timeline.restart_robot_at_s;
       league.json = json;
       coordinator::print_league_header(league);
       for (int n : sizes) {

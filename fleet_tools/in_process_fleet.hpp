@@ -15,6 +15,9 @@ namespace coordinator {
 struct StreamTimeline {
   double warmup_s = 15;    // from the first plan, before counting starts
   double measure_s = 60;   // tasks done counted over this long
+  // Fleets of processes: this long into the counted time, one robot's process is SIGKILLed and,
+  // once the coordinator has had time to miss it, started again where it stood (-1: never).
+  double restart_robot_at_s = -1;
 };
 
 struct StreamFigures {

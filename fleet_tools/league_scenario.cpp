@@ -185,7 +185,8 @@ bool run_league_scenario(const LeagueScenarioSettings& settings, int robots, int
   TaskStream stream(task_cells, waiting, 0, "league");
   FleetTrace trace;
   const ProcessFleetRun run =
-      run_fleet_of_processes(fleet, mission, config_file, domain, stream, {0, settings.measure_s}, &trace);
+      run_fleet_of_processes(fleet, mission, config_file, domain, stream,
+                             {0, settings.measure_s, settings.restart_robot_at_s}, &trace);
   if (run.figures.interrupted) return false;
   const StreamFigures& figures = run.figures;
   // The fleet's run as the league's output file, beside the lockstep run's (league-lockstep-N/).
@@ -216,6 +217,7 @@ bool run_league_scenario(const LeagueScenarioSettings& settings, int robots, int
                       {"delayed_share", lockstep.delayed_share}, {"faults", lockstep.faults}}},
         {"fleet_output", {{"file", fleet_output.string()}, {"tasks", fleet_run.result.tasks_finished},
                           {"shifted", fleet_run.shifted}, {"jumps", fleet_run.jumps}}},
+        {"restarted_robot", run.restarted_robot},
         {"ratio", ratio}, {"collisions", run.collisions}, {"summary", run.coordinator_summary},
         {"logs", settings.work.string()}};
     std::printf("%s\n", row.dump().c_str());

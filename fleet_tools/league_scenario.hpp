@@ -35,6 +35,7 @@ struct LeagueScenarioSettings {
   double jitter = 0;                // sim robots' extra share of a step, U[0, jitter]
   std::string lifelong_planner;     // the fleet config's lifelong_planner (empty: plain PIBT windows)
   double measure_s = 60;            // from the fleet's first plan
+  double restart_robot_at_s = -1;   // StreamTimeline::restart_robot_at_s
   bool json = false;
 };
 

@@ -55,6 +55,7 @@ bool run_task_stream(const TaskStreamSettings& settings, int robots, int domain)
     };
     const nlohmann::json row = {{"robots", robots}, {"scenario", "task-stream"}, {"step_s", settings.step_s},
                                 {"processes", figures(processes)}, {"in_process", figures(in_process)},
+                                {"restarted_robot", run.restarted_robot},
                                 {"ratio", ratio}, {"collisions", collisions}, {"summary", summary},
                                 {"logs", settings.work.string()}};
     std::printf("%s\n", row.dump().c_str());

@@ -964,12 +964,17 @@ TEST(FleetCoordinator, ALifelongFleetThatLosesARobotPlansAroundItAndGoesOnGrowin
 // was: meanwhile the others go on, their plan cut round it (no whole replan); back, it takes its
 // place in the plan and its tasks again. Nobody collides (run() checks every step).
 TEST(FleetCoordinator, ALifelongRobotLostAndBackWhereItWasNeverStopsTheOthersNorBringsAReplan) {
-  for (const bool restarted : {false, true}) {
-    SCOPED_TRACE(restarted ? "its process restarted" : "silent, then heard again");
+  for (const auto& [restarted, turning] : {std::pair{false, false}, std::pair{true, false}, std::pair{true, true}}) {
+    SCOPED_TRACE(std::string(restarted ? "its process restarted" : "silent, then heard again") +
+                 (turning ? ", robots that turn" : ""));
     planner_core::Instance mission = planner_core::load_instance(CTSFLEET_CONFIG_DIR "/default/mission-8.yaml");
     std::vector<FakeRobot> robots = robots_on_their_starts(mission);
     FleetConfig config = config_for(mission.agent_count());
     config.lifelong = true;
+    if (turning) {
+      config.actions = planner_core::ActionModel::kRotate;
+      for (size_t r = 0; r < robots.size(); ++r) robots[r].heading = static_cast<int>(r % 4);
+    }
     config.replacement_timeout_s.reset();
     TaskStream stream(*mission.graph);
     FleetCoordinator coordinator(config, std::move(mission));
@@ -996,10 +1001,9 @@ TEST(FleetCoordinator, ALifelongRobotLostAndBackWhereItWasNeverStopsTheOthersNor
         robots[5].silent = false;
         others_at_return = moves_of_others();
         own_at_return = robots[5].moves;
-        if (restarted) {
+        if (restarted) {  // a new process on the same cell, facing the same way, that has carried out nothing
           robots[5].incarnation = 0x5eed;
           robots[5].seq = 0;
-          robots[5].epoch = robots[5].action = -1;
           c.on_state(robots[5].state(-1, -1, fleet_transport::RobotStatus::kIdle));
         }
       }
@@ -1015,6 +1019,10 @@ TEST(FleetCoordinator, ALifelongRobotLostAndBackWhereItWasNeverStopsTheOthersNor
     ASSERT_GE(own_at_return, 0);
     EXPECT_GT(robots[5].moves, own_at_return);       // and it went on once back
     expect_only_steps(visited);
+    for (const FakeRobot& robot : robots) {
+      EXPECT_EQ(robot.moves_off_heading, 0) << robot.id;
+      EXPECT_EQ(robot.bad_turns, 0) << robot.id;
+    }
   }
 }
 
