@@ -67,7 +67,7 @@ ProcessFleetRun run_fleet_of_processes(const ProcessFleetSettings& settings, con
                                   "--start", std::to_string(start.x) + "," + std::to_string(start.y), "--step",
                                   std::to_string(settings.step_s), "--jitter", std::to_string(settings.jitter),
                                   "--turn", std::to_string(settings.turn_s)};
-    if (heading >= 0) args.insert(args.end(), {"--heading", std::to_string(heading)});
+    if (heading >= 0 && heading < 4) args.insert(args.end(), {"--heading", std::string(1, "ESWN"[heading])});
     args.insert(args.end(), dds.begin(), dds.end());
     if (static_cast<size_t>(r) < settings.robot_options.size()) {
       args.insert(args.end(), settings.robot_options[r].begin(), settings.robot_options[r].end());
