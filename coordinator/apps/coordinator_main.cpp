@@ -146,7 +146,8 @@ void print_json(const FleetCoordinator& coordinator, const EndFigures& f, int ex
       {"stood_down_because", s.stood_down_because}, {"took_over", s.took_over},
       {"tasks_done_before", s.tasks_done_before}, {"windows", s.windows}, {"window_ms_max", s.window_ms_max}, {"windows_late", s.windows_late},
       {"robot_s_waiting_for_windows", s.robot_s_waiting_for_windows}, {"wait_for_window_ms_max", s.wait_for_window_ms_max}, {"tasks_reassigned", s.tasks_reassigned}, {"robots_planned_around", s.robots_planned_around},
-      {"moves_cut", s.moves_cut}, {"robots_taken_back", s.robots_taken_back}, {"first_command_wall_ms", s.first_command_wall_ms},
+      {"moves_cut", s.moves_cut}, {"robots_taken_back", s.robots_taken_back},
+      {"robots_joined_mid_plan", s.robots_joined_mid_plan}, {"first_command_wall_ms", s.first_command_wall_ms},
       {"exit_code", exit_code}};
   std::printf("%s\n", summary.dump().c_str());
 }

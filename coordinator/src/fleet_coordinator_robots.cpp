@@ -239,7 +239,9 @@ bool FleetCoordinator::took_out_off_plan(RobotRecord& robot, const fleet_transpo
 }
 
 void FleetCoordinator::rejoin(RobotRecord& robot, Vertex cell) {
-  if (take_back(robot, {robot.last.cell_x, robot.last.cell_y})) return;
+  if (take_back(robot, {robot.last.cell_x, robot.last.cell_y}) || join_plan(robot, {robot.last.cell_x, robot.last.cell_y})) {
+    return;
+  }
   robot.active = true;
   // The current plan was made without it (or with it elsewhere): its reports are not checked
   // against that plan, nor is it commanded by it, until the replan places it.

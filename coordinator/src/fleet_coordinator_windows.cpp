@@ -22,7 +22,9 @@
 // robot held where it stands and its cells (its own, and its move's target if one was in flight)
 // walled in the window planner's map. Its role's tasks in the pool go to others at the next window.
 // Back on one of those cells, it takes its place in the plan again (take_back); anywhere else, or
-// off its plan, it brings a whole replan.
+// off its plan, it brings a whole replan. A robot not in the plan that stands still on a cell no
+// robot of the plan stands on or is moving to joins the plan there (join_plan): the moves into its
+// cell not yet started go, with what waits on them, and windows plan it from there.
 //
 // Windows are PIBT, which can lock (two robots head-on in a dead end); a robot that comes no
 // nearer where it heads for WindowPlanner::kStalledSteps planned steps brings a whole replan,
@@ -175,16 +177,7 @@ bool FleetCoordinator::plan_around(const RobotRecord& robot, const char* kind) {
     return false;
   }
   agents_out_[a] = std::string_view(kind) != "fault";
-  // Visits the dropped moves made are not planned any more; those of moves kept still are.
-  planned_visits_.clear();
-  for (int other = 0; other < plan_->agent_count(); ++other) {
-    const int role = role_of_agent(other);
-    if (role < 0) continue;
-    for (int index = plan_->agent(other).finished; index < plan_->move_count(other); ++index) {
-      const planner_core::Cell cell = plan_->target(other, index);
-      mark_planned_visit(role, mission_vertex(cell.x, cell.y));
-    }
-  }
+  mark_visits_of_moves_left();
   restart_window_planner();
   ++summary_.robots_planned_around;
   summary_.moves_cut += dropped;
@@ -208,6 +201,53 @@ bool FleetCoordinator::take_back(RobotRecord& robot, planner_core::Cell cell) {
                planner_core::to_string(cell));
   restart_window_planner();
   return true;
+}
+
+bool FleetCoordinator::join_plan(RobotRecord& robot, planner_core::Cell cell) {
+  // A robot of this plan back elsewhere may have left its cells anywhere between: a whole replan.
+  if (!config_.lifelong || phase_ != Phase::kExecuting || !plan_ || !windows_ || plan_->agent_of(robot.id) >= 0) {
+    return false;
+  }
+  const Vertex at = mission_vertex(cell.x, cell.y);
+  for (const auto& [blocked, robot_id] : blocked_) {
+    if (blocked == at && robot_id != robot.id) return false;  // kept clear for a robot that is out
+  }
+  const int heading = config_.actions == planner_core::ActionModel::kRotate ? std::max(0, robot.last.heading) : -1;
+  std::optional<int64_t> dropped;
+  try {
+    dropped = plan_->admit(robot.id, cell, heading);
+  } catch (const std::logic_error& e) {
+    spdlog::critical("{}; replanning whole instead", e.what());
+    return false;
+  }
+  if (!dropped) return false;  // the plan has a robot there, or on its way there
+  robot.active = true;
+  robot.plan_agent = plan_->agent_count() - 1;
+  robot.finished_plan = false;
+  std::erase_if(blocked_, [&](const auto& entry) { return entry.second == robot.id || entry.first == at; });
+  ++summary_.robots_joined;
+  ++summary_.robots_joined_mid_plan;
+  summary_.moves_cut += *dropped;
+  bind_roles({&robot});
+  report("join", robot.id, "joined the plan at " + planner_core::to_string(cell));
+  spdlog::info("lifelong: robot {} joins the plan at {} ({} moves into its cell, or waiting on them, dropped)",
+               robot.id, planner_core::to_string(cell), *dropped);
+  mark_visits_of_moves_left();
+  restart_window_planner();
+  return true;
+}
+
+void FleetCoordinator::mark_visits_of_moves_left() {
+  // Visits of moves dropped are not planned any more; those of the moves left still are.
+  planned_visits_.clear();
+  for (int a = 0; a < plan_->agent_count(); ++a) {
+    const int role = role_of_agent(a);
+    if (role < 0) continue;
+    for (int index = plan_->agent(a).finished; index < plan_->move_count(a); ++index) {
+      const planner_core::Cell cell = plan_->target(a, index);
+      mark_planned_visit(role, mission_vertex(cell.x, cell.y));
+    }
+  }
 }
 
 void FleetCoordinator::restart_window_planner() {

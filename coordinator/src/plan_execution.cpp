@@ -65,14 +65,31 @@ std::optional<planner_core::Cell> PlanExecution::confirm(int a, const fleet_tran
 int64_t PlanExecution::cut_around(int a) {
   const Agent& lost = agents_[a];
   const auto finished_of = [this](int other) { return agents_[other].finished; };
-  const std::vector<int> kept =
-      adg_.moves_kept_around(a, lost.finished, in_flight(a) ? lost.sent + 1 : lost.finished, finished_of);
+  return keep_moves(adg_.moves_kept_around(a, lost.finished, in_flight(a) ? lost.sent + 1 : lost.finished, finished_of),
+                    "cutting the plan around agent " + std::to_string(a));
+}
+
+std::optional<int64_t> PlanExecution::admit(const std::string& robot_id, planner_core::Cell cell, int heading) {
+  const planner_core::Vertex at = graph_->vertex_at(cell);
+  if (at == planner_core::kNoVertex) return std::nullopt;
+  for (int a = 0; a < agent_count(); ++a) {
+    if (position(a) == cell || (in_flight(a) && target(a, agents_[a].sent) == cell)) return std::nullopt;
+  }
+  const auto finished_of = [this](int other) { return agents_[other].finished; };
+  const int64_t dropped = keep_moves(adg_.moves_kept_clear_of(at, finished_of),
+                                     "clearing " + planner_core::to_string(cell) + " for robot " + robot_id);
+  adg_.add_robot(at, heading);
+  agents_.push_back({.robot_id = robot_id, .finished_at = Clock::now()});
+  starts_.push_back(at);
+  return dropped;
+}
+
+int64_t PlanExecution::keep_moves(const std::vector<int>& kept, const std::string& what) {
   int64_t dropped = 0;
   for (int other = 0; other < agent_count(); ++other) {
     if (in_flight(other) && kept[other] <= agents_[other].sent) {
-      throw std::logic_error("cutting the plan around agent " + std::to_string(a) + " would drop move " +
-                             std::to_string(agents_[other].sent) + " of agent " + std::to_string(other) +
-                             ", already sent");
+      throw std::logic_error(what + " would drop move " + std::to_string(agents_[other].sent) + " of agent " +
+                             std::to_string(other) + ", already sent");
     }
     dropped += move_count(other) - kept[other];
   }

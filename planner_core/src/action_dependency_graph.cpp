@@ -77,6 +77,15 @@ void ActionDependencyGraph::keep_moves(const std::vector<int>& keep) {
   for (const auto& [time, departure] : departures) last_departures_[move(departure.first, departure.second).from] = departure;
 }
 
+void ActionDependencyGraph::add_robot(Vertex at, int heading) {
+  moves_.emplace_back();
+  forgotten_.push_back(0);
+  first_.push_back(at);
+  last_.push_back(at);
+  if (!first_headings_.empty()) first_headings_.push_back(heading);
+  if (!last_headings_.empty()) last_headings_.push_back(heading);
+}
+
 void ActionDependencyGraph::forget_before(int robot, int index) {
   while (forgotten_[robot] < index && !moves_[robot].empty()) {
     moves_[robot].pop_front();

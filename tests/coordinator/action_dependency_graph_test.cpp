@@ -254,6 +254,24 @@ TEST(ActionDependencyGraph, ALostLeaderTakesItsFollowersMovesAndNobodyElses) {
   EXPECT_EQ(again.moves_kept_around(0, 0, 0, finished_of), (std::vector<int>{0, 0, 1}));
 }
 
+TEST(ActionDependencyGraph, ARobotJoiningOnACellTakesTheMovesIntoItAndThoseWaitingOnThem) {
+  // Robot 0 goes along a corridor 0-1-2-3, robot 1 stands still on 4. Once robot 0 has made its
+  // first move, a robot joins on 2.
+  const planner_core::Solution plan = {{0, 4}, {1, 4}, {2, 4}, {3, 4}};
+  ActionDependencyGraph adg(plan);
+  const std::vector<int> finished{1, 0};  // robot 0 has made its first move
+  const std::vector<int> kept = adg.moves_kept_clear_of(2, [&](int r) { return finished[r]; });
+  EXPECT_EQ(kept, (std::vector<int>{1, 0}));  // its move into 2 goes, and the one after it
+  adg.keep_moves(kept);
+  adg.add_robot(2);
+  ASSERT_EQ(adg.robot_count(), 3);
+  EXPECT_EQ(adg.move_count(2), 0);
+  EXPECT_EQ(adg.last_configuration(), (planner_core::Config{1, 4, 2}));
+  // The plan grows: the newcomer leaves 2 for 3 and robot 0 follows it into 2, after it left.
+  adg.extend({{1, 4, 2}, {2, 4, 3}});
+  EXPECT_EQ(adg.move(0, 1).after, (std::vector<std::pair<int, int>>{{2, 0}}));
+}
+
 // Random delays, then a robot lost (its move in flight, if any, never ends): the plan cut around it
 // keeps every move sent, and the rest runs without a collision (the lost robot holding both its
 // cells) or a deadlock, ending on distinct cells from which the plan can grow.

@@ -351,7 +351,7 @@ TEST(PlanExecution, CutAroundALostRobotAndTakenBackWhereItWas) {
     EXPECT_EQ(execution.last_configuration(), (planner_core::Config{v2, v0}));
     EXPECT_EQ(execution.plan_steps(), 2);
     const bool taken = execution.take_back(0, back_at);
-    EXPECT_EQ(taken, back_at != Cell{0, 0});
+    EXPECT_EQ(taken, (back_at != Cell{0, 0}));
     if (back_at == Cell{1, 0}) {  // where it was: the move goes again, from the start
       EXPECT_FALSE(execution.in_flight(0));
       const auto again = execution.due_command(0, t0, 1.0, 0);
@@ -363,6 +363,28 @@ TEST(PlanExecution, CutAroundALostRobotAndTakenBackWhereItWas) {
       EXPECT_EQ(execution.position(0), (Cell{2, 0}));
     }
   }
+}
+
+// A robot joining on a cell: refused where a robot of the plan stands or is moving to, and off the
+// map; elsewhere the moves into its cell go and it is the plan's next agent, with no moves.
+TEST(PlanExecution, ARobotJoinsOnACellNobodyStandsOnOrIsMovingTo) {
+  const auto graph = std::make_shared<const planner_core::Graph>(4, 1, std::vector<std::string>{"...@"});
+  const Vertex v0 = graph->vertex_at({0, 0}), v1 = graph->vertex_at({1, 0}), v2 = graph->vertex_at({2, 0});
+  const planner_core::Solution plan = {{v0}, {v1}, {v2}};  // "r" goes 0 -> 1 -> 2
+  PlanExecution execution(1, graph, plan, {"r"}, 5);
+  ASSERT_TRUE(execution.due_command(0, PlanExecution::Clock::now(), 1.0, 0).has_value());  // 0 -> 1 under way
+  EXPECT_FALSE(execution.admit("new", {0, 0}, -1).has_value());  // where r stands
+  EXPECT_FALSE(execution.admit("new", {1, 0}, -1).has_value());  // where r is moving to
+  EXPECT_FALSE(execution.admit("new", {3, 0}, -1).has_value());  // a wall
+  EXPECT_EQ(execution.agent_count(), 1);
+  const std::optional<int64_t> dropped = execution.admit("new", {2, 0}, -1);
+  ASSERT_TRUE(dropped.has_value());
+  EXPECT_EQ(*dropped, 1);  // r's move into 2
+  ASSERT_EQ(execution.agent_count(), 2);
+  EXPECT_EQ(execution.agent_of("new"), 1);
+  EXPECT_TRUE(execution.done(1));
+  EXPECT_EQ(execution.position(1), (Cell{2, 0}));
+  EXPECT_EQ(execution.last_configuration(), (planner_core::Config{v1, v2}));
 }
 
 // A state of robot "r" standing still after the move `action` of coordinator 5's epoch 1.

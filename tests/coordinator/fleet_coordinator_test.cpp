@@ -1026,6 +1026,55 @@ TEST(FleetCoordinator, ALifelongRobotLostAndBackWhereItWasNeverStopsTheOthersNor
   }
 }
 
+// A robot lost mid-stream for good, and a new robot started on a free cell: it joins the plan where
+// it stands and takes the lost robot's role and tasks; neither brings a replan.
+TEST(FleetCoordinator, ALifelongFleetTakesANewRobotIntoThePlanWhereItStandsWithoutAReplan) {
+  planner_core::Instance mission = planner_core::load_instance(CTSFLEET_CONFIG_DIR "/default/mission-8.yaml");
+  std::vector<FakeRobot> robots = robots_on_their_starts(mission);
+  const std::shared_ptr<const planner_core::Graph> graph = mission.graph;
+  FleetConfig config = config_for(mission.agent_count());
+  config.lifelong = true;
+  config.replacement_timeout_s.reset();
+  TaskStream stream(*mission.graph);
+  FleetCoordinator coordinator(config, std::move(mission));
+  bool joiner_due = false;
+  int64_t windows_at_join = -1;
+  const auto add_joiner = [&](std::vector<FakeRobot>& fleet) {
+    if (!joiner_due || fleet.size() > 8) return;
+    // A free cell at least 3 steps from every robot (so no move under way ends there).
+    for (planner_core::Vertex v = 0; v < graph->vertex_count(); ++v) {
+      const planner_core::Cell cell = graph->cell_of(v);
+      const bool far = std::all_of(fleet.begin(), fleet.end(), [&](const FakeRobot& robot) {
+        return std::abs(robot.cell.x - cell.x) + std::abs(robot.cell.y - cell.y) >= 3;
+      });
+      if (far) {
+        fleet.push_back({"robot8", cell});
+        return;
+      }
+    }
+  };
+  const auto visited = run(coordinator, robots, add_joiner, [&](FleetCoordinator& c, FakeTransport& wire, int) {
+    stream.feed(c, wire);
+    const MissionSummary& now = c.summary();
+    if (!robots[5].silent && now.windows >= 5) robots[5].silent = true;
+    if (now.robots_lost == 1 && !joiner_due) {
+      joiner_due = true;
+      windows_at_join = now.windows;
+    }
+    return !(stream.given == stream.total && robots.size() > 8 && now.tasks_done == now.tasks_total);
+  });
+  const MissionSummary& summary = coordinator.summary();
+  ASSERT_EQ(robots.size(), 9u);
+  EXPECT_EQ(summary.robots_lost, 1);
+  EXPECT_EQ(summary.robots_planned_around, 1);
+  EXPECT_EQ(summary.robots_joined_mid_plan, 1);
+  EXPECT_EQ(summary.replans, 0);
+  EXPECT_EQ(summary.tasks_done, summary.tasks_total);  // robot5's role's tasks too, by robot8
+  EXPECT_GT(summary.windows, windows_at_join);
+  EXPECT_GT(robots[8].moves, 0);
+  expect_only_steps(visited);
+}
+
 TEST(FleetCoordinator, ACancelledTaskIsNotVisitedAndCountsNeitherWay) {
   using namespace runtime_tasks;
   planner_core::Instance mission = planner_core::load_instance(CTSFLEET_CONFIG_DIR "/default/mission-8.yaml");

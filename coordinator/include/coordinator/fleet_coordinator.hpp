@@ -88,11 +88,12 @@ struct MissionSummary {
   double wait_for_window_ms_max = 0;
   int64_t tasks_reassigned = 0;            // lifelong: pooled tasks moved to a robot that got there sooner
   // Lifelong: robots lost whose plan was cut around them rather than replanned whole (the others
-  // went on), the moves that cut dropped, and robots back where they were lost that took their
-  // place in the plan again without a replan.
+  // went on), the moves such cuts dropped (also for robots joining), and robots back where they
+  // were lost that took their place in the plan again without a replan.
   int robots_planned_around = 0;
   int64_t moves_cut = 0;
   int robots_taken_back = 0;
+  int robots_joined_mid_plan = 0;  // robots not in the plan that joined it where they stood (no replan)
 };
 
 struct CoordinatorOptions {
@@ -270,6 +271,11 @@ class FleetCoordinator {
   // Lifelong: a robot planned around is back, standing still on `cell`: it takes its place in the
   // plan again (PlanExecution::take_back). False when it cannot (the caller replans).
   bool take_back(RobotRecord& robot, planner_core::Cell cell);
+  // Lifelong: a robot not in the plan, standing still on `cell`, joins it there
+  // (PlanExecution::admit). False when it cannot (the caller replans).
+  bool join_plan(RobotRecord& robot, planner_core::Cell cell);
+  // Lifelong: the visits the plan's moves left (from each robot's next on) make, and only those.
+  void mark_visits_of_moves_left();
   // Lifelong: a new window planner, on the plan's map with the cells of robots planned around walled.
   void restart_window_planner();
   // Lifelong: the window planned for the plan in hand is validated, appended and sent.

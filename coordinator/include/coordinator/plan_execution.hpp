@@ -79,6 +79,12 @@ class PlanExecution {
   // of its move in flight, that move is done; on its position, that move is sent again once due
   // (it waited only on moves finished). False when `cell` is neither.
   bool take_back(int a, planner_core::Cell cell);
+  // A robot not in the plan joins it standing still on `cell` (facing `heading` in plans with
+  // turns): moves into `cell` not started go, with every move that waits on them
+  // (ActionDependencyGraph::moves_kept_clear_of), and it becomes agent agent_count() - 1, with no
+  // moves until the plan grows. Returns the moves dropped; nothing (and nothing changes) when
+  // `cell` is off the plan's map, or a robot of the plan stands there or has a move under way into it.
+  std::optional<int64_t> admit(const std::string& robot_id, planner_core::Cell cell, int heading);
   int plan_steps() const { return adg_.plan_steps(); }
   // The plan's last configuration, in the vertices of its own map (graph()).
   const planner_core::Config& last_configuration() const { return adg_.last_configuration(); }
@@ -112,6 +118,9 @@ class PlanExecution {
  private:
   // The index of the move to send agent a next, or -1 while the ADG holds it back.
   int move_to_send(int a) const;
+  // Keeps kept[a] moves of each agent (ActionDependencyGraph::keep_moves); the moves dropped.
+  // Throws std::logic_error (and drops nothing) if a move already sent would go.
+  int64_t keep_moves(const std::vector<int>& kept, const std::string& what);
 
   int epoch_;
   uint64_t coordinator_;

@@ -63,6 +63,17 @@ class ActionDependencyGraph {
   // only on finished ones) as long as `finished(robot)` is what each robot finished.
   template <typename FinishedOf>
   std::vector<int> moves_kept_around(int stuck, int unfinished, int keep, FinishedOf finished_of) const;
+  // A robot not in the plan now stands on `cell`: how many moves each robot keeps when every move
+  // into `cell` not finished goes, with every move that waits on one of them, directly or through
+  // other moves, and every later move of the same robot (the same argument as above: the plan
+  // then ends on distinct cells, none of them `cell`). The caller makes sure no robot stands on
+  // `cell` or has a move into or out of it under way.
+  template <typename FinishedOf>
+  std::vector<int> moves_kept_clear_of(Vertex cell, FinishedOf finished_of) const;
+  // A robot joins the plan where it ends, standing on `at` (facing `heading` in plans with turns),
+  // with no moves yet: moves into `at` the plan grows by will wait on its leaving. Its index is
+  // robot_count() before the call.
+  void add_robot(Vertex at, int heading = -1);
   // Drops robot r's moves from kept[r] on (forgotten ones stay forgotten); the plan ends on each
   // robot's last kept move, at the same step.
   void keep_moves(const std::vector<int>& kept);
@@ -96,6 +107,12 @@ class ActionDependencyGraph {
   }
 
  private:
+  // How many moves each robot keeps when those `goes(robot, index)` names (of those not finished)
+  // go, with every move that waits on one of them or on a move `never_finishes(robot, index)`
+  // names, directly or through other moves, and every later move of the same robot.
+  template <typename Goes, typename NeverFinishes, typename FinishedOf>
+  std::vector<int> moves_kept_without(Goes goes, NeverFinishes never_finishes, FinishedOf finished_of) const;
+
   std::vector<std::deque<Move>> moves_;
   std::vector<int> forgotten_;  // per robot, moves freed from the front
   // Per cell, the latest departure from it so far (robot, move index). A move into the cell waits
@@ -108,21 +125,30 @@ class ActionDependencyGraph {
   int steps_ = 0;
 };
 
-template <typename FinishedOf>
-std::vector<int> ActionDependencyGraph::moves_kept_around(int stuck, int unfinished, int keep,
-                                                         FinishedOf finished_of) const {
+template <typename Goes, typename NeverFinishes, typename FinishedOf>
+std::vector<int> ActionDependencyGraph::moves_kept_without(Goes goes, NeverFinishes never_finishes,
+                                                          FinishedOf finished_of) const {
   const int robots = robot_count();
   std::vector<int> kept(robots);
-  for (int r = 0; r < robots; ++r) kept[r] = r == stuck ? std::min(keep, move_count(r)) : move_count(r);
-  // A move goes when it waits on a stuck move or a dropped one; dependencies point back in plan
-  // time (or to the same step, a robot leaving the cell another enters), so a few passes settle it.
+  for (int r = 0; r < robots; ++r) {
+    kept[r] = move_count(r);
+    for (int index = std::max(forgotten_[r], finished_of(r)); index < kept[r]; ++index) {
+      if (goes(r, index)) {
+        kept[r] = index;
+        break;
+      }
+    }
+  }
+  // A move goes when it waits on a move that never finishes or on one that goes; dependencies
+  // point back in plan time (or to the same step, a robot leaving the cell another enters), so a
+  // few passes settle it.
   for (bool changed = true; changed;) {
     changed = false;
     for (int r = 0; r < robots; ++r) {
       for (int index = std::max(forgotten_[r], finished_of(r)); index < kept[r]; ++index) {
         const auto waits_in_vain = [&](const std::pair<int, int>& on) {
           const auto [other, move] = on;
-          return move >= kept[other] || (other == stuck && move >= unfinished && move >= finished_of(other));
+          return move >= kept[other] || (move >= finished_of(other) && never_finishes(other, move));
         };
         const std::vector<std::pair<int, int>>& after = this->move(r, index).after;
         if (std::any_of(after.begin(), after.end(), waits_in_vain)) {
@@ -134,6 +160,19 @@ std::vector<int> ActionDependencyGraph::moves_kept_around(int stuck, int unfinis
     }
   }
   return kept;
+}
+
+template <typename FinishedOf>
+std::vector<int> ActionDependencyGraph::moves_kept_around(int stuck, int unfinished, int keep,
+                                                         FinishedOf finished_of) const {
+  return moves_kept_without([&](int robot, int index) { return robot == stuck && index >= keep; },
+                            [&](int robot, int index) { return robot == stuck && index >= unfinished; }, finished_of);
+}
+
+template <typename FinishedOf>
+std::vector<int> ActionDependencyGraph::moves_kept_clear_of(Vertex cell, FinishedOf finished_of) const {
+  return moves_kept_without([&](int robot, int index) { return move(robot, index).to == cell; },
+                            [](int, int) { return false; }, finished_of);
 }
 
 }  // namespace planner_core
